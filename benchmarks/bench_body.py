@@ -1,0 +1,55 @@
+"""Body benchmark: time to load the shipped data and to build a body from stature and mass.
+
+Goals (issue 2): data load ≤ 300 ms; one body from real units ≤ 50 ms after loading.
+Baseline, measured in the same run: blending every target with one sparse product
+per solver step instead of the exact bilinear quadrant corners (`BilinearShape`).
+"""
+
+from __future__ import annotations
+
+import statistics
+import time
+
+
+from hitogata.assets import load_assets, skin_points
+from hitogata.body import Body
+from hitogata.geometry.mesh_checks import enclosed_volume
+from hitogata.shape import ShapeParameters, blend
+
+CASES = [("female", 1.55, 50.0), ("female", 1.65, 62.0), ("male", 1.78, 78.0), ("male", 1.92, 88.0)]
+
+
+def timed(fn, repeat: int) -> list[float]:
+    out = []
+    for _ in range(repeat):
+        t = time.perf_counter()
+        fn()
+        out.append(time.perf_counter() - t)
+    return out
+
+
+def main() -> None:
+    load_assets.cache_clear()
+    load = timed(lambda: (load_assets.cache_clear(), load_assets()), 5)
+    print(f"load data: median {1e3 * statistics.median(load):.0f} ms (goal ≤ 300 ms)")
+
+    assets = load_assets()
+    Body.from_measurements("female", 30, 1.65, 62.0)  # warm caches (rig regressor)
+    build = []
+    for sex, stature, mass in CASES:
+        build += timed(lambda: Body.from_measurements(sex, 30, stature, mass).rig, 3)
+    median_build = statistics.median(build)
+    print(f"body from stature and mass (+ rig): median {1e3 * median_build:.1f} ms, "
+          f"max {1e3 * max(build):.1f} ms (goal ≤ 50 ms)")
+
+    # Baseline: a full sparse blend per evaluation, as many evaluations as the solver makes.
+    params = ShapeParameters(sex=0.0)
+    evaluate = lambda: enclosed_volume(skin_points(assets, blend(assets, params)), assets.triangles)  # noqa: E731
+    one = statistics.median(timed(evaluate, 5))
+    solver_evaluations = 2 + 3 * 5  # range check + ~5 Newton steps of 3 evaluations
+    print(f"baseline (full blend per evaluation × {solver_evaluations}): {1e3 * one * solver_evaluations:.1f} ms; "
+          f"speed-up {one * solver_evaluations / median_build:.1f}×")
+
+
+if __name__ == "__main__":
+    main()

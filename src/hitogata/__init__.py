@@ -1,0 +1,1 @@
+"""hitogata: a physically based, posable human body model for apparel design."""

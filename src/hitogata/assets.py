@@ -1,0 +1,113 @@
+"""The shipped MakeHuman data, loaded once into arrays ready for blending.
+
+The file `data/mpfb2_adult.npz` is made by `tools/convert_mpfb2.py` from the CC0
+MakeHuman (MPFB2) data; `docs/data.md` says what it holds.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from functools import cache
+from importlib import resources
+
+import numpy as np
+import scipy.sparse as sp
+
+DATA_FILE = "mpfb2_adult.npz"
+
+
+@dataclass(frozen=True, eq=False)
+class Assets:
+    """Base mesh, rig, weights and macro targets, in metres and the body frame.
+
+    Vertex numbering: the first `n_surface` vertices are the skin; the rest are
+    joint cubes and helper vertices that only place the rig's joints. The skin
+    surface adds one cap centre per pocket loop after all of them.
+    """
+
+    base_vertices: np.ndarray  # (N, 3) metres
+    n_surface: int
+    triangles: np.ndarray  # (F, 3) into the skin vertices (cap centres included)
+    cap_loops: tuple[np.ndarray, ...]  # vertex loops whose means are the cap centres
+    bone_names: tuple[str, ...]
+    bone_parents: np.ndarray  # (B,) -1 for the root
+    joint_regressor: sp.csr_matrix  # (2B, N): heads then tails = regressor @ vertices
+    skin_weights: sp.csr_matrix  # (S, B) over the skin vertices, rows sum to 1
+    target_names: tuple[str, ...]
+    targets: sp.csc_matrix  # (3N, T) metres; column t is target t's offsets, xyz interleaved
+
+    @property
+    def n_vertices(self) -> int:
+        return len(self.base_vertices)
+
+    @property
+    def n_skin(self) -> int:
+        return self.n_surface + len(self.cap_loops)
+
+
+def skin_points(assets: Assets, vertices: np.ndarray) -> np.ndarray:
+    """The skin surface's vertices: the surface ones plus a centre for each pocket cap."""
+    caps = np.array([vertices[loop].mean(axis=0) for loop in assets.cap_loops])
+    return np.concatenate([vertices[: assets.n_surface], caps])
+
+
+def _triangles(quads: np.ndarray, loops: tuple[np.ndarray, ...], n_surface: int) -> np.ndarray:
+    """Split quads into triangles and close each pocket loop with a fan round its centre.
+
+    The loops run the way the quads traverse their boundary edges, so the caps
+    traverse them backwards and the surface stays consistently oriented.
+    """
+    tris = [quads[:, [0, 1, 2]], quads[:, [0, 2, 3]]]
+    for k, loop in enumerate(loops):
+        centre = np.full(len(loop), n_surface + k)
+        tris.append(np.stack([np.roll(loop, -1), loop, centre], axis=1))
+    return np.concatenate(tris).astype(np.int64)
+
+
+def _cap_weights(rows: sp.csr_matrix, loops: tuple[np.ndarray, ...]) -> sp.csr_matrix:
+    """Skin weights of the cap centres: the mean of their loop's weights."""
+    caps = [sp.csr_matrix(rows[loop].mean(axis=0)) for loop in loops]
+    return sp.vstack([rows, *caps]).tocsr()
+
+
+@cache
+def load_assets() -> Assets:
+    """Load the data file once per process."""
+    with resources.files("hitogata").joinpath("data", DATA_FILE).open("rb") as fh:
+        d = dict(np.load(fh, allow_pickle=False))
+    n_surface = int(d["n_surface"])
+    n_vertices = len(d["base_vertices"])
+    ptr = d["cap_loop_ptr"]
+    loops = tuple(d["cap_loops"][a:b].astype(np.int64) for a, b in zip(ptr[:-1], ptr[1:]))
+    bones = tuple(str(n) for n in d["bone_names"])
+
+    regressor = sp.csr_matrix(
+        (d["regressor_weights"], (d["regressor_rows"], d["regressor_cols"])),
+        shape=(2 * len(bones), n_vertices),
+    )
+    weights = sp.csr_matrix(
+        (d["weight_values"].astype(np.float64), (d["weight_rows"], d["weight_cols"])),
+        shape=(n_surface, len(bones)),
+    )
+    weights = _cap_weights(weights, loops)
+    weights = sp.diags(1.0 / np.asarray(weights.sum(axis=1)).ravel()) @ weights
+
+    vid = d["target_vertex"].astype(np.int64)  # sorted within each target
+    rows = (3 * vid[:, None] + np.arange(3)).ravel()
+    offsets = d["target_offset"].ravel() * float(d["target_unit"])
+    targets = sp.csc_matrix(
+        (offsets, rows, 3 * d["target_ptr"]), shape=(3 * n_vertices, len(d["target_ptr"]) - 1)
+    )
+
+    return Assets(
+        base_vertices=d["base_vertices"],
+        n_surface=n_surface,
+        triangles=_triangles(d["quads"].astype(np.int64), loops, n_surface),
+        cap_loops=loops,
+        bone_names=bones,
+        bone_parents=d["bone_parents"].astype(np.int64),
+        joint_regressor=regressor,
+        skin_weights=weights.tocsr(),
+        target_names=tuple(str(n) for n in d["target_names"]),
+        targets=targets,
+    )

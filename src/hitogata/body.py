@@ -1,0 +1,213 @@
+"""A human body: skin surface, rig and skinning weights, from parameters or real units.
+
+`Body.from_measurements` solves MakeHuman's weight and height parameters so that
+the body has the asked stature and mass; mass is the skin's enclosed volume
+times a whole-body density (`WHOLE_BODY_DENSITY`).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from functools import cached_property
+
+import numpy as np
+import scipy.sparse as sp
+
+from hitogata.assets import Assets, load_assets, skin_points
+from hitogata.errors import HitogataError
+from hitogata.geometry.mesh_checks import enclosed_volume
+from hitogata.rig import Rig, place_rig
+from hitogata.shape import WEIGHT_MAX, BilinearShape, ShapeParameters, blend
+
+# Whole-body density with the lungs' air inside the skin, kg/m³. Lean tissue and fat
+# give 1.03–1.07 g/cm³ once lung gas is removed (Siri 1961, Brožek et al. 1963);
+# the skin also encloses the thoracic gas at rest (functional residual capacity,
+# about 3 L in an adult: ICRP Publication 89, 2002), which brings a 70 L body to
+# about 1.00 g/cm³ — the near-neutral buoyancy of a person in water.
+WHOLE_BODY_DENSITY = 1000.0
+
+# Statures a body may be asked for: the MakeHuman height targets reach further
+# (1.22–2.45 m) but distort the body far outside the range of adult surveys.
+STATURE_RANGE = (1.40, 2.10)
+
+SEX_WORDS = {"female": 0.0, "f": 0.0, "woman": 0.0, "male": 1.0, "m": 1.0, "man": 1.0}
+
+STATURE_TOLERANCE = 1e-4  # m: the solver stops well inside the 2 mm promise
+MASS_TOLERANCE = 1e-3  # relative: well inside the 2 % promise
+
+
+def sex_value(sex: float | str) -> float:
+    """0 (female) … 1 (male) from a number or a word."""
+    if isinstance(sex, str):
+        word = sex.strip().lower()
+        if word in SEX_WORDS:
+            return SEX_WORDS[word]
+        try:
+            sex = float(word)
+        except ValueError:
+            raise HitogataError(
+                f"sex {sex!r}: allowed 'female', 'male' or a number 0 (female) … 1 (male)"
+            ) from None
+    if not (isinstance(sex, (int, float)) and 0.0 <= sex <= 1.0):
+        raise HitogataError(f"sex {sex!r}: allowed 'female', 'male' or a number 0 (female) … 1 (male)")
+    return float(sex)
+
+
+@dataclass(frozen=True, eq=False)
+class Body:
+    """One body at rest, in metres, in the frame of DESIGN.md §4 (+Y up, +Z front, +X left).
+
+    `all_vertices` holds the skin vertices followed by the joint cubes and helper
+    vertices that place the rig; `vertices` and `faces` are the closed skin surface.
+    """
+
+    params: ShapeParameters
+    all_vertices: np.ndarray
+    density: float = WHOLE_BODY_DENSITY
+
+    @classmethod
+    def from_parameters(cls, params: ShapeParameters, density: float = WHOLE_BODY_DENSITY) -> "Body":
+        """The body of MakeHuman shape parameters, standing on the floor."""
+        return cls(params, _stand(load_assets(), blend(load_assets(), params)), density)
+
+    @classmethod
+    def from_measurements(
+        cls,
+        sex: float | str,
+        age: float,
+        stature: float,
+        mass: float,
+        *,
+        muscle: float = 0.5,
+        proportions: float = 0.5,
+        density: float = WHOLE_BODY_DENSITY,
+    ) -> "Body":
+        """The body of a given stature (m) and mass (kg): MakeHuman height and weight solved.
+
+        Stature is met within 0.1 mm and mass within 0.1 %; a target outside what the
+        data supports for that sex and age raises a one-line error stating the range.
+        """
+        _check_positive("density", density, "kg/m³")
+        _check_positive("stature", stature, "m")
+        _check_positive("mass", mass, "kg")
+        params = ShapeParameters(sex=sex_value(sex), age=age, muscle=muscle, proportions=proportions)
+        lo, hi = STATURE_RANGE
+        if not lo <= stature <= hi:
+            raise HitogataError(
+                f"stature {stature * 100:.1f} cm: allowed {lo * 100:.0f}–{hi * 100:.0f} cm"
+            )
+        weight, height = _solve_weight_height(BilinearShape(load_assets(), params), stature, mass, density)
+        return cls.from_parameters(params.with_(weight=weight, height=height), density)
+
+    @cached_property
+    def vertices(self) -> np.ndarray:
+        """(V, 3) skin vertices, metres."""
+        return skin_points(load_assets(), self.all_vertices)
+
+    @property
+    def faces(self) -> np.ndarray:
+        """(F, 3) skin triangles, outward-oriented."""
+        return load_assets().triangles
+
+    @cached_property
+    def rig(self) -> Rig:
+        """The MakeHuman default rig placed on this body."""
+        return place_rig(load_assets(), self.all_vertices)
+
+    @property
+    def skin_weights(self) -> sp.csr_matrix:
+        """(V, B) skinning weights of the skin vertices over the rig's bones."""
+        return load_assets().skin_weights
+
+    @property
+    def stature(self) -> float:
+        """Floor to the top of the head, m."""
+        return float(self.vertices[:, 1].max())
+
+    @cached_property
+    def volume(self) -> float:
+        """Volume enclosed by the skin, m³."""
+        return enclosed_volume(self.vertices, self.faces)
+
+    @property
+    def mass(self) -> float:
+        """Volume × density, kg."""
+        return self.volume * self.density
+
+    @property
+    def bmi(self) -> float:
+        """Body mass index, kg/m²."""
+        return self.mass / self.stature**2
+
+
+def default_body(sex: float | str = "female") -> Body:
+    """The built-in default body: a 30-year-old of average survey stature and mass.
+
+    Female 165 cm / 62 kg, male 178 cm / 78 kg: near the adult means of ANSUR II
+    (Gordon et al. 2014; women 162.9 cm / 68 kg, men 175.6 cm / 85 kg) and of
+    civilian surveys, which weigh less than the army sample.
+    """
+    value = sex_value(sex)
+    stature = 1.65 + 0.13 * value
+    mass = 62.0 + 16.0 * value
+    return Body.from_measurements(value, 30.0, stature, mass)
+
+
+def _check_positive(name: str, value: float, unit: str) -> None:
+    if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
+        raise HitogataError(f"{name} {value!r} {unit}: allowed a finite positive number")
+
+
+def _stand(assets: Assets, vertices: np.ndarray) -> np.ndarray:
+    """Translate a body so it stands on the floor (y = 0) with the origin between its ankles."""
+    skin = vertices[: assets.n_surface]
+    rig = place_rig(assets, vertices)
+    ankles = rig.heads[[rig.index("foot.L"), rig.index("foot.R")]].mean(axis=0)
+    return vertices - np.array([ankles[0], skin[:, 1].min(), ankles[2]])
+
+
+def _stature_and_volume(assets: Assets, vertices: np.ndarray) -> tuple[float, float]:
+    skin = skin_points(assets, vertices)
+    return float(np.ptp(skin[:, 1])), enclosed_volume(skin, assets.triangles)
+
+
+def _solve_weight_height(shape: BilinearShape, stature: float, mass: float, density: float) -> tuple[float, float]:
+    """MakeHuman (weight, height) in [0, 1]² giving a stature (m) and a mass (kg).
+
+    Newton's method on the two residuals with a finite-difference Jacobian; the
+    body is cheap to evaluate because it is bilinear in (weight, height).
+    """
+    assets = load_assets()
+
+    def measure(w: float, h: float) -> np.ndarray:
+        s, v = _stature_and_volume(assets, shape.vertices(w, h))
+        return np.array([s, v * density])
+
+    lo, hi = measure(0.5, 0.0)[0], measure(0.5, 1.0)[0]
+    if not lo <= stature <= hi:
+        raise HitogataError(
+            f"stature {stature * 100:.1f} cm: allowed {lo * 100:.1f}–{hi * 100:.1f} cm for this sex and age"
+        )
+    x = np.array([0.5, (stature - lo) / (hi - lo)])
+    goal = np.array([stature, mass])
+    step, top = 1e-4, np.array([WEIGHT_MAX, 1.0])
+    for _ in range(30):
+        f = measure(*x)
+        r = f - goal
+        if abs(r[0]) < STATURE_TOLERANCE and abs(r[1]) < MASS_TOLERANCE * mass:
+            return float(x[0]), float(x[1])
+        jac = np.empty((2, 2))
+        for k in range(2):
+            probe = x.copy()
+            probe[k] += step if probe[k] + step <= top[k] else -step
+            jac[:, k] = (measure(*probe) - f) / (probe[k] - x[k])
+        x_new = np.clip(x - np.linalg.solve(jac, r), 0.0, top)
+        if np.allclose(x_new, x, atol=1e-12):
+            break
+        x = x_new
+    lightest, heaviest = measure(0.0, x[1])[1], measure(WEIGHT_MAX, x[1])[1]
+    raise HitogataError(
+        f"mass {mass:.1f} kg at stature {stature * 100:.1f} cm: allowed {lightest:.1f}–{heaviest:.1f} kg "
+        f"(BMI {lightest / stature**2:.1f}–{heaviest / stature**2:.1f}) for this sex and age"
+    )

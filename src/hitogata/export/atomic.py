@@ -1,0 +1,35 @@
+"""Write a file all at once or not at all.
+
+Exports go to a temporary file in the target's directory and are then renamed
+over the target (``os.replace``, atomic on POSIX and Windows), so a crash or
+error mid-write never leaves a truncated file that a viewer or batch job
+would trip over later.
+"""
+
+from __future__ import annotations
+
+import os
+import secrets
+from pathlib import Path
+
+from hitogata.errors import HitogataError
+
+
+def write_bytes_atomically(path: str | os.PathLike, data: bytes) -> Path:
+    """Write ``data`` to ``path`` via a temporary sibling file; return the path."""
+    path = Path(path)
+    if not path.parent.is_dir():
+        raise HitogataError(f"{path}: cannot write, directory {path.parent} does not exist")
+    temporary = path.with_name(f".{path.name}.{secrets.token_hex(4)}.tmp")
+    try:
+        # os.open with mode 0o666 lets the umask decide permissions, as open() would.
+        fd = os.open(temporary, os.O_WRONLY | os.O_CREAT | os.O_EXCL | getattr(os, "O_BINARY", 0), 0o666)
+        with os.fdopen(fd, "wb") as handle:
+            handle.write(data)
+            handle.flush()
+            os.fsync(handle.fileno())
+        os.replace(temporary, path)
+    except BaseException:
+        temporary.unlink(missing_ok=True)
+        raise
+    return path

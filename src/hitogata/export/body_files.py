@@ -1,0 +1,42 @@
+"""Write a `Body` to a file whose format follows the suffix."""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+from hitogata.body import Body
+from hitogata.export.gltf import write_glb
+from hitogata.export.meshfiles import MESH_SUFFIXES, write_mesh
+from hitogata.errors import HitogataError
+
+
+def body_figures(body: Body) -> dict[str, float]:
+    """The body's headline figures in the units a person reads (cm, kg, L, kg/m²)."""
+    return {
+        "stature_cm": round(body.stature * 100, 2),
+        "mass_kg": round(body.mass, 2),
+        "bmi": round(body.bmi, 2),
+        "volume_l": round(body.volume * 1000, 2),
+    }
+
+
+def write_body(path: str | os.PathLike, body: Body) -> Path:
+    """GLB with the MakeHuman rig and skin weights, or a plain OBJ/PLY surface."""
+    path = Path(path)
+    suffix = path.suffix.lower()
+    if suffix not in MESH_SUFFIXES:
+        raise HitogataError(f"{path}: unknown file suffix {path.suffix!r}; allowed: {', '.join(MESH_SUFFIXES)}")
+    if suffix != ".glb":
+        return write_mesh(path, body.vertices, body.faces)
+    return write_glb(
+        path,
+        body.vertices,
+        body.faces,
+        joint_names=body.rig.names,
+        joint_parents=body.rig.parents,
+        joint_positions=body.rig.heads,
+        skin_weights=body.skin_weights,
+        name="hitogata body",
+        extras={"sex": body.params.sex, "age_years": body.params.age, **body_figures(body)},
+    )

@@ -1,0 +1,27 @@
+"""Geometry utilities over plain vertex/face arrays."""
+
+from hitogata.geometry.mesh_checks import (
+    boundary_edges,
+    connected_component_count,
+    contains,
+    enclosed_volume,
+    euler_characteristic,
+    genus,
+    is_closed,
+    is_consistently_oriented,
+    self_intersections,
+    winding_number,
+)
+
+__all__ = [
+    "boundary_edges",
+    "connected_component_count",
+    "contains",
+    "enclosed_volume",
+    "euler_characteristic",
+    "genus",
+    "is_closed",
+    "is_consistently_oriented",
+    "self_intersections",
+    "winding_number",
+]

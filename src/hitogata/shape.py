@@ -1,0 +1,132 @@
+"""Shape parameters → MakeHuman macro-target weights → vertex positions.
+
+MakeHuman's combination rule (documented in ../shared/reference/makehuman-assets.md):
+a target's weight is the product of the factors its file name names. Every
+factor is piecewise linear in its parameter, so for fixed sex, age, muscle and
+proportions the vertices are bilinear in (weight, height) inside each quadrant
+split at 0.5 — `BilinearShape` uses that to evaluate bodies cheaply while
+solving for stature and mass.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field, replace
+
+import numpy as np
+
+from hitogata.assets import Assets
+from hitogata.errors import HitogataError
+
+# MakeHuman's age axis: value 0.5 is 25 years ("young"), 1.0 is 90 years ("old").
+# The shipped data holds the adult targets only, so bodies younger than 25 take the
+# 25-year shape (MakeHuman itself blends in its "child" targets below 25).
+YOUNG_YEARS = 25.0
+OLD_YEARS = 90.0
+MIN_AGE_YEARS = 18.0
+RACES = ("african", "asian", "caucasian")
+
+# MakeHuman's heaviest body (weight 1) has a BMI of only about 22 (women) to 23 (men).
+# Heavier bodies extrapolate the max-weight targets linearly past 1, up to where the
+# skin of the thighs, crotch and arms starts to pass through itself (docs/body.md).
+WEIGHT_MAX = 1.5
+
+
+@dataclass(frozen=True)
+class ShapeParameters:
+    """MakeHuman macro parameters of an adult body.
+
+    sex: 0 = female … 1 = male (blends allowed); age in years (18–90);
+    muscle, height, proportions, cup, firmness in 0..1 with 0.5 = average; weight
+    in 0..WEIGHT_MAX (past 1 the max-weight targets are extrapolated);
+    race: weights of (african, asian, caucasian), normalised to sum 1.
+    """
+
+    sex: float = 0.0
+    age: float = 30.0
+    muscle: float = 0.5
+    weight: float = 0.5
+    height: float = 0.5
+    proportions: float = 0.5
+    cup: float = 0.5
+    firmness: float = 0.5
+    race: tuple[float, float, float] = field(default=(1 / 3, 1 / 3, 1 / 3))
+
+    def __post_init__(self) -> None:
+        unit = ("sex", "muscle", "weight", "height", "proportions", "cup", "firmness")
+        for name in unit:
+            value, top = getattr(self, name), WEIGHT_MAX if name == "weight" else 1.0
+            if not (isinstance(value, (int, float)) and 0.0 <= value <= top):
+                raise HitogataError(f"shape parameter {name}={value!r}: allowed 0..{top:g}")
+        if not (isinstance(self.age, (int, float)) and MIN_AGE_YEARS <= self.age <= OLD_YEARS):
+            raise HitogataError(
+                f"age {self.age!r} years: allowed {MIN_AGE_YEARS:g}..{OLD_YEARS:g} (adults)"
+            )
+        race = np.asarray(self.race, dtype=float)
+        if race.shape != (3,) or not np.all(np.isfinite(race)) or race.min() < 0 or race.sum() <= 0:
+            raise HitogataError(f"race {self.race!r}: allowed three non-negative weights, not all zero")
+
+    def with_(self, **changes: float) -> "ShapeParameters":
+        """A copy with some parameters changed."""
+        return replace(self, **changes)
+
+
+def _levels(value: float) -> dict[str, float]:
+    """min/average/max factors of a 0..1 parameter whose neutral value is 0.5."""
+    low = max(0.0, 1.0 - 2.0 * value)
+    high = max(0.0, 2.0 * value - 1.0)
+    return {"min": low, "average": 1.0 - low - high, "max": high}
+
+
+def factors(params: ShapeParameters) -> dict[str, float]:
+    """The factor each word of a target's file name stands for."""
+    age = min(max((params.age - YOUNG_YEARS) / (OLD_YEARS - YOUNG_YEARS), 0.0), 1.0)
+    race = np.asarray(params.race, dtype=float) / float(np.sum(params.race))
+    out = {"female": 1.0 - params.sex, "male": params.sex, "young": 1.0 - age, "old": age}
+    out.update(zip(RACES, race.tolist()))
+    for word in ("muscle", "weight", "height", "cup", "firmness"):
+        for level, f in _levels(getattr(params, word)).items():
+            out[level + word] = f
+    levels = _levels(params.proportions)
+    out["uncommonproportions"], out["idealproportions"] = levels["min"], levels["max"]
+    out["universal"] = 1.0
+    return out
+
+
+def target_weights(names: tuple[str, ...], params: ShapeParameters) -> np.ndarray:
+    """Weight of each named target: the product of the factors in its name."""
+    f = factors(params)
+    return np.array([math.prod(f[word] for word in name.split("-")) for name in names])
+
+
+def blend(assets: Assets, params: ShapeParameters) -> np.ndarray:
+    """All vertices (N, 3) of the body the parameters describe, in metres."""
+    weights = target_weights(assets.target_names, params)
+    used = np.flatnonzero(weights)
+    offsets = assets.targets[:, used] @ weights[used]
+    return assets.base_vertices + offsets.reshape(-1, 3)
+
+
+class BilinearShape:
+    """Vertices as an exact bilinear function of (weight, height) for fixed other parameters.
+
+    Each quadrant of the (weight, height) square split at 0.5 is evaluated at its
+    four corners once; inside it, bilinear interpolation of the corners is exact.
+    """
+
+    def __init__(self, assets: Assets, params: ShapeParameters) -> None:
+        self._assets = assets
+        self._params = params
+        self._corners: dict[tuple[int, int], tuple[np.ndarray, ...]] = {}
+
+    def vertices(self, weight: float, height: float) -> np.ndarray:
+        qw, qh = int(weight > 0.5), int(height > 0.5)
+        if (qw, qh) not in self._corners:
+            w0, h0 = 0.5 * qw, 0.5 * qh
+            self._corners[qw, qh] = tuple(
+                blend(self._assets, self._params.with_(weight=w0 + dw, height=h0 + dh))
+                for dw, dh in ((0, 0), (0.5, 0), (0, 0.5), (0.5, 0.5))
+            )
+        v00, v10, v01, v11 = self._corners[qw, qh]
+        s, t = 2.0 * weight - qw, 2.0 * height - qh
+        return (1 - s) * (1 - t) * v00 + s * (1 - t) * v10 + (1 - s) * t * v01 + s * t * v11
