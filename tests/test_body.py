@@ -25,10 +25,10 @@ EXEMPT_PREFIXES = ("toe", "foot", "head", "oris", "levator", "oculi", "orbicular
 NOT_BODY_JOINTS = ("oris", "levator", "oculi", "orbicularis", "jaw", "eye", "risorius", "temporalis",
                    "special", "tongue", "toe")
 
-# Grid of the acceptance: both sexes, 150–195 cm, BMI from lean to the supported top.
+# Grid of the acceptance: both sexes, 150–195 cm, BMI 18–35 (women to 33, the data's top: docs/body.md).
 GRID = [
     (sex, stature, bmi)
-    for sex, bmis in (("female", (18.0, 21.0, 24.0)), ("male", (21.0, 23.0, 25.0)))
+    for sex, bmis in (("female", (18.0, 22.0, 26.0, 30.0, 33.0)), ("male", (18.0, 22.0, 26.0, 30.0, 35.0)))
     for stature in (1.50, 1.65, 1.80, 1.95)
     for bmi in bmis
 ]
@@ -118,7 +118,8 @@ def test_same_inputs_same_arrays() -> None:
         (dict(stature=3.0, mass=60.0), "stature 300.0 cm: allowed 140–210 cm"),
         (dict(stature=1.65, mass=-1.0), "mass -1.0 kg: allowed a finite positive number"),
         (dict(stature=float("nan"), mass=60.0), "stature nan m: allowed a finite positive number"),
-        (dict(stature=1.65, mass=150.0), "mass 150.0 kg at stature 165.0 cm: allowed"),
+        (dict(stature=1.65, mass=150.0), "mass 150.0 kg at stature 165.0 cm: allowed 34.1–90.5 kg (BMI 12.5–33.2)"),
+        (dict(stature=1.65, mass=60.0, muscle=1.5), "shape parameter muscle=1.5: allowed 0..1"),
         (dict(sex="alien", stature=1.65, mass=60.0), "sex 'alien': allowed 'female', 'male'"),
         (dict(age=12.0, stature=1.65, mass=60.0), "age 12.0 years: allowed 18..90"),
     ],

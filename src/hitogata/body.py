@@ -10,15 +10,17 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 from functools import cached_property
+from typing import Callable
 
 import numpy as np
 import scipy.sparse as sp
+from scipy.optimize import brentq
 
 from hitogata.assets import Assets, load_assets, skin_points
 from hitogata.errors import HitogataError
 from hitogata.geometry.mesh_checks import enclosed_volume
 from hitogata.rig import Rig, place_rig
-from hitogata.shape import WEIGHT_MAX, BilinearShape, ShapeParameters, blend
+from hitogata.shape import BilinearShape, ShapeParameters, blend
 
 # Whole-body density with the lungs' air inside the skin, kg/m³. Lean tissue and fat
 # give 1.03–1.07 g/cm³ once lung gas is removed (Siri 1961, Brožek et al. 1963);
@@ -33,8 +35,9 @@ STATURE_RANGE = (1.40, 2.10)
 
 SEX_WORDS = {"female": 0.0, "f": 0.0, "woman": 0.0, "male": 1.0, "m": 1.0, "man": 1.0}
 
+AVERAGE = 0.5  # MakeHuman's neutral value of a 0..1 parameter
 STATURE_TOLERANCE = 1e-4  # m: the solver stops well inside the 2 mm promise
-MASS_TOLERANCE = 1e-3  # relative: well inside the 2 % promise
+MASS_TOLERANCE = 2e-4  # relative: well inside the 2 % promise
 
 
 def sex_value(sex: float | str) -> float:
@@ -79,26 +82,30 @@ class Body:
         stature: float,
         mass: float,
         *,
-        muscle: float = 0.5,
+        muscle: float | None = None,
         proportions: float = 0.5,
         density: float = WHOLE_BODY_DENSITY,
     ) -> "Body":
-        """The body of a given stature (m) and mass (kg): MakeHuman height and weight solved.
+        """The body of a given stature (m) and mass (kg): MakeHuman's shape parameters solved.
 
-        Stature is met within 0.1 mm and mass within 0.1 %; a target outside what the
-        data supports for that sex and age raises a one-line error stating the range.
+        Stature is met within 0.1 mm and mass within 0.02 %. With `muscle` given, only
+        weight and height are solved; without it, the mass follows MakeHuman's build
+        path (see `_build_path`). A target outside what the data supports for that sex
+        and age raises a one-line error stating the range.
         """
         _check_positive("density", density, "kg/m³")
         _check_positive("stature", stature, "m")
         _check_positive("mass", mass, "kg")
-        params = ShapeParameters(sex=sex_value(sex), age=age, muscle=muscle, proportions=proportions)
         lo, hi = STATURE_RANGE
         if not lo <= stature <= hi:
             raise HitogataError(
                 f"stature {stature * 100:.1f} cm: allowed {lo * 100:.0f}–{hi * 100:.0f} cm"
             )
-        weight, height = _solve_weight_height(BilinearShape(load_assets(), params), stature, mass, density)
-        return cls.from_parameters(params.with_(weight=weight, height=height), density)
+        params = ShapeParameters(
+            sex=sex_value(sex), age=age, muscle=AVERAGE if muscle is None else muscle, proportions=proportions
+        )
+        solved = _solve_build(params, stature, mass, density, free_muscle=muscle is None)
+        return cls.from_parameters(solved, density)
 
     @cached_property
     def vertices(self) -> np.ndarray:
@@ -167,47 +174,94 @@ def _stand(assets: Assets, vertices: np.ndarray) -> np.ndarray:
     return vertices - np.array([ankles[0], skin[:, 1].min(), ankles[2]])
 
 
+def _stature(assets: Assets, vertices: np.ndarray) -> float:
+    """Height of the skin (the pocket caps lie inside the head and do not matter)."""
+    return float(np.ptp(vertices[: assets.n_surface, 1]))
+
+
 def _stature_and_volume(assets: Assets, vertices: np.ndarray) -> tuple[float, float]:
     skin = skin_points(assets, vertices)
-    return float(np.ptp(skin[:, 1])), enclosed_volume(skin, assets.triangles)
+    return _stature(assets, vertices), enclosed_volume(skin, assets.triangles)
 
 
-def _solve_weight_height(shape: BilinearShape, stature: float, mass: float, density: float) -> tuple[float, float]:
-    """MakeHuman (weight, height) in [0, 1]² giving a stature (m) and a mass (kg).
+def _build_path(params: ShapeParameters, free_muscle: bool) -> list[BilinearShape]:
+    """The segments, lightest first, along which mass is sought.
 
-    Newton's method on the two residuals with a finite-difference Jacobian; the
-    body is cheap to evaluate because it is bilinear in (weight, height).
+    With the muscle fixed: weight 0 → 1. Otherwise MakeHuman's own extremes
+    extend it without extrapolating any target: leaner than weight 0 by lowering
+    muscle tone at weight 0, heavier than weight 1 by lowering it at weight 1
+    (MakeHuman's heaviest body is the min-muscle, max-weight one).
     """
     assets = load_assets()
+    middle = BilinearShape(assets, params, axis="weight")
+    if not free_muscle:
+        return [middle]
+    lean = BilinearShape(assets, params.with_(weight=0.0), axis="muscle")
+    heavy = BilinearShape(assets, params.with_(weight=1.0), axis="muscle")
+    return [lean, middle, heavy]
 
-    def measure(w: float, h: float) -> np.ndarray:
-        s, v = _stature_and_volume(assets, shape.vertices(w, h))
+
+def _solve_build(
+    params: ShapeParameters, stature: float, mass: float, density: float, free_muscle: bool
+) -> ShapeParameters:
+    """Shape parameters with the given stature (m) and mass (kg) along the build path."""
+    assets = load_assets()
+    segments = _build_path(params, free_muscle)
+    # Segment ends, each as (shape, x): muscle runs 0 → average, weight 0 → 1.
+    ends = {id(segments[0]): (0.0, AVERAGE)} if free_muscle else {}
+    if free_muscle:
+        ends[id(segments[1])] = (0.0, 1.0)
+        ends[id(segments[2])] = (AVERAGE, 0.0)
+    else:
+        ends[id(segments[0])] = (0.0, 1.0)
+
+    def measure(shape: BilinearShape, x: float, h: float) -> np.ndarray:
+        s, v = _stature_and_volume(assets, shape.vertices(x, h))
         return np.array([s, v * density])
 
-    lo, hi = measure(0.5, 0.0)[0], measure(0.5, 1.0)[0]
-    if not lo <= stature <= hi:
+    middle = segments[1] if free_muscle else segments[0]
+    short, tall = _stature(assets, middle.vertices(0.5, 0.0)), _stature(assets, middle.vertices(0.5, 1.0))
+    if not short <= stature <= tall:
         raise HitogataError(
-            f"stature {stature * 100:.1f} cm: allowed {lo * 100:.1f}–{hi * 100:.1f} cm for this sex and age"
+            f"stature {stature * 100:.1f} cm: allowed {short * 100:.1f}–{tall * 100:.1f} cm for this sex and age"
         )
-    x = np.array([0.5, (stature - lo) / (hi - lo)])
-    goal = np.array([stature, mass])
-    step, top = 1e-4, np.array([WEIGHT_MAX, 1.0])
-    for _ in range(30):
-        f = measure(*x)
-        r = f - goal
-        if abs(r[0]) < STATURE_TOLERANCE and abs(r[1]) < MASS_TOLERANCE * mass:
-            return float(x[0]), float(x[1])
-        jac = np.empty((2, 2))
-        for k in range(2):
-            probe = x.copy()
-            probe[k] += step if probe[k] + step <= top[k] else -step
-            jac[:, k] = (measure(*probe) - f) / (probe[k] - x[k])
-        x_new = np.clip(x - np.linalg.solve(jac, r), 0.0, top)
-        if np.allclose(x_new, x, atol=1e-12):
-            break
-        x = x_new
-    lightest, heaviest = measure(0.0, x[1])[1], measure(WEIGHT_MAX, x[1])[1]
+    height = brentq(lambda h: _stature(assets, middle.vertices(0.5, h)) - stature, 0.0, 1.0, xtol=1e-6)
+    masses = []
+    for shape in segments:
+        a, b = ends[id(shape)]
+        lo_mass, hi_mass = measure(shape, a, height)[1], measure(shape, b, height)[1]
+        masses += [lo_mass, hi_mass]
+        if min(lo_mass, hi_mass) <= mass <= max(lo_mass, hi_mass):
+            start = np.array([a + (b - a) * (mass - lo_mass) / (hi_mass - lo_mass), height])
+            x, h = _newton(lambda x, h: measure(shape, x, h), np.array([stature, mass]), start, (min(a, b), max(a, b)))
+            return shape.at(x, h)
+    lightest, heaviest = min(masses), max(masses)
     raise HitogataError(
         f"mass {mass:.1f} kg at stature {stature * 100:.1f} cm: allowed {lightest:.1f}–{heaviest:.1f} kg "
         f"(BMI {lightest / stature**2:.1f}–{heaviest / stature**2:.1f}) for this sex and age"
     )
+
+
+def _newton(
+    measure: Callable[[float, float], np.ndarray], goal: np.ndarray, x: np.ndarray, x_range: tuple[float, float]
+) -> tuple[float, float]:
+    """Solve measure(x, h) = goal for x in x_range, h in [0, 1], by Newton's method.
+
+    The Jacobian is a finite difference; the functions are piecewise smooth (kinks
+    at 0.5), so each step is clipped to the segment and the iteration is bounded.
+    """
+    step = 1e-4
+    lower, upper = np.array([x_range[0], 0.0]), np.array([x_range[1], 1.0])
+    tolerance = np.array([STATURE_TOLERANCE, MASS_TOLERANCE * goal[1]])
+    for _ in range(40):
+        f = measure(*x)
+        r = f - goal
+        if np.all(np.abs(r) < tolerance):
+            return float(x[0]), float(x[1])
+        jac = np.empty((2, 2))
+        for k in range(2):
+            probe = x.copy()
+            probe[k] += step if probe[k] + step <= upper[k] else -step
+            jac[:, k] = (measure(*probe) - f) / (probe[k] - x[k])
+        x = np.clip(x - np.linalg.solve(jac, r), lower, upper)
+    raise HitogataError(f"stature {goal[0] * 100:.1f} cm, mass {goal[1]:.1f} kg: the shape solver did not converge")

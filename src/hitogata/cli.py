@@ -16,7 +16,7 @@ from hitogata import units
 from hitogata.body import Body, default_body
 from hitogata.errors import HitogataError
 from hitogata.export.atomic import write_bytes_atomically
-from hitogata.export.body_files import body_figures, write_body
+from hitogata.export.body_files import body_figures, check_body_path, write_body
 
 
 def _figures_line(label: str, body: Body) -> str:
@@ -29,6 +29,7 @@ def _figures_line(label: str, body: Body) -> str:
 
 def cmd_body(args: argparse.Namespace) -> None:
     """Build one body from real units and write it."""
+    check_body_path(args.out)
     body = Body.from_measurements(
         sex=args.sex,
         age=args.age,
@@ -79,7 +80,8 @@ def build_parser() -> argparse.ArgumentParser:
     body.add_argument("--age", type=_age, default=30.0, help="years, 18–90; default 30")
     body.add_argument("--stature", default="165cm", help="e.g. 165cm, 1.65m; default 165cm")
     body.add_argument("--mass", default="60kg", help="e.g. 58kg; default 60kg")
-    body.add_argument("--muscle", type=_unit_fraction, default=0.5, help="0..1, 0.5 = average")
+    body.add_argument("--muscle", type=_unit_fraction, default=None,
+                      help="0..1, 0.5 = average; default: follows the mass (MakeHuman's build path)")
     body.add_argument("--proportions", type=_unit_fraction, default=0.5, help="0..1, 0.5 = average")
     body.add_argument("--out", required=True, help="output file: .glb (skinned, with rig), .obj or .ply")
     body.set_defaults(run=cmd_body)

@@ -3,15 +3,16 @@
 MakeHuman's combination rule (documented in ../shared/reference/makehuman-assets.md):
 a target's weight is the product of the factors its file name names. Every
 factor is piecewise linear in its parameter, so for fixed sex, age, muscle and
-proportions the vertices are bilinear in (weight, height) inside each quadrant
-split at 0.5 — `BilinearShape` uses that to evaluate bodies cheaply while
-solving for stature and mass.
+proportions the vertices are bilinear in (weight, height) — or in (muscle,
+height) for fixed weight — inside each quadrant split at 0.5: `BilinearShape`
+uses that to evaluate bodies cheaply while solving for stature and mass.
 """
 
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field, replace
+from functools import cache
 
 import numpy as np
 
@@ -26,19 +27,13 @@ OLD_YEARS = 90.0
 MIN_AGE_YEARS = 18.0
 RACES = ("african", "asian", "caucasian")
 
-# MakeHuman's heaviest body (weight 1) has a BMI of only about 22 (women) to 23 (men).
-# Heavier bodies extrapolate the max-weight targets linearly past 1, up to where the
-# skin of the thighs, crotch and arms starts to pass through itself (docs/body.md).
-WEIGHT_MAX = 1.5
-
 
 @dataclass(frozen=True)
 class ShapeParameters:
     """MakeHuman macro parameters of an adult body.
 
     sex: 0 = female … 1 = male (blends allowed); age in years (18–90);
-    muscle, height, proportions, cup, firmness in 0..1 with 0.5 = average; weight
-    in 0..WEIGHT_MAX (past 1 the max-weight targets are extrapolated);
+    muscle, weight, height, proportions, cup, firmness in 0..1 with 0.5 = average;
     race: weights of (african, asian, caucasian), normalised to sum 1.
     """
 
@@ -55,9 +50,9 @@ class ShapeParameters:
     def __post_init__(self) -> None:
         unit = ("sex", "muscle", "weight", "height", "proportions", "cup", "firmness")
         for name in unit:
-            value, top = getattr(self, name), WEIGHT_MAX if name == "weight" else 1.0
-            if not (isinstance(value, (int, float)) and 0.0 <= value <= top):
-                raise HitogataError(f"shape parameter {name}={value!r}: allowed 0..{top:g}")
+            value = getattr(self, name)
+            if not (isinstance(value, (int, float)) and 0.0 <= value <= 1.0):
+                raise HitogataError(f"shape parameter {name}={value!r}: allowed 0..1")
         if not (isinstance(self.age, (int, float)) and MIN_AGE_YEARS <= self.age <= OLD_YEARS):
             raise HitogataError(
                 f"age {self.age!r} years: allowed {MIN_AGE_YEARS:g}..{OLD_YEARS:g} (adults)"
@@ -93,10 +88,15 @@ def factors(params: ShapeParameters) -> dict[str, float]:
     return out
 
 
+@cache
+def _name_words(names: tuple[str, ...]) -> tuple[tuple[str, ...], ...]:
+    return tuple(tuple(name.split("-")) for name in names)
+
+
 def target_weights(names: tuple[str, ...], params: ShapeParameters) -> np.ndarray:
     """Weight of each named target: the product of the factors in its name."""
     f = factors(params)
-    return np.array([math.prod(f[word] for word in name.split("-")) for name in names])
+    return np.array([math.prod(f[word] for word in words) for words in _name_words(names)])
 
 
 def blend(assets: Assets, params: ShapeParameters) -> np.ndarray:
@@ -108,25 +108,35 @@ def blend(assets: Assets, params: ShapeParameters) -> np.ndarray:
 
 
 class BilinearShape:
-    """Vertices as an exact bilinear function of (weight, height) for fixed other parameters.
+    """Vertices as an exact bilinear function of (`axis`, height), the other parameters fixed.
 
-    Each quadrant of the (weight, height) square split at 0.5 is evaluated at its
-    four corners once; inside it, bilinear interpolation of the corners is exact.
+    `axis` is "weight" or "muscle". Each quadrant of the (axis, height) square split
+    at 0.5 is evaluated at its four corners once; inside it, bilinear interpolation
+    of the corners is exact because every target weight is linear there.
     """
 
-    def __init__(self, assets: Assets, params: ShapeParameters) -> None:
+    def __init__(self, assets: Assets, params: ShapeParameters, axis: str = "weight") -> None:
         self._assets = assets
         self._params = params
+        self._axis = axis
         self._corners: dict[tuple[int, int], tuple[np.ndarray, ...]] = {}
 
-    def vertices(self, weight: float, height: float) -> np.ndarray:
-        qw, qh = int(weight > 0.5), int(height > 0.5)
-        if (qw, qh) not in self._corners:
-            w0, h0 = 0.5 * qw, 0.5 * qh
-            self._corners[qw, qh] = tuple(
-                blend(self._assets, self._params.with_(weight=w0 + dw, height=h0 + dh))
-                for dw, dh in ((0, 0), (0.5, 0), (0, 0.5), (0.5, 0.5))
+    @property
+    def params(self) -> ShapeParameters:
+        return self._params
+
+    def at(self, x: float, height: float) -> ShapeParameters:
+        """The shape parameters of the point (x, height)."""
+        return self._params.with_(**{self._axis: x, "height": height})
+
+    def vertices(self, x: float, height: float) -> np.ndarray:
+        qx, qh = int(x > 0.5), int(height > 0.5)
+        if (qx, qh) not in self._corners:
+            x0, h0 = 0.5 * qx, 0.5 * qh
+            self._corners[qx, qh] = tuple(
+                blend(self._assets, self.at(x0 + dx, h0 + dh))
+                for dx, dh in ((0, 0), (0.5, 0), (0, 0.5), (0.5, 0.5))
             )
-        v00, v10, v01, v11 = self._corners[qw, qh]
-        s, t = 2.0 * weight - qw, 2.0 * height - qh
+        v00, v10, v01, v11 = self._corners[qx, qh]
+        s, t = 2.0 * x - qx, 2.0 * height - qh
         return (1 - s) * (1 - t) * v00 + s * (1 - t) * v10 + (1 - s) * t * v01 + s * t * v11

@@ -21,13 +21,18 @@ def body_figures(body: Body) -> dict[str, float]:
     }
 
 
+def check_body_path(path: str | os.PathLike) -> Path:
+    """The path, if its suffix names a format a body can be written in."""
+    path = Path(path)
+    if path.suffix.lower() not in MESH_SUFFIXES:
+        raise HitogataError(f"{path}: unknown file suffix {path.suffix!r}; allowed: {', '.join(MESH_SUFFIXES)}")
+    return path
+
+
 def write_body(path: str | os.PathLike, body: Body) -> Path:
     """GLB with the MakeHuman rig and skin weights, or a plain OBJ/PLY surface."""
-    path = Path(path)
-    suffix = path.suffix.lower()
-    if suffix not in MESH_SUFFIXES:
-        raise HitogataError(f"{path}: unknown file suffix {path.suffix!r}; allowed: {', '.join(MESH_SUFFIXES)}")
-    if suffix != ".glb":
+    path = check_body_path(path)
+    if path.suffix.lower() != ".glb":
         return write_mesh(path, body.vertices, body.faces)
     return write_glb(
         path,
