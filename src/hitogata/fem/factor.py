@@ -1,0 +1,143 @@
+"""Sparse direct factorizations of symmetric FE matrices, behind one interface.
+
+The modal and static solvers spend their time factoring K (or K - sigma M)
+and solving with the factors. Methods, fastest first (measured in
+benchmarks/bench_fem.py):
+
+- ``"pardiso"``: Intel MKL PARDISO through the optional ``pypardiso`` package
+  (Cholesky / LDL^T, parallel). Only if pypardiso and mkl are installed
+  (x86-64, ~0.9 GB), never required.
+- ``"superlu-nd"``: scipy's SuperLU on the matrix reordered by METIS nested
+  dissection of the node graph (``pymetis``), in symmetric mode with diagonal
+  pivots. Without pymetis, SuperLU's own minimum degree on A + A^T.
+- ``"superlu"``: scipy's default (SuperLU with COLAMD, partial pivoting),
+  the baseline that ``scipy.sparse.linalg.eigsh(sigma=...)`` uses.
+
+``"auto"`` picks the first available. All give the same solution to round-off.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+import numpy as np
+import scipy.sparse as sp
+import scipy.sparse.linalg as sla
+
+from hitogata.errors import HitogataError
+
+Solve = Callable[[np.ndarray], np.ndarray]
+METHODS = ("auto", "pardiso", "superlu-nd", "superlu")
+
+
+def available_methods() -> tuple[str, ...]:
+    """Factorization methods usable on this installation, fastest first."""
+    methods = ["superlu-nd", "superlu"]
+    if _pardiso_module() is not None:
+        methods.insert(0, "pardiso")
+    return tuple(methods)
+
+
+def resolve_method(method: str) -> str:
+    """The concrete method ``method`` stands for ("auto" -> fastest available)."""
+    if method not in METHODS:
+        raise HitogataError(f"factorization method {method!r} is unknown; allowed: {', '.join(METHODS)}")
+    if method == "auto":
+        return available_methods()[0]
+    if method not in available_methods():
+        raise HitogataError(f"factorization method {method!r} is not installed; available: "
+                            f"{', '.join(available_methods())} (pardiso needs `pip install pypardiso`)")
+    return method
+
+
+def factorize(A: sp.spmatrix, method: str = "auto", node_of_dof: np.ndarray | None = None,
+              positive_definite: bool = True) -> Solve:
+    """Factor a symmetric sparse matrix once; return ``solve(b)`` for b of shape (n,) or (n, m).
+
+    ``node_of_dof`` (n,) groups dofs by mesh node so that the fill-reducing
+    ordering works on the 3x smaller node graph; ``positive_definite`` lets
+    PARDISO use Cholesky (otherwise LDL^T with pivoting).
+    """
+    A = sp.csr_matrix(A)
+    method = resolve_method(method)
+    if method == "pardiso":
+        return _pardiso(A, positive_definite)
+    if method == "superlu-nd":
+        return _superlu_nd(A, node_of_dof, positive_definite)
+    lu = sla.splu(A.tocsc())
+    return lu.solve
+
+
+def nested_dissection(A: sp.spmatrix, node_of_dof: np.ndarray | None = None) -> np.ndarray | None:
+    """METIS nested-dissection permutation of A's graph (None without pymetis).
+
+    With ``node_of_dof`` the node graph is ordered and each node's dofs are
+    kept together, which is faster and gives supernodes aligned to nodes.
+    """
+    try:
+        import pymetis
+    except ImportError:
+        return None
+    n = A.shape[0]
+    group = np.arange(n) if node_of_dof is None else np.unique(np.asarray(node_of_dof), return_inverse=True)[1]
+    n_groups = int(group.max()) + 1 if n else 0
+    coo = sp.coo_matrix(A)
+    graph = sp.csr_matrix((np.ones(coo.nnz, dtype=np.int8), (group[coo.row], group[coo.col])),
+                          shape=(n_groups, n_groups))
+    graph.setdiag(0)
+    graph.eliminate_zeros()
+    graph.sort_indices()
+    adjacency = pymetis.CSRAdjacency(graph.indptr.astype(np.int64), graph.indices.astype(np.int64))
+    order, _ = pymetis.nested_dissection(adjacency)
+    rank = np.empty(n_groups, dtype=np.int64)
+    rank[np.asarray(order)] = np.arange(n_groups)
+    return np.lexsort((np.arange(n), rank[group]))
+
+
+def _superlu_nd(A: sp.csr_matrix, node_of_dof: np.ndarray | None, positive_definite: bool) -> Solve:
+    """SuperLU on a symmetrically reordered matrix, pivoting on the diagonal only."""
+    perm = nested_dissection(A, node_of_dof)
+    options = {"SymmetricMode": True}
+    pivot = 0.0 if positive_definite else 0.01
+    if perm is None:
+        lu = sla.splu(A.tocsc(), permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=pivot, options=options)
+        return lu.solve
+    inverse = np.empty_like(perm)
+    inverse[perm] = np.arange(len(perm))
+    lu = sla.splu(A[perm][:, perm].tocsc(), permc_spec="NATURAL", diag_pivot_thresh=pivot, options=options)
+
+    def solve(b: np.ndarray) -> np.ndarray:
+        return lu.solve(np.ascontiguousarray(np.asarray(b)[perm]))[inverse]
+
+    return solve
+
+
+def _pardiso(A: sp.csr_matrix, positive_definite: bool) -> Solve:
+    """MKL PARDISO on the upper triangle; forward/back substitution in parallel."""
+    return _PardisoSolve(A, positive_definite)
+
+
+class _PardisoSolve:
+    """A PARDISO factorization that frees MKL's memory when it is dropped."""
+
+    def __init__(self, A: sp.csr_matrix, positive_definite: bool) -> None:
+        self.solver = _pardiso_module().PyPardisoSolver(mtype=2 if positive_definite else -2)
+        self.solver.set_iparm(25, 2)  # parallel forward/backward substitution
+        self.upper = sp.triu(A, format="csr")
+        self.upper.sort_indices()
+        self.solver.factorize(self.upper)
+
+    def __call__(self, b: np.ndarray) -> np.ndarray:
+        return self.solver.solve(self.upper, np.asarray(b, dtype=float))
+
+    def __del__(self) -> None:
+        self.solver.free_memory(everything=True)
+
+
+def _pardiso_module():
+    """The pypardiso module if it and MKL load, else None."""
+    try:
+        import pypardiso
+    except (ImportError, OSError):
+        return None
+    return pypardiso
