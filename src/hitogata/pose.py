@@ -1,0 +1,220 @@
+"""Pose a body by its muscles or its joint angles: the library calls a CLI or viewer uses.
+
+`Poser.from_body` places the skeleton and muscle lists on a body and prepares
+its skin once; `Poser.pose` then goes muscles → joint angles (eq. 1, 2) →
+forward kinematics → skinned surface, and `Poser.pose_many` does the last two
+for a batch of joint-angle sets. `pose_body` is the one-call form.
+Angles are in radians: `angles` relative to the rest pose, `clinical` from
+the anatomical position (the TOML's convention); names are 'part.dof'.
+"""
+
+from __future__ import annotations
+
+import warnings
+import weakref
+from collections.abc import Mapping
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from hitogata.body import Body
+from hitogata.errors import HitogataError
+from hitogata.muscles.activation import (
+    MuscleLimitWarning,
+    angles_from_muscles,
+    muscle_lengths,
+)
+from hitogata.muscles.geometry import MuscleSet, place_muscles
+from hitogata.muscles.spec import load_muscle_spec
+from hitogata.skeleton.kinematics import Kinematics, Pose, limit_violations
+from hitogata.skeleton.placement import Skeleton, place_skeleton
+from hitogata.skeleton.spec import load_skeleton_spec
+from hitogata.skeleton.weights import part_weights
+from hitogata.skinning import Skin, prepare_skin, skin_vertices
+
+ON_LIMIT = ("raise", "clamp")
+
+
+@dataclass(frozen=True, eq=False)
+class PosedBody:
+    """One posed body: joint angles, part transforms, muscle lengths and the skinned surface."""
+
+    skeleton: Skeleton
+    muscles: MuscleSet
+    angles: np.ndarray  # (D,) rest-relative, radians
+    pose: Pose  # P = 1
+    vertices: np.ndarray  # (V, 3)
+    faces: np.ndarray  # (F, 3)
+    muscle_lengths: np.ndarray  # (M,) metres
+
+    @property
+    def muscle_names(self) -> tuple[str, ...]:
+        return self.muscles.names
+
+    @property
+    def joints(self) -> np.ndarray:
+        """(N, 3) posed joint centres."""
+        return self.pose.joints[0]
+
+    @property
+    def bones(self) -> np.ndarray:
+        """(N, 2, 3) each part as a segment from its joint centre to its tail: the skeleton to draw."""
+        return np.stack([self.pose.joints[0], self.pose.tails[0]], axis=1)
+
+    @property
+    def muscle_lines(self) -> np.ndarray:
+        """(M, 2, 3) each muscle from its origin to its insertion, carried by their parts."""
+        ends = []
+        for points, parts in (
+            (self.muscles.origins, self.muscles.origin_parts),
+            (self.muscles.insertions, self.muscles.insertion_parts),
+        ):
+            r, t = self.pose.rotations[0, parts], self.pose.translations[0, parts]
+            ends.append(np.einsum("mij,mj->mi", r, points) + t)
+        return np.stack(ends, axis=1)
+
+    @property
+    def clinical(self) -> np.ndarray:
+        """(D,) clinical joint angles, radians."""
+        return self.skeleton.clinical(self.angles)
+
+    def angle(self, name: str) -> float:
+        """One DOF's rest-relative angle, radians."""
+        return float(self.angles[self.skeleton.dof_index(name)])
+
+
+@dataclass(frozen=True, eq=False)
+class Poser:
+    """A body with its skeleton, muscles and skin prepared for posing."""
+
+    body: Body
+    skeleton: Skeleton
+    muscles: MuscleSet
+    kinematics: Kinematics
+    skin: Skin
+
+    @classmethod
+    def from_body(cls, body: Body, skeleton: str | Path | None = None, muscles: str | Path | None = None) -> Poser:
+        """Prepare a body; `skeleton`/`muscles` are TOML paths (the shipped lists when None)."""
+        spec = load_skeleton_spec(skeleton)
+        sk = place_skeleton(spec, body.rig)
+        ms = place_muscles(load_muscle_spec(spec, muscles), sk)
+        weights = part_weights(sk, body.rig, body.skin_weights, body.vertices)
+        return cls(body, sk, ms, Kinematics(sk), prepare_skin(body.vertices, weights, sk.parents))
+
+    def angles(
+        self,
+        contractions: Mapping[str, float] | None = None,
+        lengths: Mapping[str, float] | None = None,
+        angles: Mapping[str, float] | np.ndarray | None = None,
+        clinical: Mapping[str, float] | None = None,
+        on_limit: str = "raise",
+    ) -> np.ndarray:
+        """(D,) rest-relative joint angles from muscles and/or angles.
+
+        A DOF named in `angles`/`clinical` may not also be moved by a given muscle;
+        an angle array (D,) is a base pose on which the muscles set their DOFs.
+        """
+        if on_limit not in ON_LIMIT:
+            raise HitogataError(f"on_limit = {on_limit!r}: allowed {', '.join(ON_LIMIT)}")
+        sk, ms = self.skeleton, self.muscles
+        base, given = self._given_angles(angles, clinical)
+        base = self._limited(base, on_limit)
+        for name in list(contractions or {}) + list(lengths or {}):
+            clash = [sk.dof_names[d] for d in ms.dofs(ms.index(name)) if d in given]
+            if clash:
+                raise HitogataError(f"{clash[0]} is set both by an angle and by muscle {name!r}: give one")
+        return angles_from_muscles(ms, contractions, lengths, base, on_limit)
+
+    def _given_angles(self, angles, clinical) -> tuple[np.ndarray, set[int]]:
+        sk = self.skeleton
+        q = np.zeros(sk.n_dofs)
+        given: set[int] = set()
+        if isinstance(angles, np.ndarray) or (angles is not None and not isinstance(angles, Mapping)):
+            a = np.asarray(angles, dtype=float)
+            if a.shape != (sk.n_dofs,):
+                raise HitogataError(
+                    f"angles of shape {a.shape}: expected ({sk.n_dofs},) or a mapping 'part.dof' -> radians"
+                )
+            return a.copy(), set()
+        for values, offset in ((angles or {}, False), (clinical or {}, True)):
+            for name, value in values.items():
+                k = sk.dof_index(name)
+                if k in given:
+                    raise HitogataError(f"{name} given twice (as angle and as clinical angle): give one")
+                if not np.isfinite(value):
+                    raise HitogataError(f"{name} = {value!r}: expected a finite angle in radians")
+                q[k] = value - sk.rest[k] if offset else value
+                given.add(k)
+        return q, given
+
+    def _limited(self, q: np.ndarray, on_limit: str) -> np.ndarray:
+        bad = limit_violations(self.skeleton, q)
+        if not bad.any():
+            return q
+        if on_limit == "raise":
+            self.kinematics.check_limits(q, "raise")
+        names = [self.skeleton.dof_names[k] for k in np.flatnonzero(bad)]
+        warnings.warn(f"clamped onto the range of motion: {', '.join(names)}", MuscleLimitWarning, stacklevel=3)
+        return np.clip(q, self.skeleton.lower, self.skeleton.upper)
+
+    def pose(
+        self,
+        contractions: Mapping[str, float] | None = None,
+        lengths: Mapping[str, float] | None = None,
+        angles: Mapping[str, float] | np.ndarray | None = None,
+        clinical: Mapping[str, float] | None = None,
+        skinning: str = "lbs",
+        on_limit: str = "raise",
+        root: np.ndarray | None = None,
+    ) -> PosedBody:
+        """Muscles and/or angles → joint angles → kinematics → skinned surface."""
+        q = self.angles(contractions, lengths, angles, clinical, on_limit)
+        pose = self.kinematics.pose(q, root=root)
+        verts = skin_vertices(self.skin, pose.rotations, pose.translations, skinning)[0]
+        return PosedBody(
+            skeleton=self.skeleton,
+            muscles=self.muscles,
+            angles=q,
+            pose=pose,
+            vertices=verts,
+            faces=self.body.faces,
+            muscle_lengths=muscle_lengths(self.muscles, q, on_limit)[0],
+        )
+
+    def pose_many(self, angles: np.ndarray, skinning: str = "lbs", root: np.ndarray | None = None) -> np.ndarray:
+        """(P, V, 3) skinned surfaces for (P, D) rest-relative joint angles."""
+        pose = self.kinematics.pose(np.atleast_2d(angles), root=root)
+        return skin_vertices(self.skin, pose.rotations, pose.translations, skinning)
+
+
+_DEFAULT_POSERS: weakref.WeakKeyDictionary[Body, Poser] = weakref.WeakKeyDictionary()
+
+
+def poser_for(body: Body) -> Poser:
+    """The body's Poser with the shipped lists, prepared once per body."""
+    if body not in _DEFAULT_POSERS:
+        _DEFAULT_POSERS[body] = Poser.from_body(body)
+    return _DEFAULT_POSERS[body]
+
+
+def pose_body(
+    body: Body,
+    contractions: Mapping[str, float] | None = None,
+    lengths: Mapping[str, float] | None = None,
+    angles: Mapping[str, float] | np.ndarray | None = None,
+    clinical: Mapping[str, float] | None = None,
+    skinning: str = "lbs",
+    on_limit: str = "raise",
+    root: np.ndarray | None = None,
+) -> PosedBody:
+    """Pose a body with the shipped skeleton and muscles.
+
+    contractions: muscle name → fraction of rest length (0.1 = 10 % shorter,
+    negative = stretched); lengths: muscle name → metres; angles / clinical:
+    'part.dof' → radians (rest-relative / from the anatomical position);
+    skinning: 'lbs' or 'dqs'; on_limit: 'raise' or 'clamp' (with a warning)
+    at the muscles' reach and the joints' ranges of motion.
+    """
+    return poser_for(body).pose(contractions, lengths, angles, clinical, skinning, on_limit, root)
