@@ -1,0 +1,45 @@
+"""`hitogata body`: build one body from real units and write it."""
+
+from __future__ import annotations
+
+import argparse
+
+from hitogata import units
+from hitogata.body import Body
+from hitogata.commands.args import add_body_arguments
+from hitogata.export.body_files import body_figures, check_body_path, write_body
+
+
+def figures_line(label: str, body: Body) -> str:
+    """One line of the body's headline figures."""
+    f = body_figures(body)
+    return (
+        f"{label}: stature {f['stature_cm']:.1f} cm, mass {f['mass_kg']:.1f} kg, "
+        f"BMI {f['bmi']:.1f}, volume {f['volume_l']:.1f} L"
+    )
+
+
+def body_from_args(args: argparse.Namespace) -> Body:
+    """The body the --sex/--age/--stature/--mass/... arguments describe."""
+    return Body.from_measurements(
+        sex=args.sex,
+        age=args.age,
+        stature=units.length(args.stature, "--stature"),
+        mass=units.mass(args.mass, "--mass"),
+        muscle=args.muscle,
+        proportions=args.proportions,
+    )
+
+
+def run(args: argparse.Namespace) -> None:
+    check_body_path(args.out)
+    body = body_from_args(args)
+    path = write_body(args.out, body)
+    print(figures_line(str(path), body))
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    parser = sub.add_parser("body", help="build a body from sex, age, stature and mass, and write it")
+    add_body_arguments(parser)
+    parser.add_argument("--out", required=True, help="output file: .glb (skinned, with rig), .obj or .ply")
+    parser.set_defaults(run=run)
