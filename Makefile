@@ -4,13 +4,20 @@ VENV ?= .venv
 PY := $(VENV)/bin/python
 STAMP := $(VENV)/.installed-stamp
 
-.PHONY: demo test bench install clean
+.PHONY: demo test bench install clean system-render system-test
 
-demo: $(STAMP)
+demo: system-render $(STAMP)
 	$(VENV)/bin/hitogata demo --out demo
 
-test: $(STAMP) tools/node_modules/.package-lock.json
+test: system-test $(STAMP) tools/node_modules/.package-lock.json
 	$(PY) -m pytest -q
+
+# Debian packages, installed only when missing (tools/install_system_deps.sh says which and why).
+system-render:
+	bash tools/install_system_deps.sh render
+
+system-test:
+	bash tools/install_system_deps.sh test
 
 bench: $(STAMP)
 	for b in benchmarks/bench_*.py; do $(PY) $$b || exit 1; done
