@@ -115,12 +115,20 @@ def rig_point(rig: Rig, anchor: Anchor, where: str) -> np.ndarray:
 
 
 def bone_frame(long: np.ndarray, where: str) -> np.ndarray:
-    """Columns (left, long, front) of a 'bone' frame: orthonormal, x towards +X."""
+    """Columns (left, long, front) of a 'bone' frame: orthonormal, x towards +X.
+
+    The front axis is the world front made perpendicular to the bone; a bone that
+    runs near the front axis (an old body's forward-leaning upper neck) takes the
+    world left axis made perpendicular instead.
+    """
     z = WORLD["z"] - (WORLD["z"] @ long) * long
-    if np.linalg.norm(z) < MIN_PERPENDICULAR:
-        raise HitogataError(f"{where}: the bone runs within 17° of the body's front axis; use frame = 'world'")
-    z /= np.linalg.norm(z)
-    x = np.cross(long, z)
+    if np.linalg.norm(z) >= MIN_PERPENDICULAR:
+        z /= np.linalg.norm(z)
+        x = np.cross(long, z)
+    else:
+        x = WORLD["x"] - (WORLD["x"] @ long) * long
+        x /= np.linalg.norm(x)
+        z = np.cross(x, long)
     if abs(x[0]) < MIN_PERPENDICULAR:
         raise HitogataError(f"{where}: the bone runs within 17° of the body's side axis; use frame = 'world'")
     return np.column_stack([x if x[0] > 0 else -x, long, z])

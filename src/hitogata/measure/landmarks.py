@@ -1,0 +1,197 @@
+"""Landmarks of ISO 8559-1 on the body surface, as fixed vertex indices.
+
+The mesh topology never changes, so a landmark found once on the rest body is
+a vertex index that follows the skin into any posture. Each rule below finds
+it on the rest surface from the rig's joint centres (docs/measurements.md):
+
+- bony points (cervicale, acromion, olecranon, ulnar styloid): the first skin
+  hit of a ray from the joint centre in the direction of that bone point;
+- the bust point and the navel: vertices found once on MakeHuman's default
+  female, where they are pronounced (the most forward vertex of the breast;
+  the deepest dip of the front midline profile), and kept for every body: a
+  male chest has no forward-most nipple, but the same vertex is his nipple;
+- levels (hip, underbust, crotch, thigh): from the rest shape's own profile.
+
+The waist of ISO 8559-1 lies midway between the lowest rib and the iliac
+crest, which a surface cannot show; the navel (omphalion) lies at that level
+in most adults, and is where ANSUR II takes its waist circumference.
+
+Limbs are measured on the right side, as ISO 8559-1 and ISO 7250-1 prescribe.
+"""
+
+from __future__ import annotations
+
+import weakref
+from dataclasses import dataclass
+from functools import cache
+
+import numpy as np
+
+from hitogata.body import Body
+from hitogata.errors import HitogataError
+from hitogata.measure.axes import UP, JointSet, axis, unit
+from hitogata.measure.raycast import first_hit, nearest_corner
+from hitogata.measure.sections import section
+from hitogata.measure.topology import topology
+from hitogata.shape import ShapeParameters
+
+MIDLINE_TOLERANCE = 1e-3  # m: vertices this close to x = 0 lie on the body's midline
+ACROMION_TILT = 0.35  # lateral run per unit rise of the ray from the shoulder joint (≈ 19°)
+NAVEL_REACH = 0.03  # m: the navel dips below the front profile's chord over ± this height
+THIGH_BELOW_CROTCH = 0.01  # m: the thigh girth plane passes this far below the crotch
+CHEST_FRONT = 0.12  # m: the chest's front profile lies within this depth behind the bust point
+
+
+@dataclass(frozen=True)
+class Landmarks:
+    """Vertex indices of one body's landmarks, plus the thigh level along the femur."""
+
+    head_top: int
+    cervicale: int
+    acromion_right: int
+    acromion_left: int
+    olecranon: int  # right elbow, back
+    ulnar_styloid: int  # right wrist, little-finger side
+    bust_right: int
+    bust_left: int
+    underbust: int  # right inframammary fold, front
+    waist_front: int
+    waist_back: int
+    buttock: int  # right buttock, most backward point
+    crotch: int
+    thigh_level: float  # fraction of hip → knee where the thigh plane cuts the femur
+
+
+_BY_BODY: "weakref.WeakKeyDictionary[Body, Landmarks]" = weakref.WeakKeyDictionary()
+
+
+def body_landmarks(body: Body) -> Landmarks:
+    """The landmarks of a body, found once on its rest surface and cached."""
+    found = _BY_BODY.get(body)
+    if found is None:
+        found = find_landmarks(body.vertices, body.faces, JointSet(body.rig.names, body.rig.heads))
+        _BY_BODY[body] = found
+    return found
+
+
+def find_landmarks(vertices: np.ndarray, faces: np.ndarray, joints: JointSet) -> Landmarks:
+    """Apply the landmark rules to a rest surface and its joint centres."""
+    v = vertices
+    midline = np.flatnonzero(np.abs(v[:, 0]) < MIDLINE_TOLERANCE)
+    bust_right, bust_left, navel = reference_vertices()
+    crotch = _crotch(v, midline, joints)
+    waist_y = float(v[navel, 1])
+    hip, knee = joints["upperleg01.R"], joints["lowerleg01.R"]
+    femur = knee - hip
+    below = v[crotch] - THIGH_BELOW_CROTCH * UP - hip
+    return Landmarks(
+        head_top=int(np.argmax(v[:, 1])),
+        cervicale=_cervicale(v, midline, joints),
+        acromion_right=_acromion(v, faces, joints, "R"),
+        acromion_left=_acromion(v, faces, joints, "L"),
+        olecranon=_olecranon(v, faces, joints),
+        ulnar_styloid=_ulnar_styloid(v, faces, joints),
+        bust_right=bust_right,
+        bust_left=bust_left,
+        underbust=_inframammary_fold(v, faces, bust_right, waist_y),
+        waist_front=navel,
+        waist_back=_back_midline_at(v, midline, joints, waist_y),
+        buttock=_buttock(v, float(v[crotch, 1]), waist_y),
+        crotch=crotch,
+        thigh_level=float((below @ femur) / (femur @ femur)),
+    )
+
+
+@cache
+def reference_vertices() -> tuple[int, int, int]:
+    """Right and left nipple and the navel, found on MakeHuman's default female shape.
+
+    Nipple: the most forward vertex of each breast (its skin weighted mainly to
+    the breast bone). Navel: the front midline vertex that lies deepest behind
+    the chord of the profile from NAVEL_REACH above it to NAVEL_REACH below it.
+    """
+    reference = Body.from_parameters(ShapeParameters(sex=0.0))
+    v, rig = reference.vertices, reference.rig
+    dominant = np.asarray(reference.skin_weights.argmax(axis=1)).ravel()
+    nipples = []
+    for side in "RL":
+        region = np.flatnonzero(dominant == rig.index(f"breast.{side}"))
+        nipples.append(int(region[np.argmax(v[region, 2])]))
+    joints = JointSet(rig.names, rig.heads)
+    midline = np.flatnonzero(np.abs(v[:, 0]) < MIDLINE_TOLERANCE)
+    front = midline[(v[midline, 2] > joints["spine03"][2])]
+    front = front[(v[front, 1] > joints["upperleg01.R"][1]) & (v[front, 1] < v[nipples[0], 1])]
+    front = front[np.argsort(v[front, 1])]
+    y, z = v[front, 1], v[front, 2]
+    inner = (y - NAVEL_REACH > y[0]) & (y + NAVEL_REACH < y[-1])
+    chord = 0.5 * (np.interp(y - NAVEL_REACH, y, z) + np.interp(y + NAVEL_REACH, y, z))
+    navel = front[inner][np.argmax((chord - z)[inner])]
+    return nipples[0], nipples[1], int(navel)
+
+
+def _cervicale(v: np.ndarray, midline: np.ndarray, joints: JointSet) -> int:
+    """Back of the neck's base: the midline vertex behind the base neck joint at its height."""
+    base = joints["neck01"]
+    back = midline[v[midline, 2] < base[2]]
+    return int(back[np.argmin(np.abs(v[back, 1] - base[1]))])
+
+
+def _ray_vertex(v: np.ndarray, faces: np.ndarray, origin: np.ndarray, direction: np.ndarray) -> int:
+    face, point = first_hit(v, faces, origin, direction)
+    if face < 0:
+        where = np.round(origin, 3).tolist()
+        raise HitogataError(f"landmark ray from {where} m misses the skin: the body's shape is broken")
+    return nearest_corner(v, faces, face, point)
+
+
+def _acromion(v: np.ndarray, faces: np.ndarray, joints: JointSet, side: str) -> int:
+    """Shoulder point: skin above the shoulder joint, on a ray tilted slightly outwards."""
+    outwards = np.array([1.0 if side == "L" else -1.0, 0.0, 0.0])
+    return _ray_vertex(v, faces, joints[f"upperarm01.{side}"], UP + ACROMION_TILT * outwards)
+
+
+def _olecranon(v: np.ndarray, faces: np.ndarray, joints: JointSet) -> int:
+    """Back of the right elbow: the ray from the elbow joint away from the bend."""
+    upper = axis(joints, "upperarm01.R", "lowerarm01.R")
+    fore = axis(joints, "lowerarm01.R", "wrist.R")
+    back = upper - fore
+    return _ray_vertex(v, faces, joints["lowerarm01.R"], unit(back - (back @ upper) * upper))
+
+
+def _ulnar_styloid(v: np.ndarray, faces: np.ndarray, joints: JointSet) -> int:
+    """Little-finger side of the right wrist: the ray from the wrist joint towards the fifth finger."""
+    fore = axis(joints, "lowerarm01.R", "wrist.R")
+    ulnar = joints["finger5-1.R"] - joints["finger2-1.R"]
+    return _ray_vertex(v, faces, joints["wrist.R"], unit(ulnar - (ulnar @ fore) * fore))
+
+
+def _crotch(v: np.ndarray, midline: np.ndarray, joints: JointSet) -> int:
+    """Lowest midline point of the trunk, between the legs."""
+    low = midline[v[midline, 1] < joints["upperleg01.R"][1]]
+    return int(low[np.argmin(v[low, 1])])
+
+
+def _back_midline_at(v: np.ndarray, midline: np.ndarray, joints: JointSet, y: float) -> int:
+    """The back midline vertex nearest a height."""
+    back = midline[v[midline, 2] < joints["spine03"][2]]
+    return int(back[np.argmin(np.abs(v[back, 1] - y))])
+
+
+def _inframammary_fold(v: np.ndarray, faces: np.ndarray, bust: int, waist_y: float) -> int:
+    """Under the right breast: on the front profile through the bust point, the deepest
+    point below the chord from the bust point to the waist level (the fold's corner)."""
+    sec = section(v, topology(faces), v[bust], np.array([1.0, 0.0, 0.0]))
+    p = sec.points
+    front = p[(p[:, 1] < v[bust, 1]) & (p[:, 1] > waist_y) & (p[:, 2] > v[bust, 2] - CHEST_FRONT)]
+    end = front[np.argmin(front[:, 1])]
+    chord = unit(end[1:] - v[bust, 1:])
+    rel = front[:, 1:] - v[bust, 1:]
+    depth = rel[:, 1] * chord[0] - rel[:, 0] * chord[1]  # distance behind the chord, (y, z) plane
+    fold = front[np.argmax(depth)]
+    return int(np.argmin(np.linalg.norm(v - fold, axis=1)))
+
+
+def _buttock(v: np.ndarray, crotch_y: float, waist_y: float) -> int:
+    """Most backward point of the right buttock between crotch and waist levels."""
+    region = np.flatnonzero((v[:, 0] < 0.0) & (v[:, 1] > crotch_y) & (v[:, 1] < waist_y))
+    return int(region[np.argmin(v[region, 2])])

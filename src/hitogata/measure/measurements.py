@@ -1,0 +1,213 @@
+"""The main ISO 8559-1 body measurements, on a body in any posture.
+
+Input: the body (its topology, rest surface and rest joints define the
+landmarks) and, for a posed or deformed body, its vertex array and the rig's
+joint centres in that posture. Girths are tape girths of planar sections
+(`sections.tape_girth`), lengths are exact surface geodesics
+(`geodesic.SurfaceGeodesics`). Each definition is in docs/measurements.md.
+"""
+
+from __future__ import annotations
+
+import weakref
+from collections.abc import Iterable
+from dataclasses import asdict, dataclass, fields
+
+import numpy as np
+
+from hitogata.body import Body
+from hitogata.errors import HitogataError
+from hitogata.measure.axes import JointSet, axis, trunk_normal, unit
+from hitogata.measure.geodesic import SurfaceGeodesics, polyline_length
+from hitogata.measure.landmarks import Landmarks, body_landmarks
+from hitogata.measure.sections import Tape, tape_girth
+from hitogata.measure.topology import topology
+
+
+@dataclass(frozen=True)
+class Measurements:
+    """ISO 8559-1 measurements of one body in one posture, metres (NaN: not measurable there)."""
+
+    stature: float
+    neck_girth: float
+    chest_girth: float  # bust girth for women
+    underbust_girth: float
+    waist_girth: float
+    hip_girth: float
+    thigh_girth: float
+    upper_arm_girth: float
+    back_waist_length: float
+    shoulder_width: float
+    arm_length: float
+    inside_leg: float  # crotch height
+
+    @staticmethod
+    def names() -> tuple[str, ...]:
+        return tuple(f.name for f in fields(Measurements))
+
+    def get(self, name: str) -> float:
+        """One value by name; an unknown name is a one-line error listing the known ones."""
+        check_names([name])
+        return float(getattr(self, name))
+
+    def as_dict(self) -> dict[str, float]:
+        return {k: float(v) for k, v in asdict(self).items()}
+
+
+MEASUREMENT_NAMES = Measurements.names()
+
+GIRTHS = ("neck_girth", "chest_girth", "underbust_girth", "waist_girth", "hip_girth", "thigh_girth", "upper_arm_girth")
+
+
+def check_names(names: Iterable[str]) -> None:
+    """Raise a one-line error for any name that is not a measurement."""
+    unknown = [n for n in names if n not in MEASUREMENT_NAMES]
+    if unknown:
+        raise HitogataError(f"measurement {unknown[0]!r}: allowed {', '.join(MEASUREMENT_NAMES)}")
+
+
+def measure(body: Body, vertices: np.ndarray | None = None, joints: np.ndarray | None = None) -> Measurements:
+    """All measurements of `body` at rest, or in the posture given by `vertices` and `joints`.
+
+    `vertices` (V, 3) share the body's topology; `joints` (B, 3) are the rig's joint
+    centres (heads, in `body.rig.names` order) in the same posture. Both default to rest.
+    """
+    vertices, posed = posture_arrays(body, vertices, joints)
+    rest = JointSet(body.rig.names, body.rig.heads)
+    return measure_surface(vertices, body.faces, body_landmarks(body), rest, posed, tape_skin(body))
+
+
+def posture_arrays(body: Body, vertices: np.ndarray | None, joints: np.ndarray | None) -> tuple[np.ndarray, JointSet]:
+    """Checked (V, 3) vertices and joint centres of a posture (rest where not given)."""
+    vertices = checked_points("vertices", body.vertices if vertices is None else vertices, len(body.vertices))
+    heads = checked_points("joints", body.rig.heads if joints is None else joints, len(body.rig.names))
+    return vertices, JointSet(body.rig.names, heads)
+
+
+def checked_points(label: str, array: object, count: int) -> np.ndarray:
+    """A finite float (count, 3) array, or a one-line error saying what was wrong."""
+    array = np.asarray(array, dtype=np.float64)
+    if array.shape != (count, 3):
+        raise HitogataError(f"{label}: shape {array.shape}, allowed ({count}, 3)")
+    if not np.isfinite(array).all():
+        bad = int(np.flatnonzero(~np.isfinite(array).all(axis=1))[0])
+        raise HitogataError(f"{label}: row {bad} is not finite ({array[bad].tolist()}); allowed finite metres")
+    return array
+
+
+Plane = tuple[np.ndarray, np.ndarray, np.ndarray]  # a point on the plane, its normal, a point inside the part
+
+# The skin each tape may rest on (vertices whose summed skin weight on the listed bones,
+# matched by name prefix, is at least MAIN_WEIGHT): the limb's own skin for a limb girth,
+# all but the limbs' for a trunk girth. At rest this changes nothing (tested on bodies across
+# the supported range); where a posture joins the part's section to its neighbour's through
+# the mesh (a thigh raised to the belly: one loop through the groin) the tape still goes
+# round the part, not round both.
+MAIN_WEIGHT = 0.5
+ARM_BONES = ("upperarm", "lowerarm", "wrist", "metacarpal", "finger")
+LEG_BONES = ("upperleg02", "lowerleg", "foot", "toe")
+TAPE_SKIN: dict[str, tuple[str, tuple[str, ...]]] = {
+    **{name: ("not", ARM_BONES + LEG_BONES) for name in ("chest_girth", "underbust_girth", "waist_girth", "hip_girth")},
+    "thigh_girth": ("only", ("upperleg01.R", "upperleg02.R", "pelvis.R", "spine05")),  # + the groin's skin
+    "upper_arm_girth": ("only", ("upperarm01.R", "upperarm02.R")),
+}
+
+_SKIN_BY_BODY: "weakref.WeakKeyDictionary[Body, dict[str, np.ndarray]]" = weakref.WeakKeyDictionary()
+
+
+def tape_skin(body: Body) -> dict[str, np.ndarray]:
+    """Per girth, the (V,) mask of skin its tape may rest on (TAPE_SKIN), cached per body."""
+    found = _SKIN_BY_BODY.get(body)
+    if found is None:
+        found = {}
+        for name, (mode, prefixes) in TAPE_SKIN.items():
+            columns = [i for i, bone in enumerate(body.rig.names) if bone.startswith(prefixes)]
+            main = np.asarray(body.skin_weights[:, columns].sum(axis=1)).ravel() >= MAIN_WEIGHT
+            found[name] = main if mode == "only" else ~main
+        _SKIN_BY_BODY[body] = found
+    return found
+
+
+def girth_planes(vertices: np.ndarray, marks: Landmarks, rest: JointSet, posed: JointSet) -> dict[str, Plane]:
+    """Where each of the seven girths is taken in this posture (docs/measurements.md)."""
+    v = vertices
+    hip_joint, knee = posed["upperleg01.R"], posed["lowerleg01.R"]
+    thigh_point = hip_joint + marks.thigh_level * (knee - hip_joint)
+    shoulder, elbow = posed["upperarm01.R"], posed["lowerarm01.R"]
+    humerus = unit(elbow - shoulder)
+    middle = 0.5 * (v[marks.acromion_right] + v[marks.olecranon])
+    arm_point = shoulder + ((middle - shoulder) @ humerus) * humerus
+    thorax = trunk_normal(rest, posed, "thorax")
+    return {
+        "neck_girth": (posed["neck02"], axis(posed, "neck01", "head"), posed["neck02"]),
+        "chest_girth": (0.5 * (v[marks.bust_right] + v[marks.bust_left]), thorax, posed["spine01"]),
+        "underbust_girth": (v[marks.underbust], thorax, posed["spine01"]),
+        "waist_girth": (
+            0.5 * (v[marks.waist_front] + v[marks.waist_back]),
+            trunk_normal(rest, posed, "waist"),
+            posed["spine03"],
+        ),
+        "hip_girth": (v[marks.buttock], trunk_normal(rest, posed, "pelvis"), posed["spine05"]),
+        "thigh_girth": (thigh_point, unit(knee - hip_joint), thigh_point),
+        "upper_arm_girth": (arm_point, humerus, arm_point),
+    }
+
+
+def tapes(
+    vertices: np.ndarray,
+    faces: np.ndarray,
+    marks: Landmarks,
+    rest: JointSet,
+    posed: JointSet,
+    skin: dict[str, np.ndarray] | None = None,
+) -> dict[str, Tape]:
+    """The seven girths with the hull paths their tapes follow; `skin` as from `tape_skin`."""
+    topo, skin = topology(faces), skin or {}
+    planes = girth_planes(vertices, marks, rest, posed)
+    return {name: tape_girth(vertices, topo, *plane, part=skin.get(name)) for name, plane in planes.items()}
+
+
+def surface_paths(vertices: np.ndarray, faces: np.ndarray, marks: Landmarks) -> dict[str, np.ndarray]:
+    """The geodesic polylines of the three surface lengths."""
+    paths = SurfaceGeodesics(vertices, faces)
+    return {
+        "back_waist_length": paths.path_through(marks.cervicale, marks.waist_back),
+        "shoulder_width": paths.path_through(marks.acromion_left, marks.cervicale, marks.acromion_right),
+        "arm_length": paths.path_through(marks.acromion_right, marks.olecranon, marks.ulnar_styloid),
+    }
+
+
+def heights(vertices: np.ndarray, marks: Landmarks) -> dict[str, float]:
+    """Stature and crotch height: vertical distances above the lowest skin point (the floor)."""
+    floor = float(vertices[:, 1].min())
+    return {
+        "stature": float(vertices[marks.head_top, 1]) - floor,
+        "inside_leg": float(vertices[marks.crotch, 1]) - floor,
+    }
+
+
+def measure_surface(
+    vertices: np.ndarray,
+    faces: np.ndarray,
+    marks: Landmarks,
+    rest: JointSet,
+    posed: JointSet,
+    skin: dict[str, np.ndarray] | None = None,
+) -> Measurements:
+    """The measurements of any surface with landmark vertices `marks` (e.g. a subdivided body);
+    `skin`: per girth, the vertices its tape may rest on (`tape_skin`; None: any skin)."""
+    values = heights(vertices, marks)
+    values.update({name: polyline_length(path) for name, path in surface_paths(vertices, faces, marks).items()})
+    values.update({name: tape.girth for name, tape in tapes(vertices, faces, marks, rest, posed, skin).items()})
+    return Measurements(**values)
+
+
+def measurement_paths(
+    body: Body, vertices: np.ndarray | None = None, joints: np.ndarray | None = None
+) -> dict[str, np.ndarray]:
+    """Where each tape lies, for pictures: closed hull loops of the girths, geodesic polylines."""
+    vertices, posed = posture_arrays(body, vertices, joints)
+    marks, rest = body_landmarks(body), JointSet(body.rig.names, body.rig.heads)
+    girths = tapes(vertices, body.faces, marks, rest, posed, tape_skin(body))
+    loops = {name: np.vstack([t.path, t.path[:1]]) for name, t in girths.items() if len(t.path)}
+    return {**loops, **surface_paths(vertices, body.faces, marks)}

@@ -1,0 +1,25 @@
+"""The rig's joint centres in a posture given by per-part rigid transforms.
+
+`measure` locates its planes with the MakeHuman rig's joint centres (bone
+heads). A posing code that moves a different set of parts (the 65-part
+skeleton) gives each part a skinning transform x ↦ R x + t; every rig joint
+centre then follows the part whose rest joint centre is nearest to it. Where
+the two coincide (shoulder, elbow, hip, knee, neck joints) the result is exact,
+since a joint centre moves alike with both parts that meet there; rig joints
+between vertebrae follow their nearest vertebra.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+
+def posed_rig_heads(
+    rest_heads: np.ndarray, part_joints: np.ndarray, rotations: np.ndarray, translations: np.ndarray
+) -> np.ndarray:
+    """(B, 3) posed rig joint centres from rest ones (B, 3), the parts' rest joint centres
+    (N, 3) and their skinning rotations (N, 3, 3) and translations (N, 3)."""
+    rest_heads = np.asarray(rest_heads, dtype=np.float64)
+    part_joints = np.asarray(part_joints, dtype=np.float64)
+    nearest = np.argmin(np.linalg.norm(rest_heads[:, None, :] - part_joints[None, :, :], axis=2), axis=1)
+    return np.einsum("bij,bj->bi", np.asarray(rotations)[nearest], rest_heads) + np.asarray(translations)[nearest]

@@ -1,0 +1,80 @@
+"""Skin strain between the rest surface and a posed or deformed one (same topology).
+
+Each triangle is mapped to its own plane twice — at rest and deformed — with
+its first edge along the first axis. The 2 × 2 deformation gradient between
+those in-plane frames, F = D_deformed D_rest⁻¹, has singular values λ1 ≥ λ2:
+the principal stretches of the skin there; λ1 λ2 is the area ratio. Rigid
+motions of a triangle give F = I exactly up to rounding, because the closed
+form for a 2 × 2 matrix's singular values takes square roots of sums of
+squares only (no cancellation that would turn 1e-16 into 1e-8).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from hitogata.errors import HitogataError
+
+
+@dataclass(frozen=True)
+class SkinStrain:
+    """Per-triangle principal stretches (F,), area ratio (F,), the λ1 direction at rest (F, 3)."""
+
+    stretch_max: np.ndarray
+    stretch_min: np.ndarray
+    area_ratio: np.ndarray
+    direction: np.ndarray
+    rest_area: np.ndarray
+
+    @property
+    def strain_max_percent(self) -> np.ndarray:
+        """Largest principal (engineering) strain, %: (λ1 − 1) × 100."""
+        return (self.stretch_max - 1.0) * 100.0
+
+
+def _frames(vertices: np.ndarray, faces: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Each triangle in its own plane: (|e1|, e2·t, e2·b) and the in-plane axes t, b (F, 3)."""
+    tri = vertices[faces]
+    e1, e2 = tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]
+    length = np.linalg.norm(e1, axis=1)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        t = e1 / length[:, None]
+        normal = np.cross(e1, e2)
+        b = np.cross(normal, e1)
+        b /= np.linalg.norm(b, axis=1)[:, None]
+    coords = np.stack([length, np.einsum("ij,ij->i", e2, t), np.einsum("ij,ij->i", e2, b)], axis=1)
+    return coords, t, b, 0.5 * np.linalg.norm(normal, axis=1)
+
+
+def skin_strain(rest: np.ndarray, deformed: np.ndarray, faces: np.ndarray) -> SkinStrain:
+    """Principal stretches of every triangle from `rest` to `deformed` (both (V, 3), metres).
+
+    A triangle of zero rest area has no defined strain: its values are NaN.
+    """
+    rest, deformed = np.asarray(rest, dtype=np.float64), np.asarray(deformed, dtype=np.float64)
+    if rest.shape != deformed.shape:
+        raise HitogataError(f"deformed vertices: shape {deformed.shape}, allowed {rest.shape} (the rest shape)")
+    rest_coords, t, b, area = _frames(rest, faces)
+    l0, p0, h0 = rest_coords.T
+    l1, p1, h1 = _frames(deformed, faces)[0].T
+    # D = [[l, p], [0, h]] (columns: edges 1 and 2); F = D1 D0⁻¹, upper triangular.
+    with np.errstate(invalid="ignore", divide="ignore"):
+        a = l1 / l0
+        c = (p1 - a * p0) / h0  # F[0, 1]
+        d = h1 / h0
+    mean_part = np.hypot(a + d, c)
+    diff_part = np.hypot(a - d, c)
+    stretch_max = 0.5 * (mean_part + diff_part)
+    stretch_min = 0.5 * (mean_part - diff_part)
+    # λ1 direction: the eigenvector of FᵀF = [[a², a c], [a c, c² + d²]] with the larger eigenvalue.
+    angle = 0.5 * np.arctan2(2.0 * a * c, a * a - c * c - d * d)
+    direction = np.cos(angle)[:, None] * t + np.sin(angle)[:, None] * b
+    return SkinStrain(
+        stretch_max=stretch_max,
+        stretch_min=stretch_min,
+        area_ratio=a * d,
+        direction=direction,
+        rest_area=area,
+    )
