@@ -10,10 +10,10 @@ import argparse
 import sys
 from typing import Sequence
 
-from hitogata.commands import body, demo
+from hitogata.commands import body, demo, measure
 from hitogata.errors import HitogataError
 
-COMMANDS = (body, demo)
+COMMANDS = (body, demo, measure)
 
 
 def build_parser() -> argparse.ArgumentParser:

@@ -8,6 +8,8 @@ from hitogata import units
 from hitogata.body import Body
 from hitogata.commands.args import add_body_arguments
 from hitogata.export.body_files import body_figures, check_body_path, write_body
+from hitogata.measure import measure
+from hitogata.measure.cli_support import measurement_table
 
 
 def figures_line(label: str, body: Body) -> str:
@@ -36,10 +38,13 @@ def run(args: argparse.Namespace) -> None:
     body = body_from_args(args)
     path = write_body(args.out, body)
     print(figures_line(str(path), body))
+    if args.measure:
+        print(measurement_table(measure(body)))
 
 
 def register(sub: argparse._SubParsersAction) -> None:
     parser = sub.add_parser("body", help="build a body from sex, age, stature and mass, and write it")
     add_body_arguments(parser)
     parser.add_argument("--out", required=True, help="output file: .glb (skinned, with rig), .obj or .ply")
+    parser.add_argument("--measure", action="store_true", help="also print the ISO 8559-1 measurements (cm)")
     parser.set_defaults(run=run)

@@ -3,12 +3,14 @@
 from __future__ import annotations
 
 import os
+from dataclasses import asdict
 from pathlib import Path
 
-from hitogata.body import Body
+from hitogata.body import WHOLE_BODY_DENSITY, Body
 from hitogata.export.gltf import write_glb
 from hitogata.export.meshfiles import MESH_SUFFIXES, write_mesh
 from hitogata.errors import HitogataError
+from hitogata.shape import ShapeParameters
 
 
 def body_figures(body: Body) -> dict[str, float]:
@@ -19,6 +21,23 @@ def body_figures(body: Body) -> dict[str, float]:
         "bmi": round(body.bmi, 2),
         "volume_l": round(body.volume * 1000, 2),
     }
+
+
+def shape_extras(params: ShapeParameters) -> dict[str, object]:
+    """The shape parameters as JSON-able extras, enough to rebuild the body exactly."""
+    return {**asdict(params), "race": list(params.race)}
+
+
+def body_from_extras(path: Path, extras: dict) -> Body:
+    """The body a hitogata GLB was written from (its extras hold the shape parameters)."""
+    shape = extras.get("shape")
+    if not isinstance(shape, dict):
+        raise HitogataError(f"{path}: no hitogata shape in the file's extras; allowed: a .glb written by hitogata")
+    try:
+        params = ShapeParameters(**{**shape, "race": tuple(shape.get("race", (1 / 3,) * 3))})
+    except TypeError as err:
+        raise HitogataError(f"{path}: extras 'shape' {shape!r}: {err}") from None
+    return Body.from_parameters(params, float(extras.get("density", WHOLE_BODY_DENSITY)))
 
 
 def check_body_path(path: str | os.PathLike) -> Path:
@@ -43,5 +62,5 @@ def write_body(path: str | os.PathLike, body: Body) -> Path:
         joint_positions=body.rig.heads,
         skin_weights=body.skin_weights,
         name="hitogata body",
-        extras={"sex": body.params.sex, "age_years": body.params.age, **body_figures(body)},
+        extras={"shape": shape_extras(body.params), "density": body.density, **body_figures(body)},
     )
