@@ -51,7 +51,7 @@ def test_rigid_motion_has_no_strain(sex, request):
 
 
 def test_bent_elbow_stretches_most_over_the_back_of_the_elbow(female):
-    # Elbow flexed to 120° by the stand-in skinning of tests/measure_posing.py.
+    # Elbow flexed to 120° by the posing code (tests/measure_posing.py).
     vertices, _ = flex_elbow(female, np.radians(120))
     s = skin_strain(female.vertices, vertices, female.faces)
     rig = female.rig
