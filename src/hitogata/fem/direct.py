@@ -74,8 +74,9 @@ def exact_response(M: sp.spmatrix, C: sp.spmatrix, K: sp.spmatrix, loads: np.nda
     return _expand(states[:, :n], free, K.shape[0]), _expand(states[:, n:], free, K.shape[0])
 
 
-def _reduce(M, C, K, loads, dt, fixed_nodes):
-    """Free dofs, the matrices restricted to them, and the loads on them."""
+def _reduce(M: sp.spmatrix, C: sp.spmatrix, K: sp.spmatrix, loads: np.ndarray, dt: float,
+            fixed_nodes: np.ndarray | list[int] | None) -> tuple[np.ndarray, tuple, np.ndarray]:
+    """Free dofs, (M, C, K) restricted to them, and the loads on them."""
     if not (np.isfinite(dt) and dt > 0.0):
         raise HitogataError(f"time step dt = {dt!r} is invalid; allowed: > 0 s")
     loads = np.asarray(loads, dtype=float)

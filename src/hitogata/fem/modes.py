@@ -3,9 +3,10 @@
 Fixed dofs are removed from the system (their displacement is zero in the
 mode shapes); the remaining generalized eigenproblem is solved by
 shift-invert Lanczos (ARPACK through scipy's ``eigsh``) around ``sigma``, with
-K - sigma M factored by the fastest available method (see ``factor.py``), or
-densely for small systems. Modes are mass-normalised: Phi^T M Phi = I,
-Phi^T K Phi = diag(lambda), and lambda = omega^2, so f = sqrt(lambda) / 2 pi Hz.
+K - sigma M factored by SuperLU on a nested-dissection ordering
+(``factor.py``), or densely on request (small systems, cross-checks).
+Modes are mass-normalised: Phi^T M Phi = I, Phi^T K Phi = diag(lambda), and
+lambda = omega^2, so f = sqrt(lambda) / 2 pi Hz.
 """
 
 from __future__ import annotations
@@ -53,7 +54,7 @@ def solve_modes(K: sp.spmatrix, M: sp.spmatrix, n_modes: int, fixed_nodes: np.nd
                 blas_threads: int | None = 1) -> Modes:
     """The ``n_modes`` lowest modes of (K, M) with the dofs of ``fixed_nodes`` held at zero.
 
-    solver: "auto" (the fastest factorization installed), "dense" (LAPACK
+    solver: "auto" (= "superlu-nd", see factor.py), "dense" (LAPACK
     on full matrices: small systems and cross-checks), "scipy" (eigsh's own
     shift-invert with SuperLU/COLAMD: the baseline), "superlu-nd" or
     "pardiso" (eigsh with our factorization of K - sigma M).
@@ -61,8 +62,8 @@ def solve_modes(K: sp.spmatrix, M: sp.spmatrix, n_modes: int, fixed_nodes: np.nd
     else a small negative value below the rigid-body modes.
     tol: ARPACK's relative residual tolerance (0 = machine precision); the
     eigenvalues' error is of order tol^2, far below any modelling error.
-    blas_threads: BLAS threads while ARPACK runs (needs threadpoolctl; None
-    leaves them alone). ARPACK's work is memory-bound matrix-vector BLAS,
+    blas_threads: OpenBLAS threads while ARPACK runs (needs threadpoolctl;
+    None leaves them alone). ARPACK's work is memory-bound matrix-vector BLAS,
     which extra threads do not speed up but, on a busy machine, slow down
     several-fold (measured: 6.7 s vs 0.7 s of ARPACK time for 40 modes at 33k dof).
     """
@@ -85,16 +86,17 @@ def solve_modes(K: sp.spmatrix, M: sp.spmatrix, n_modes: int, fixed_nodes: np.nd
     if solver == "auto":
         solver = resolve_method("auto")
 
-    with _blas_limit(blas_threads):
-        if solver == "dense":
-            lam, vec = la.eigh(Kf.toarray(), Mf.toarray(), subset_by_index=[0, n_modes - 1])
-        elif solver == "scipy":
+    if solver == "dense":
+        lam, vec = la.eigh(Kf.toarray(), Mf.toarray(), subset_by_index=[0, n_modes - 1])
+    elif solver == "scipy":
+        with _openblas_limit(blas_threads):
             lam, vec = sla.eigsh(Kf, n_modes, Mf, sigma=sigma, which="LM", tol=tol)
-        else:
-            shifted = (Kf - sigma * Mf) if sigma else Kf
-            solve = factorize(shifted, solver, node_of_dof=free // 3, positive_definite=sigma <= 0.0)
-            op = sla.LinearOperator(Kf.shape, matvec=solve, matmat=solve, dtype=float)
-            Mf.eliminate_zeros()  # consistent M shares K's pattern; its matvecs need only a third of it
+    else:
+        shifted = (Kf - sigma * Mf) if sigma else Kf
+        solve = factorize(shifted, solver, node_of_dof=free // 3, positive_definite=sigma <= 0.0)
+        op = sla.LinearOperator(Kf.shape, matvec=solve, matmat=solve, dtype=float)
+        Mf.eliminate_zeros()  # consistent M shares K's pattern; its matvecs need only a third of it
+        with _openblas_limit(blas_threads):
             lam, vec = sla.eigsh(Kf, n_modes, Mf, sigma=sigma, which="LM", OPinv=op, tol=tol)
 
     order = np.argsort(lam)
@@ -107,12 +109,15 @@ def solve_modes(K: sp.spmatrix, M: sp.spmatrix, n_modes: int, fixed_nodes: np.nd
     return Modes(lam, full)
 
 
-def _blas_limit(threads: int | None):
-    """A context limiting BLAS threads if threadpoolctl is installed, else doing nothing."""
+def _openblas_limit(threads: int | None):
+    """A context limiting OpenBLAS threads if threadpoolctl is installed, else doing nothing.
+
+    Only OpenBLAS (numpy's and scipy's BLAS): MKL's threads drive PARDISO and stay free.
+    """
     if threads is None:
         return nullcontext()
     try:
         from threadpoolctl import threadpool_limits
     except ImportError:
         return nullcontext()
-    return threadpool_limits(threads, user_api="blas")
+    return threadpool_limits(limits={"openblas": threads})
