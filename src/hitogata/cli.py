@@ -10,10 +10,10 @@ import argparse
 import sys
 from typing import Sequence
 
-from hitogata.commands import body, demo, measure
+from hitogata.commands import body, demo, measure, pose, skeleton
 from hitogata.errors import HitogataError
 
-COMMANDS = (body, demo, measure)
+COMMANDS = (body, demo, measure, pose, skeleton)
 
 
 def build_parser() -> argparse.ArgumentParser:

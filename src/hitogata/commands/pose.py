@@ -1,0 +1,71 @@
+"""`hitogata pose`: pose a body by its muscles or joint angles and write it."""
+
+from __future__ import annotations
+
+import argparse
+
+import numpy as np
+
+from hitogata.commands.args import add_body_arguments
+from hitogata.commands.body import body_from_args
+from hitogata.commands.pose_args import add_pose_arguments
+from hitogata.commands.pose_summary import moved_count, pose_summary
+from hitogata.commands.posing import pose_from_args
+from hitogata.errors import HitogataError
+from hitogata.export.body_files import body_figures
+from hitogata.export.pose_files import check_posed_path, write_posed
+from hitogata.pose import Poser
+
+
+def list_names(poser: Poser) -> list[str]:
+    """Every muscle (kind, DOF, joints) and every DOF (clinical range, rest angle)."""
+    sk, ms = poser.skeleton, poser.muscles
+    lines = [f"muscles ({len(ms.names)}; --contract NAME=VALUE):"]
+    for m, name in enumerate(ms.names):
+        dofs = [sk.dof_names[d] for d in ms.dofs(m)]
+        part, dof = dofs[0].split(".")
+        moves = dofs[0] if len(dofs) == 1 else f"{dof} of {len(dofs)} joints {part}…"
+        lines.append(f"  {name:40s} {'rotation' if ms.rotation[m] else 'flexion':9s} {moves}")
+    lines.append(f"degrees of freedom ({sk.n_dofs}; --angle PART.DOF=ANGLE, clinical range, rest):")
+    low, high, rest = (np.degrees(a) for a in (sk.rest + sk.lower, sk.rest + sk.upper, sk.rest))
+    for k, name in enumerate(sk.dof_names):
+        lines.append(f"  {name:40s} {low[k]:7.1f}° … {high[k]:6.1f}°  rest {rest[k]:6.1f}°")
+    return lines
+
+
+def run(args: argparse.Namespace) -> None:
+    if args.list:
+        print("\n".join(list_names(Poser.from_body(body_from_args(args)))))
+        return
+    if args.out is None:
+        raise HitogataError("--out: give the output file (.glb, .obj or .ply), or --list")
+    check_posed_path(args.out, args.skinning)
+    poser, request, posed = pose_from_args(args)
+    extras = {
+        "sex": poser.body.params.sex,
+        "age_years": poser.body.params.age,
+        **body_figures(poser.body),
+        "clinical_angles_deg": {
+            name: round(float(np.degrees(value)), 4) for name, value in zip(posed.skeleton.dof_names, posed.clinical)
+        },
+    }
+    path = write_posed(args.out, poser, posed, extras)
+    moved = moved_count(posed)
+    angles = f"{moved} joint angle{'s' * (moved != 1)}"
+    print(f"{path}: {len(posed.skeleton.names)}-part skeleton, {angles} moved (clinical):")
+    print("\n".join(pose_summary(request, posed)))
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    parser = sub.add_parser(
+        "pose",
+        help="pose a body by muscle contractions or joint angles and write it",
+        description="Pose a body by its muscles (eq. 1, 2 of the paper) or by clinical joint angles. "
+        "A .glb holds the rest skin on the 65-part skeleton with the pose as joint rotations "
+        "(re-posable in Blender or three.js); .obj/.ply hold the posed surface.",
+    )
+    add_body_arguments(parser)
+    add_pose_arguments(parser)
+    parser.add_argument("--list", action="store_true", help="print the muscles and degrees of freedom, and exit")
+    parser.add_argument("--out", help="output file: .glb (skinned, posed, re-posable), .obj or .ply")
+    parser.set_defaults(run=run)
