@@ -9,8 +9,9 @@ corners (`BilinearShape`): the number of evaluations is counted, each is timed.
 from __future__ import annotations
 
 import statistics
-import time
 
+
+from timing import timed
 
 from hitogata.assets import load_assets, skin_points
 from hitogata.body import Body
@@ -19,14 +20,6 @@ from hitogata.shape import BilinearShape, blend
 
 CASES = [("female", 1.55, 50.0), ("female", 1.65, 62.0), ("male", 1.78, 78.0), ("male", 1.92, 88.0)]
 
-
-def timed(fn, repeat: int) -> list[float]:
-    out = []
-    for _ in range(repeat):
-        t = time.perf_counter()
-        fn()
-        out.append(time.perf_counter() - t)
-    return out
 
 
 def main() -> None:

@@ -11,10 +11,11 @@ agree to 1e-9 m, so the speed-up compares equal work.
 from __future__ import annotations
 
 import statistics
-import time
 
 import numpy as np
 from scipy.spatial import ConvexHull
+
+from timing import timed
 
 from hitogata.assets import load_assets
 from hitogata.body import default_body
@@ -24,14 +25,6 @@ from hitogata.measure.landmarks import body_landmarks, find_landmarks, reference
 from hitogata.measure.measurements import MEASUREMENT_NAMES, girth_planes, heights, measure
 from hitogata.measure.sections import plane_basis
 
-
-def timed(fn, repeat: int) -> list[float]:
-    out = []
-    for _ in range(repeat):
-        t = time.perf_counter()
-        fn()
-        out.append(time.perf_counter() - t)
-    return out
 
 
 def naive_girth(vertices: np.ndarray, faces: np.ndarray, origin, normal, centre) -> float:

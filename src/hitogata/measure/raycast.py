@@ -1,8 +1,10 @@
-"""First hit of a ray with a triangle mesh (Möller–Trumbore, vectorised over faces)."""
+"""First hit of a ray with the skin, and the nearest corner of a hit face."""
 
 from __future__ import annotations
 
 import numpy as np
+
+from hitogata.geometry.raycast import ray_triangle
 
 
 def first_hit(
@@ -10,21 +12,10 @@ def first_hit(
 ) -> tuple[int, np.ndarray]:
     """Index of the first face the ray crosses and the crossing point; (-1, nan) if none."""
     direction = np.asarray(direction, dtype=np.float64) / np.linalg.norm(direction)
-    tri = vertices[faces]
-    e1, e2 = tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]
-    p = np.cross(direction, e2)
-    det = np.einsum("ij,ij->i", e1, p)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        inv = 1.0 / det
-        s = origin - tri[:, 0]
-        u = np.einsum("ij,ij->i", s, p) * inv
-        q = np.cross(s, e1)
-        v = (q @ direction) * inv
-        t = np.einsum("ij,ij->i", e2, q) * inv
-    hit = (np.abs(det) > 1e-15) & (u >= 0) & (v >= 0) & (u + v <= 1) & (t > 0)
-    if not hit.any():
+    t = ray_triangle(origin, direction, vertices[faces], t_min=np.finfo(float).tiny)
+    if not np.isfinite(t).any():
         return -1, np.full(3, np.nan)
-    face = int(np.flatnonzero(hit)[np.argmin(t[hit])])
+    face = int(np.argmin(t))
     return face, origin + t[face] * direction
 
 

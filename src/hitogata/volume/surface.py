@@ -19,6 +19,8 @@ from __future__ import annotations
 import numpy as np
 from scipy.spatial import cKDTree
 
+from hitogata.geometry.raycast import ray_triangle
+
 # Pairs (query, triangle) evaluated at once: bounds the temporaries to ~100 MB.
 _BLOCK = 1 << 20
 
@@ -187,7 +189,7 @@ class SurfaceIndex:
         for block in _blocks(counts):
             local, tri = _gather(ptr, items, cells[block])
             s = seg[block][local]
-            t = _segment_triangle(start[s], end[s], self.tri[tri])
+            t = ray_triangle(start[s], end[s] - start[s], self.tri[tri], t_max=1.0)
             np.minimum.at(best, s, t)
         return best
 
@@ -235,20 +237,3 @@ def _top_left(u: np.ndarray, v: np.ndarray) -> np.ndarray:
     if it runs towards -y, or along +x when level; the opposite traversal never does."""
     dx, dy = v[:, 0] - u[:, 0], v[:, 1] - u[:, 1]
     return (dy < 0) | ((dy == 0) & (dx > 0))
-
-
-def _segment_triangle(start: np.ndarray, end: np.ndarray, tri: np.ndarray) -> np.ndarray:
-    """Möller–Trumbore: fraction along start→end where it meets the triangle, inf if it misses."""
-    d = end - start
-    e1, e2 = tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]
-    pvec = np.cross(d, e2)
-    det = np.einsum("ij,ij->i", e1, pvec)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        inv = 1.0 / det
-        tvec = start - tri[:, 0]
-        u = np.einsum("ij,ij->i", tvec, pvec) * inv
-        qvec = np.cross(tvec, e1)
-        v = np.einsum("ij,ij->i", d, qvec) * inv
-        t = np.einsum("ij,ij->i", e2, qvec) * inv
-        hit = (det != 0) & (u >= 0) & (v >= 0) & (u + v <= 1) & (t >= 0) & (t <= 1)
-    return np.where(hit, t, np.inf)
