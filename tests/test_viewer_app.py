@@ -1,0 +1,168 @@
+"""The viewer app on a real viser server, driven through its actions (the browser test drives the page)."""
+
+import re
+import socket
+import subprocess
+import sys
+import time
+
+import numpy as np
+import pytest
+
+pytest.importorskip("viser", reason="the viewer needs viser (pip install viser)")
+
+from hitogata.errors import HitogataError  # noqa: E402
+from hitogata.viewer import serve  # noqa: E402
+from hitogata.viewer.player import RESULT_FILE  # noqa: E402
+
+
+@pytest.fixture(scope="module")
+def app(female):
+    viewer = serve(female, port=0)
+    yield viewer
+    viewer.stop()
+
+
+@pytest.fixture(autouse=True)
+def rest_pose(app):
+    app.back_to_muscles()
+    app.reset_pose()
+    yield
+
+
+def wait_for(predicate, timeout=30.0):
+    end = time.monotonic() + timeout
+    while time.monotonic() < end:
+        if predicate():
+            return True
+        time.sleep(0.05)
+    return False
+
+
+def test_serves_on_loopback_by_default(app):
+    assert app.url.startswith("http://127.0.0.1:")
+    with socket.create_connection(("127.0.0.1", app.server.get_port()), timeout=5):
+        pass
+
+
+def test_an_address_this_machine_cannot_listen_on_is_a_one_line_error(female):
+    with pytest.raises(HitogataError, match=r"host '999\.1\.1\.1': cannot listen there"):
+        serve(female, host="999.1.1.1", port=0)
+
+
+def test_a_muscle_move_poses_the_skin_and_echoes_the_antagonist(app, female):
+    app.move_muscle("biceps_brachii_r", 20.0)
+    assert app.state.posed.angle("forearm_r.flexion") > 0.3
+    np.testing.assert_allclose(app.scene.skin.vertices, app.state.posed.vertices.astype(np.float32))
+    assert app.panels.sliders["triceps_brachii_r"].value < -1.0
+    assert app.panels.sliders["biceps_brachii_r"].value == 0.0  # the moved one is the person's to set
+    bones = app.scene.skeleton.points
+    assert bones.shape == (65, 2, 3) and not np.allclose(bones[:, 0], app.state.poser.skeleton.joints)
+
+
+def test_measurements_follow_the_pose(app):
+    assert app.wait_idle()
+    rest = app.panels.measurements.content
+    app.move_muscle("rectus_abdominis_l", 40.0)
+    assert app.wait_idle()
+    bent = app.panels.measurements.content
+    assert bent != rest and "stature" in bent and "waist girth" in bent
+    stature = float(re.search(r"\| stature \| ([\d.]+) \|", bent).group(1))
+    assert stature < 160.0  # bent forward
+
+
+def test_bad_stature_is_a_message_and_the_server_keeps_running(app):
+    app.rebuild_body("female", 30.0, 250.0, 60.0)
+    assert app.panels.message.content.startswith("**Error:** stature 250.0 cm: allowed 140")
+    app.rebuild_body("female", 30.0, None, 60.0)
+    assert "stature None: allowed a number" in app.panels.message.content
+    assert app.panels.rebuild.disabled is False
+    app.move_muscle("deltoid_l", 10.0)  # still posing
+    assert app.state.drivers == {"deltoid_l": 0.1}
+
+
+def test_broken_scenario_file_is_a_message(app, tmp_path):
+    broken = tmp_path / "broken.toml"
+    broken.write_text("[[keyframe]]\ntime = 'soon'\n[[keyframe]]\ntime = 1.0\n")
+    app.load_sequence(str(broken))
+    assert "**Error:**" in app.panels.message.content and "broken.toml" in app.panels.message.content
+    app.load_sequence("")
+    assert "sequence path: empty" in app.panels.message.content
+
+
+def test_player_loads_plays_scrubs_and_returns_to_muscles(app, tmp_path):
+    poser = app.state.poser
+    q = np.zeros((10, poser.skeleton.n_dofs))
+    q[:, poser.skeleton.dof_index("shank_l.flexion")] = np.linspace(0.0, 1.2, 10)
+    np.savez(tmp_path / RESULT_FILE, times=np.linspace(0.0, 0.3, 10), vertices=poser.pose_many(q), angles=q)
+    app.load_sequence(str(tmp_path))
+    assert app.showing_sequence and "10 frames" in app.panels.sequence_info.content
+    assert app.panels.time.disabled is False and app.panels.time.max == pytest.approx(0.3)
+    app.play()
+    assert wait_for(lambda: not app.clock.playing, timeout=10.0)
+    assert app.clock.time == pytest.approx(0.3)
+    np.testing.assert_allclose(app.scene.skin.vertices, poser.pose_many(q[-1:])[0], atol=1e-5)
+    app.scrub(0.0)
+    np.testing.assert_allclose(app.scene.skin.vertices, poser.body.vertices, atol=1e-5)
+    app.move_muscle("hamstrings_r", 10.0)  # a slider takes the body back from the sequence
+    assert not app.showing_sequence
+    np.testing.assert_allclose(app.scene.skin.vertices, app.state.posed.vertices, atol=1e-5)
+
+
+def test_strain_and_tissue_layers(app):
+    app.move_muscle("iliopsoas_r", 30.0)
+    app.set_layer("strain", True)
+    assert app.wait_idle() and app.scene.strain is not None and app.scene.strain.visible
+    assert not app.scene.skin.visible
+    app.set_layer("strain", False)
+    assert app.scene.skin.visible and not app.scene.strain.visible
+    app.set_layer("tissue", True)
+    assert wait_for(lambda: "tissue regions ready" in app.panels.message.content, timeout=60.0)
+    regions = [surface.region for surface, _ in app.scene.tissue]
+    assert regions == ["bone", "viscera", "muscle"]
+    surface, handle = app.scene.tissue[0]
+    np.testing.assert_allclose(handle.vertices, surface.posed(app.state.posed.pose), atol=1e-5)
+    app.set_layer("tissue", False)
+    assert not any(h.visible for _, h in app.scene.tissue)
+
+
+def test_snapshot_html_is_self_contained(app):
+    from hitogata.viewer.export import snapshot_html
+
+    html = snapshot_html(app.server)
+    assert html.lstrip().lower().startswith("<!doctype html")
+    assert not re.findall(r'(?:src|href)="https?://', html)
+
+
+def test_rebuilt_body_keeps_the_pose(app):
+    app.move_muscle("biceps_brachii_l", 15.0)
+    angles = app.state.posed.angles.copy()
+    app.rebuild_body("male", 40.0, 180.0, 80.0)
+    assert "body rebuilt" in app.panels.message.content
+    assert app.state.body.stature == pytest.approx(1.80, abs=1e-3)
+    np.testing.assert_allclose(app.state.posed.angles, angles, atol=1e-9)
+    k = app.state.muscles.index("biceps_brachii_l")
+    assert app.panels.sliders["biceps_brachii_l"].max == pytest.approx(app.state.ranges.high[k])
+
+
+def free_port():
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+def test_the_command_prints_its_url_and_rejects_a_bad_port():
+    bad = subprocess.run([sys.executable, "-m", "hitogata.cli", "view", "--port", "http"], capture_output=True, text=True)
+    assert bad.returncode == 2 and "port 'http': allowed a whole number 1–65535" in bad.stderr
+    port = free_port()
+    proc = subprocess.Popen([sys.executable, "-m", "hitogata.cli", "view", "--port", str(port)],
+                            stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True)
+    try:
+        line = ""
+        end = time.monotonic() + 60
+        while "hitogata viewer:" not in line and time.monotonic() < end:
+            line = proc.stdout.readline()
+        assert f"hitogata viewer: http://127.0.0.1:{port}" in line
+    finally:
+        proc.terminate()
+        proc.wait(timeout=10)

@@ -1,0 +1,163 @@
+"""End to end in a real headless browser: Debian's chromium driven by Playwright.
+
+The page loads; a muscle slider moved with the keyboard changes the server's
+pose, the picture on the canvas and a measurement shown; bad input typed into
+the page is a message there and the server goes on; the pose downloads as GLB
+and the static HTML snapshot opens from a file. GUI state is shared by every
+client of a server, so each test resets what it moves first.
+"""
+
+import io
+import shutil
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+pytest.importorskip("viser", reason="the viewer needs viser (pip install viser)")
+sync_api = pytest.importorskip("playwright.sync_api", reason="the browser test needs playwright (pip install playwright)")
+CHROMIUM = "/usr/bin/chromium"
+if not Path(CHROMIUM).exists():
+    pytest.skip("the browser test needs Debian's chromium (apt-get install chromium)", allow_module_level=True)
+
+from PIL import Image  # noqa: E402
+
+from hitogata.viewer import serve  # noqa: E402
+from hitogata.viewer.export import snapshot_html  # noqa: E402
+
+CHROMIUM_ARGS = [
+    "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
+    "--disable-background-networking", "--disable-component-update", "--disable-sync",
+]
+TIMEOUT_MS = 20_000
+
+
+@pytest.fixture(scope="module")
+def app(female):
+    viewer = serve(female, port=0)
+    yield viewer
+    viewer.stop()
+
+
+@pytest.fixture(scope="module")
+def browser(tmp_path_factory):
+    profile = tmp_path_factory.mktemp("chromium-profile")
+    with sync_api.sync_playwright() as playwright:
+        context = playwright.chromium.launch_persistent_context(
+            str(profile), executable_path=CHROMIUM, headless=True, args=CHROMIUM_ARGS,
+            viewport={"width": 1280, "height": 800}, accept_downloads=True,
+        )
+        yield context
+        context.close()
+    shutil.rmtree(profile, ignore_errors=True)
+
+
+@pytest.fixture(scope="module")
+def page(app, browser):
+    page = browser.new_page()
+    page.set_default_timeout(TIMEOUT_MS)
+    page.goto(app.url)
+    page.locator("canvas").first.wait_for()
+    page.get_by_text("stature", exact=True).wait_for()
+    return page
+
+
+def wait_for(predicate, timeout=20.0):
+    end = time.monotonic() + timeout
+    while time.monotonic() < end:
+        if predicate():
+            return True
+        time.sleep(0.05)
+    return False
+
+
+def canvas_pixels(page) -> np.ndarray:
+    png = page.locator("canvas").first.screenshot()
+    return np.asarray(Image.open(io.BytesIO(png)).convert("RGB"), dtype=np.int16)
+
+
+def slider_thumb(page, label: str):
+    """The visible slider whose label reads `label` (the same name may sit in a closed folder)."""
+    target = page.locator("label").filter(has_text=label).locator("visible=true").first
+    return page.locator(f'[id="{target.get_attribute("for")}"] [role=slider]')
+
+
+def field(page, label: str):
+    """The visible input beside a label."""
+    row = page.locator("label", has_text=label).locator("visible=true").first
+    return row.locator("xpath=ancestor::div[contains(@class, 'mantine-Flex-root')][1]//input").first
+
+
+def stature_shown(page) -> str:
+    return page.locator("tr", has_text="stature").first.inner_text()
+
+
+def test_a_muscle_slider_moves_the_pose_the_picture_and_a_measurement(app, page):
+    page.get_by_role("tab", name="Muscles").click()
+    page.get_by_role("button", name="Reset pose").click()  # shared state: start from rest
+    assert wait_for(lambda: app.state.drivers == {} and not app.showing_sequence)
+    page.get_by_text("Trunk", exact=True).click()
+    thumb = slider_thumb(page, "rectus abdominis (left)")
+    assert thumb.get_attribute("aria-valuenow") == "0"
+    assert app.wait_idle()
+    time.sleep(1.0)  # let the canvas settle
+    before_pixels, before_stature = canvas_pixels(page), stature_shown(page)
+
+    thumb.focus()
+    page.keyboard.press("End")
+    k = app.state.muscles.index("rectus_abdominis_l")
+    assert wait_for(lambda: app.state.drivers.get("rectus_abdominis_l", 0.0) * 100 == pytest.approx(app.state.ranges.high[k]))
+    assert app.state.posed.angle("lumbar_3.flexion") > 0.05  # the server's pose bent the spine
+    assert wait_for(lambda: stature_shown(page) != before_stature), "the stature shown did not change"
+    time.sleep(1.0)
+    after = canvas_pixels(page)
+    changed = np.abs(after - before_pixels).max(axis=2) > 24
+    assert changed.mean() > 0.01, f"only {changed.mean():.2%} of the canvas changed"
+
+
+def test_a_stature_outside_the_range_is_a_message_and_the_server_goes_on(app, page):
+    page.get_by_role("tab", name="Body").click()
+    stature = page.get_by_label("stature (cm)")
+    stature.fill("250")
+    stature.press("Tab")
+    assert wait_for(lambda: app.panels.stature.value == 250)
+    page.get_by_role("button", name="Rebuild body").click()
+    page.get_by_text("stature 250.0 cm: allowed 140–210 cm").wait_for()
+    stature.fill("165")  # shared state: put it back
+    stature.press("Tab")
+    page.reload()  # the server still serves and poses
+    page.get_by_text("stature", exact=True).wait_for()
+    page.get_by_role("tab", name="Muscles").click()
+    page.get_by_role("button", name="Reset pose").click()
+    assert wait_for(lambda: app.state.drivers == {})
+
+
+def test_a_broken_scenario_file_is_a_message(app, page, tmp_path):
+    broken = tmp_path / "broken.npz"
+    broken.write_bytes(b"this is not a sequence")
+    page.get_by_role("tab", name="Player").click()
+    path = field(page, "path")
+    path.fill(str(broken))
+    path.press("Tab")
+    assert wait_for(lambda: app.panels.sequence_path.value == str(broken))
+    page.get_by_role("button", name="Load").click()
+    page.get_by_text("not a readable .npz file").wait_for()
+    assert app.sequence is None
+
+
+def test_the_pose_downloads_as_glb_and_the_snapshot_opens_from_a_file(app, page, browser, tmp_path):
+    page.get_by_role("tab", name="Export").click()
+    with page.expect_download() as download:
+        page.get_by_role("button", name="Download pose (GLB)").click()
+    assert download.value.suggested_filename == "hitogata-pose.glb"
+    assert Path(download.value.path()).read_bytes()[:4] == b"glTF"
+    snapshot = tmp_path / "snapshot.html"
+    snapshot.write_text(snapshot_html(app.server), encoding="utf-8")
+    offline = browser.new_page()
+    requests = []
+    offline.on("request", lambda request: requests.append(request.url))
+    offline.goto(snapshot.as_uri())
+    offline.locator("canvas").first.wait_for(timeout=TIMEOUT_MS)
+    offline.close()
+    assert all(url.startswith(("file:", "data:", "blob:")) for url in requests), requests
