@@ -61,7 +61,7 @@ def female_args(female: Body, monkeypatch):
 def test_glb_carries_the_skeleton_and_the_requested_pose(tmp_path: Path, capsys) -> None:
     out = tmp_path / "posed.glb"
     args = ["pose", "--sex", "female", "--stature", "165cm", "--mass", "60kg",
-            "--angle", "elbow_l.flexion=90deg", "--contract", "biceps_brachii_r=25%", "--out", str(out)]
+            "--angle", "elbow_l.flexion=90deg", "--muscle", "biceps_brachii_r=25%", "--out", str(out)]
     assert main(args) == 0
     printed = capsys.readouterr().out
     assert "65-part skeleton, 2 joint angles moved" in printed
@@ -95,7 +95,7 @@ def test_glb_carries_the_skeleton_and_the_requested_pose(tmp_path: Path, capsys)
 @needs_validator
 def test_posed_glb_passes_khronos_validator(tmp_path: Path, female_args) -> None:
     out = tmp_path / "posed.glb"
-    assert main(["pose", "--contract", "rectus_abdominis=-10%", "--angle", "knee.flexion=60deg", "--out", str(out)]) == 0
+    assert main(["pose", "--muscle", "rectus_abdominis=-10%", "--angle", "knee.flexion=60deg", "--out", str(out)]) == 0
     report, _ = validate_gltf(out)
     assert report["issues"]["numErrors"] == 0 and report["issues"]["numWarnings"] == 0, report["issues"]["messages"]
     assert report["info"]["hasSkins"]
@@ -103,7 +103,7 @@ def test_posed_glb_passes_khronos_validator(tmp_path: Path, female_args) -> None
 
 def test_obj_is_the_posed_surface_with_dqs(tmp_path: Path, female_args, capsys) -> None:
     out = tmp_path / "posed.obj"
-    assert main(["pose", "--contract", "pronator_teres_l=0.02", "--skinning", "dqs", "--out", str(out)]) == 0
+    assert main(["pose", "--muscle", "pronator_teres_l=0.02", "--skinning", "dqs", "--out", str(out)]) == 0
     vertices = np.array([line.split()[1:4] for line in out.read_text().splitlines() if line.startswith("v ")], float)
     expected = poser_for(female_args).pose(contractions={"pronator_teres_l": 0.02}, skinning="dqs").vertices
     assert np.abs(vertices - expected).max() < 1e-6
@@ -112,7 +112,7 @@ def test_obj_is_the_posed_surface_with_dqs(tmp_path: Path, female_args, capsys) 
 
 def test_side_less_names_move_both_sides(tmp_path: Path, female_args) -> None:
     out = tmp_path / "posed.glb"
-    assert main(["pose", "--contract", "biceps_brachii=20%", "--contract", "rectus_abdominis=-5%",
+    assert main(["pose", "--muscle", "biceps_brachii=20%", "--muscle", "rectus_abdominis=-5%",
                  "--angle", "knee.flexion=30deg", "--out", str(out)]) == 0
     angles = read_glb_skin(out).extras["clinical_angles_deg"]
     assert angles["forearm_l.flexion"] == pytest.approx(angles["forearm_r.flexion"]) and angles["forearm_l.flexion"] > 45
@@ -122,7 +122,7 @@ def test_side_less_names_move_both_sides(tmp_path: Path, female_args) -> None:
 
 def test_clamp_notes_and_writes(tmp_path: Path, female_args, capsys) -> None:
     out = tmp_path / "posed.ply"
-    assert main(["pose", "--contract", "biceps_brachii_l=0.9", "--on-limit", "clamp", "--out", str(out)]) == 0
+    assert main(["pose", "--muscle", "biceps_brachii_l=0.9", "--on-limit", "clamp", "--out", str(out)]) == 0
     captured = capsys.readouterr()
     assert "hitogata: note: clamped onto the edge of the range of motion: biceps_brachii_l" in captured.err
     assert "→ 150.0°" in captured.out and out.is_file()
@@ -138,16 +138,16 @@ def test_list_names_the_muscles_and_dofs(female_args, capsys) -> None:
 @pytest.mark.parametrize(
     "args,message",
     [
-        (["--contract", "bicep_l=0.25"], "--contract 'bicep_l': no muscle of that name; did you mean"),
-        (["--contract", "bicep_l=0.25"], "biceps_brachii_l"),
+        (["--muscle", "bicep_l=0.25"], "--muscle 'bicep_l': no muscle of that name; did you mean"),
+        (["--muscle", "bicep_l=0.25"], "biceps_brachii_l"),
         (["--angle", "elbow_l.flexon=90deg"], "did you mean forearm_l.flexion"),
         (["--angle", "forearm_l.flexion=90"], "--angle forearm_l.flexion '90': write a number with a unit ('deg'"),
         (["--angle", "forearm_l.flexion=170deg"], "forearm_l.flexion = 170.0° clinical: allowed 0.0…150.0°"),
-        (["--contract", "biceps_brachii_l=lots"], "write a contraction (0.25 or 25%; negative = stretched) or a length"),
-        (["--contract", "biceps_brachii_l=2"], "muscle 'biceps_brachii_l': contraction 2 is beyond its reach"),
-        (["--contract", "biceps_brachii_l"], "--contract 'biceps_brachii_l': write NAME=VALUE"),
-        (["--contract", "biceps_brachii_l=10%", "--angle", "forearm_l.flexion=60deg"], "set both by an angle and by"),
-        (["--contract", "biceps_brachii_l=10%", "--contract", "biceps_brachii_l=5%"], "given twice"),
+        (["--muscle", "biceps_brachii_l=lots"], "write a contraction (0.25 or 25%; negative = stretched) or a length"),
+        (["--muscle", "biceps_brachii_l=2"], "muscle 'biceps_brachii_l': contraction 2 is beyond its reach"),
+        (["--muscle", "biceps_brachii_l"], "--muscle 'biceps_brachii_l': write NAME=VALUE"),
+        (["--muscle", "biceps_brachii_l=10%", "--angle", "forearm_l.flexion=60deg"], "set both by an angle and by"),
+        (["--muscle", "biceps_brachii_l=10%", "--muscle", "biceps_brachii_l=5%"], "given twice"),
         (["--skinning", "dqs"], "cannot go in a GLB (glTF viewers skin linearly); write .obj or .ply"),
     ],
 )

@@ -28,7 +28,7 @@ def female_args(female: Body, monkeypatch):
 
 def test_picture_of_the_posed_skeleton(tmp_path: Path, female_args, capsys) -> None:
     bare, skin = tmp_path / "bare.png", tmp_path / "skin.png"
-    pose = ["--contract", "biceps_brachii_l=25%", "--angle", "knee_r.flexion=60deg"]
+    pose = ["--muscle", "biceps_brachii_l=25%", "--angle", "knee_r.flexion=60deg"]
     assert main(["skeleton", *pose, *SMALL, "--out", str(bare)]) == 0
     out = capsys.readouterr().out
     assert out.startswith(f"{bare}: front, side views, ") and "biceps_brachii_l contracted 25.0%" in out

@@ -28,7 +28,7 @@ def body_from_args(args: argparse.Namespace) -> Body:
         age=args.age,
         stature=units.length(args.stature, "--stature"),
         mass=units.mass(args.mass, "--mass"),
-        muscle=args.muscle,
+        muscle=args.muscle_tone,
         proportions=args.proportions,
     )
 

@@ -20,7 +20,7 @@ from hitogata.pose import Poser
 def list_names(poser: Poser) -> list[str]:
     """Every muscle (kind, DOF, joints) and every DOF (clinical range, rest angle)."""
     sk, ms = poser.skeleton, poser.muscles
-    lines = [f"muscles ({len(ms.names)}; --contract NAME=VALUE):"]
+    lines = [f"muscles ({len(ms.names)}; --muscle NAME=VALUE):"]
     for m, name in enumerate(ms.names):
         dofs = [sk.dof_names[d] for d in ms.dofs(m)]
         part, dof = dofs[0].split(".")

@@ -1,4 +1,4 @@
-"""The pose a user asks for on the command line: --contract NAME=VALUE, --angle PART.DOF=ANGLE.
+"""The pose a user asks for on the command line: --muscle NAME=VALUE, --angle PART.DOF=ANGLE.
 
 Shared by `hitogata pose` and `hitogata skeleton`. Values go through
 `hitogata.units` once, here. Names are the skeleton's and muscles' list names,
@@ -44,9 +44,9 @@ class PoseRequest:
 
 
 def add_pose_arguments(parser: argparse.ArgumentParser) -> None:
-    """--contract, --angle, --skinning, --on-limit."""
+    """--muscle (alias --contract), --angle, --skinning, --on-limit."""
     parser.add_argument(
-        "--contract", action="append", default=[], metavar="MUSCLE=VALUE",
+        "--muscle", "--contract", dest="contract", action="append", default=[], metavar="MUSCLE=VALUE",
         help="a muscle's contraction, e.g. biceps_brachii_l=25%% or =0.25 (shorter by a quarter; "
         "negative = stretched), or its length, e.g. =28cm; no _l/_r = both sides; repeatable",
     )
@@ -85,7 +85,7 @@ def muscle_names(poser: Poser, name: str) -> list[str]:
     sided = [name + s for s in SIDES if name + s in ms.names]
     if not sided:
         known = list(ms.names) + sorted({n[:-2] for n in ms.names if n.endswith(SIDES)})
-        raise unknown("muscle", name, "--contract", known)
+        raise unknown("muscle", name, "--muscle", known)
     first = set(ms.dofs(ms.index(sided[0])).tolist())
     return sided[:1] + [n for n in sided[1:] if not first & set(ms.dofs(ms.index(n)).tolist())]
 
@@ -121,12 +121,12 @@ def pose_request(args: argparse.Namespace, poser: Poser) -> PoseRequest:
     """The checked request; every name and value mistake is a one-line error."""
     request = PoseRequest(skinning=args.skinning, on_limit=args.on_limit)
     for entry in args.contract:
-        name, text = split_entry(entry, "--contract", "biceps_brachii_l=25%")
-        kind, value = muscle_value(text, f"--contract {name}")
+        name, text = split_entry(entry, "--muscle", "biceps_brachii_l=25%")
+        kind, value = muscle_value(text, f"--muscle {name}")
         for muscle in muscle_names(poser, name):
             target = request.contractions if kind == "contraction" else request.lengths
             if muscle in request.contractions or muscle in request.lengths:
-                raise HitogataError(f"--contract {name}: muscle {muscle!r} given twice; give it once")
+                raise HitogataError(f"--muscle {name}: muscle {muscle!r} given twice; give it once")
             target[muscle] = value
     for entry in args.angle:
         name, text = split_entry(entry, "--angle", "forearm_l.flexion=90deg")

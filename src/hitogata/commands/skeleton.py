@@ -61,7 +61,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     parser.add_argument("--skin", action="store_true", help="draw the skin, translucent, around the skeleton")
     parser.add_argument(
         "--muscle-lines", choices=MUSCLE_LINES, default="given",
-        help="muscles drawn origin to insertion: none, given (those in --contract; default) or all",
+        help="muscles drawn origin to insertion: none, given (those in --muscle; default) or all",
     )
     parser.add_argument(
         "--views", default="front,side", help=f"comma-separated, of {', '.join(VIEWS)}; default front,side"
