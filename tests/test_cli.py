@@ -69,7 +69,9 @@ def test_unknown_suffix_writes_nothing(tmp_path: Path, capsys) -> None:
     assert list(tmp_path.iterdir()) == []
 
 
-def test_demo_writes_default_bodies(tmp_path: Path, capsys) -> None:
+def test_demo_writes_default_bodies(tmp_path: Path, capsys, monkeypatch) -> None:
+    """The body part of the demo; its dynamics part (≈ 60 s) is tested in test_dynamics_outputs."""
+    monkeypatch.setattr("hitogata.commands.demo.run_demo", lambda out, progress: "dynamics: skipped in this test")
     assert main(["demo", "--out", str(tmp_path)]) == 0
     out = capsys.readouterr().out
     assert "default female: stature 165.0 cm, mass 62.0 kg" in out

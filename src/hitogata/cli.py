@@ -10,10 +10,10 @@ import argparse
 import sys
 from typing import Sequence
 
-from hitogata.commands import body, demo, measure, pose, skeleton, view
+from hitogata.commands import body, demo, measure, modes, pose, simulate, skeleton, view
 from hitogata.errors import HitogataError
 
-COMMANDS = (body, demo, measure, pose, skeleton, view)
+COMMANDS = (body, demo, measure, modes, pose, simulate, skeleton, view)
 
 
 def build_parser() -> argparse.ArgumentParser:

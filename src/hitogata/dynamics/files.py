@@ -1,0 +1,209 @@
+"""What a simulated motion is written as: GLB animation, VTU series, pictures, GIF, summary.
+
+- GLB: the skin surface with one morph target per frame and an animation of
+  the morph weights (one-hot, linear in between), so three.js and Blender
+  play it as a shape-key animation; checked by the Khronos validator in the tests.
+- VTU + PVD: the FE mesh per frame (quadratic tets as VTK's tetra10) with
+  displacement, elastic displacement and region, a time series for ParaView.
+- PNG: front and side views of the region boundary surfaces, translucent,
+  with the skeleton inside (the paper's Fig. 3(b)), at chosen times.
+- GIF: the same views over time (pillow).
+Every file is written whole or not at all.
+"""
+
+from __future__ import annotations
+
+import io
+import os
+import secrets
+from pathlib import Path
+from xml.sax.saxutils import quoteattr
+
+import meshio
+import numpy as np
+import pygltflib as gl
+import scipy.sparse as sp
+
+from hitogata.dynamics.motion import Motion
+from hitogata.export.atomic import write_bytes_atomically
+from hitogata.export.gltf import GlbBuilder
+from hitogata.fem.elements import boundary_faces
+
+SMOOTHING = 4  # Taubin steps on the pictures' region surfaces
+MAX_TARGETS = 120  # morph targets in a GLB: frames beyond are subsampled evenly
+REGION_STYLE = {  # colour, opacity: translucent nested surfaces as in the paper's figure
+    "skin": ("#e3b899", 0.22),
+    "muscle": ("#b5473a", 0.30),
+    "viscera": ("#d9a52b", 0.45),
+    "bone": ("#efe9dc", 0.95),
+}
+
+
+def frame_subset(n_frames: int, most: int) -> np.ndarray:
+    """Indices of at most `most` frames spread evenly, first and last included."""
+    return np.unique(np.round(np.linspace(0, n_frames - 1, min(n_frames, most))).astype(int))
+
+
+def write_glb(path: str | os.PathLike, motion: Motion) -> Path:
+    """The skin as a morph-target animation (frames subsampled to `MAX_TARGETS`)."""
+    body = motion.dynamics.poser.body
+    pick = frame_subset(len(motion.times), MAX_TARGETS)
+    rest = body.vertices.astype(np.float32)
+    builder = GlbBuilder()
+    position = builder.add_accessor(rest, gl.VEC3, target=gl.ARRAY_BUFFER, with_bounds=True)
+    indices = builder.add_accessor(body.faces.astype(np.uint32).reshape(-1), gl.SCALAR,
+                                   target=gl.ELEMENT_ARRAY_BUFFER)
+    targets = [{"POSITION": builder.add_accessor((motion.skin[k] - rest).astype(np.float32), gl.VEC3,
+                                                 target=gl.ARRAY_BUFFER, with_bounds=True)} for k in pick]
+    primitive = gl.Primitive(attributes=gl.Attributes(POSITION=position), indices=indices, targets=targets)
+    builder.gltf.meshes.append(gl.Mesh(name="skin", primitives=[primitive], weights=[0.0] * len(pick),
+                                       extras={"targetNames": [f"t={motion.times[k]:.3f}s" for k in pick]}))
+    node = builder.add_node(gl.Node(name="hitogata motion", mesh=0), root=True)
+    times = builder.add_accessor(motion.times[pick].astype(np.float32), gl.SCALAR, with_bounds=True)
+    weights = builder.add_accessor(np.eye(len(pick), dtype=np.float32).reshape(-1), gl.SCALAR)
+    builder.gltf.animations.append(gl.Animation(
+        name="motion",
+        samplers=[gl.AnimationSampler(input=times, output=weights, interpolation="LINEAR")],
+        channels=[gl.AnimationChannel(sampler=0, target=gl.AnimationChannelTarget(node=node, path="weights"))],
+    ))
+    return write_bytes_atomically(path, builder.to_bytes())
+
+
+def write_pvd(folder: str | os.PathLike, motion: Motion, name: str = "motion") -> Path:
+    """`name.pvd` and `name/frame_NNNN.vtu` in folder: the FE body at every frame."""
+    folder = Path(folder)
+    frames = folder / name
+    frames.mkdir(parents=True, exist_ok=True)
+    model = motion.dynamics.model
+    cell = "tetra10" if model.elements.shape[1] == 10 else "tetra"
+    skinned = motion.nodes - motion.elastic
+    entries = []
+    for k, t in enumerate(motion.times):
+        mesh = meshio.Mesh(
+            motion.nodes[k].astype(np.float64), [(cell, model.elements)],
+            point_data={"displacement": (motion.nodes[k] - model.points).astype(np.float64),
+                        "elastic": motion.elastic[k].astype(np.float64),
+                        "skinned": skinned[k].astype(np.float64)},
+            cell_data={"region": [model.region.astype(np.int32)]},
+        )
+        file = frames / f"frame_{k:04d}.vtu"
+        _write_meshio(file, mesh)
+        entries.append(f'    <DataSet timestep="{t:.6f}" part="0" file={quoteattr(f"{name}/{file.name}")}/>')
+    xml = ('<?xml version="1.0"?>\n<VTKFile type="Collection" version="0.1">\n  <Collection>\n'
+           + "\n".join(entries) + "\n  </Collection>\n</VTKFile>\n")
+    return write_bytes_atomically(folder / f"{name}.pvd", xml.encode())
+
+
+def _write_meshio(path: Path, mesh: meshio.Mesh) -> None:
+    """meshio writes to a path: write a sibling temporary file, then rename it over the target."""
+    temporary = path.with_name(f".{path.stem}.{secrets.token_hex(4)}{path.suffix}")
+    try:
+        meshio.write(temporary, mesh, binary=True)
+        os.replace(temporary, path)
+    finally:
+        temporary.unlink(missing_ok=True)
+
+
+def region_surfaces(motion: Motion) -> dict[str, np.ndarray]:
+    """Outward boundary triangles (F, 3) of each tissue region's corner tets."""
+    model = motion.dynamics.model
+    return {name: boundary_faces(model.elements[model.region == k, :4])
+            for k, name in enumerate(model.region_names) if np.any(model.region == k)}
+
+
+def smoothed(points: np.ndarray, faces: np.ndarray, steps: int = SMOOTHING) -> np.ndarray:
+    """Taubin-smoothed vertex positions of a surface (display only: the tets' staircase interfaces)."""
+    used = np.unique(faces)
+    edges = np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]])
+    n = len(points)
+    rows, cols = np.r_[edges[:, 0], edges[:, 1]], np.r_[edges[:, 1], edges[:, 0]]
+    adjacency = sp.csr_matrix((np.ones(len(rows)), (rows, cols)), shape=(n, n))
+    adjacency.data[:] = 1.0
+    degree = np.maximum(np.asarray(adjacency.sum(axis=1)).ravel(), 1.0)
+    out = points.copy()
+    for _ in range(steps):
+        for factor in (0.5, -0.53):
+            move = (adjacency @ out) / degree[:, None] - out
+            out[used] += factor * move[used]
+    return out
+
+
+def frame_items(motion: Motion, k: int, surfaces: dict[str, np.ndarray], bounds: np.ndarray,
+                colour_by_elastic: bool = False) -> list:
+    """Render items of frame k: the skeleton, translucent region surfaces (or the skin coloured by the
+    elastic displacement in mm), and invisible bounds that fix the framing over frames."""
+    from hitogata.render import Layer, Lines, Points
+
+    pose = motion.dynamics.poser.kinematics.pose(motion.angles[k])
+    bones = np.stack([pose.joints[0], pose.tails[0]], axis=1)
+    items = [Lines(bones, color="#4a4a4a", radius=0.005), Points(pose.joints[0], color="#8e2f25", radius=0.008)]
+    nodes = motion.nodes[k].astype(np.float64)
+    if colour_by_elastic:
+        model = motion.dynamics.model
+        outer = model.volume.boundary_faces[model.volume.boundary_on_skin]
+        mm = np.linalg.norm(motion.elastic[k], axis=1).astype(np.float64) * 1e3
+        top = float(np.linalg.norm(motion.elastic, axis=2).max() * 1e3)
+        items.append(Layer(nodes, outer, scalars=mm, colormap="viridis", clim=(0.0, max(top, 1e-3)),
+                           scalar_title="elastic displacement (mm)", opacity=0.9))
+    else:
+        for name in ("bone", "viscera", "muscle", "skin"):
+            if name in surfaces:
+                color, opacity = REGION_STYLE[name]
+                items.append(Layer(smoothed(nodes, surfaces[name]), surfaces[name], color=color, opacity=opacity))
+    items.append(Points(bounds, color="white", size=1.0, opacity=0.0))
+    return items
+
+
+def motion_bounds(motion: Motion) -> np.ndarray:
+    """(2, 3) corners of the box holding the nodes and joints over all frames."""
+    joints = motion.dynamics.poser.kinematics.pose(motion.angles).joints
+    pts = np.concatenate([motion.nodes.reshape(-1, 3), joints.reshape(-1, 3)])
+    return np.stack([pts.min(axis=0), pts.max(axis=0)]).astype(np.float64)
+
+
+def render_frame(motion: Motion, k: int, views, size, surfaces=None, bounds=None,
+                 colour_by_elastic: bool = False) -> np.ndarray:
+    """One RGB image (H, W, 3): the views of frame k side by side."""
+    from hitogata.render import render_views, side_by_side
+
+    surfaces = region_surfaces(motion) if surfaces is None else surfaces
+    bounds = motion_bounds(motion) if bounds is None else bounds
+    items = frame_items(motion, k, surfaces, bounds, colour_by_elastic)
+    return side_by_side(render_views(items, views=views, size=size))
+
+
+def write_pictures(folder: str | os.PathLike, motion: Motion, times, views, size, name: str = "motion") -> list[Path]:
+    """PNG of the views at the frames nearest each time (`<name>_<t>s.png`), and of the frame of
+    largest elastic motion with the skin coloured by it (`<name>_elastic.png`)."""
+    from hitogata.render import save_png
+
+    surfaces, bounds = region_surfaces(motion), motion_bounds(motion)
+    out = []
+    for t in times:
+        k = int(np.argmin(np.abs(motion.times - t)))
+        out.append(save_png(Path(folder) / f"{name}_{motion.times[k]:.2f}s.png",
+                            render_frame(motion, k, views, size, surfaces, bounds)))
+    peak = int(np.argmax(np.linalg.norm(motion.elastic, axis=2).max(axis=1)))
+    out.append(save_png(Path(folder) / f"{name}_elastic.png",
+                        render_frame(motion, peak, views, size, surfaces, bounds, colour_by_elastic=True)))
+    return out
+
+
+def write_gif(path: str | os.PathLike, motion: Motion, views, size, rate: float, progress=None) -> Path:
+    """An animated GIF of the views at `rate` frames per second (looping)."""
+    from PIL import Image
+
+    surfaces, bounds = region_surfaces(motion), motion_bounds(motion)
+    span = motion.times[-1] - motion.times[0]
+    count = max(2, int(round(span * rate)) + 1)
+    wanted = np.linspace(motion.times[0], motion.times[-1], count)
+    picks = np.unique([int(np.argmin(np.abs(motion.times - t))) for t in wanted])
+    images = []
+    for i, k in enumerate(picks):
+        images.append(Image.fromarray(render_frame(motion, k, views, size, surfaces, bounds)))
+        if progress is not None:
+            progress(i + 1, len(picks))
+    buffer = io.BytesIO()
+    step = 1000.0 * span / max(len(picks) - 1, 1)
+    images[0].save(buffer, format="GIF", save_all=True, append_images=images[1:], duration=int(round(step)), loop=0)
+    return write_bytes_atomically(path, buffer.getvalue())

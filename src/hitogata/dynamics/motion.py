@@ -1,0 +1,291 @@
+"""Posture-driven dynamics of the elastic body (the paper's §2.4 and §4).
+
+At every time step: muscle contractions and joint angles → joint angles
+(eq. 1, 2) → part transforms (forward kinematics) → the elastic body:
+
+1. gross motion: the FE nodes skinned by the parts (`rigging`), bone nodes
+   exactly with their part, and a rotation R_n per node;
+2. quasi-statics: the tissue's equilibrium about that skeleton, with the
+   muscles' eigenstrain loads and the change of gravity in the rotated
+   parts (`quasistatic`: rotation-invariant, one prefactored matrix):
+   x_qs = g + R δ_qs, the correction δ_qs in the nodes' local frames;
+3. dynamics about it, through the modes (mode-acceleration form): with
+   s = Φᵀ M δ_qs the modal coordinates of the quasi-static answer and the
+   bones' accelerations a pulled into the local frames,
+
+       q̈ + (α + β λ) q̇ + λ q = λ s − Φᵀ M Rᵀ a,     δ = δ_qs + Φ (q − s),
+
+   integrated exactly per mode (loads linear in each step). When the
+   skeleton stops, q → s and δ → δ_qs at the rates the modal damping ratios
+   give; at rest with no load every term is zero: the rest shape exactly.
+4. the posed body: nodes x = g + R δ; skin vertices = their own skinning +
+   the nodes' elastic displacement x − g interpolated (`skin_vertex_map`),
+   faded out towards the cut faces of a trunk model (neck, hips, arms),
+   beyond which the body moves by skinning alone.
+
+Fictitious forces of the rotating frames on δ itself (Coriolis,
+centrifugal) are left out: δ is millimetres against metres of gross motion.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.spatial import cKDTree
+
+from hitogata.dynamics.quasistatic import QuasiStatic, rotate, unrotate
+from hitogata.dynamics.rigging import NodeRig, joint_nodes, node_rig
+from hitogata.dynamics.timeline import Timeline
+from hitogata.errors import HitogataError
+from hitogata.fem import advance, lumped_masses, modal_step
+from hitogata.fem.elements import P2_EDGES
+from hitogata.pose import Poser, poser_for
+from hitogata.skinning import skin_vertices
+
+CARTILAGE = 10.0
+MIN_FREQUENCY = 0.05  # Hz: modes below are rigid-body motions of loose mesh pieces, not vibrations
+GRAVITY = np.array([0.0, -9.81, 0.0])
+SOFT_REGIONS = ("viscera", "muscle", "skin")
+ITERATIONS = 6  # most local/global steps per time step, warm-started from the previous step
+TOLERANCE = 1e-5  # m: a quasi-static answer is converged when a step moves no node further
+
+
+@dataclass(frozen=True, eq=False)
+class BodyDynamics:
+    """A body's skeleton and elastic model with everything precomputed for simulation."""
+
+    poser: Poser
+    model: object  # hitogata.elastic.ElasticModel
+    rig: NodeRig
+    statics: QuasiStatic
+    unit_loads: dict[str, np.ndarray]  # FE muscle region → (N, 3) nodal forces per unit contraction
+    node_mass: np.ndarray  # (N,) lumped
+    vectors: np.ndarray  # (N, 3, k) mass-normalised modes
+    vectors32: np.ndarray  # (3N, k) the same in float32, for the per-frame superposition (half the traffic)
+    projector: np.ndarray  # (k, 3N) Φᵀ M
+    eigenvalues: np.ndarray  # (k,)
+    skin_fade: np.ndarray  # (V,) share of the elastic displacement a skin vertex takes (0 at a cut)
+
+    @classmethod
+    def build(cls, body, model, skinning: str = "dqs", poser: Poser | None = None) -> BodyDynamics:
+        """Prepare a body and its elastic model (`hitogata.elastic.build_elastic_model`)."""
+        poser = poser or poser_for(body)
+        rig = node_rig(poser, model, skinning)
+        held = np.setdiff1d(model.fixed_nodes, joint_nodes(rig.weights, model.elements, model.fixed_nodes))
+        soft = tuple(model.region_names.index(r) for r in SOFT_REGIONS if r in model.region_names)
+        soft = tuple(r for r in soft if np.any(model.region == r))
+        corners = len(model.volume.nodes)
+        # Bone elements matter here only at the joints, whose nodes settle between the bones: there
+        # they act as cartilage, so no stiffer than CARTILAGE x the stiffest soft tissue (GPa bone
+        # against kPa tissue would stall the iteration).
+        E = np.minimum(model.E, CARTILAGE * model.E[np.isin(model.region, soft)].max())
+        statics = QuasiStatic(model.points[:corners], model.elements[:, :4], E, model.nu,
+                              held[held < corners], model.region, soft)
+        loads = {name: model.muscle_load(name, 1.0).reshape(-1, 3) for name in model.muscle_names
+                 if len(model.muscle_elements(name))}
+        mass = lumped_masses(model.points, model.elements, model.rho)[::3]
+        # A mode without stiffness (a piece of mesh hinged at one node) has no equilibrium to return
+        # to: its motion is left to the quasi-statics.
+        stiff = np.asarray(model.modes.eigenvalues) > (2.0 * np.pi * MIN_FREQUENCY) ** 2
+        phi = model.modes.vectors[:, stiff]
+        projector = np.ascontiguousarray((model.M @ phi).T)
+        return cls(poser, model, rig, statics, loads, mass, phi.reshape(len(model.points), 3, -1),
+                   np.ascontiguousarray(phi, dtype=np.float32), projector, np.asarray(model.modes.eigenvalues)[stiff],
+                   cut_fade(body.vertices, model))
+
+    @property
+    def n_nodes(self) -> int:
+        return len(self.model.points)
+
+    def region_of(self, muscle: str) -> str | None:
+        """The FE muscle region a skeleton muscle loads: its own name, or without the side (one band)."""
+        for name in (muscle, muscle.rsplit("_", 1)[0]):
+            if name in self.unit_loads:
+                return name
+        return None
+
+    def modal(self, delta: np.ndarray) -> np.ndarray:
+        """Modal coordinates Φᵀ M δ (k,) of a local displacement field (N, 3)."""
+        return self.projector @ delta.ravel()
+
+    def superpose(self, q: np.ndarray) -> np.ndarray:
+        """Φ q as (N, 3)."""
+        return self.vectors @ q
+
+    def frame(self, rotations: np.ndarray, translations: np.ndarray, node_rotations: np.ndarray,
+              delta_qs: np.ndarray, dynamic: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The per-frame elastic update: elastic displacement of the nodes (N, 3), the skin (V, 3),
+        and the skin by skinning alone (V, 3), float32.
+
+        rotations/translations: the parts' (parts, 3, 3), (parts, 3); node_rotations (N, 3, 3);
+        delta_qs (N, 3) the quasi-static correction; dynamic (k,) = q − s.
+        """
+        local = delta_qs.astype(np.float32) + (self.vectors32 @ dynamic.astype(np.float32)).reshape(-1, 3)
+        elastic = rotate(node_rotations.astype(np.float32), local)
+        plain = skin_vertices(self.poser.skin, rotations[None], translations[None], self.rig.method)[0]
+        skin = plain + self.skin_fade[:, None] * (self.model.skin_vertex_map @ elastic)
+        return elastic, skin.astype(np.float32), plain.astype(np.float32)
+
+    def loads(self, node_rotations: np.ndarray, contractions: dict[str, float], gravity: bool) -> np.ndarray:
+        """World nodal forces (N, 3): muscle eigenstrains turned with the nodes, and gravity's change.
+
+        The rest shape already stands under gravity; a rotated part feels it
+        from a new direction, so the load is m (g − R g).
+        """
+        local = np.zeros((self.n_nodes, 3))
+        for muscle, c in contractions.items():
+            region = self.region_of(muscle)
+            if region is not None and c:
+                local += c * self.unit_loads[region]
+        world = rotate(node_rotations, local)
+        if gravity:
+            world += self.node_mass[:, None] * (GRAVITY - rotate(node_rotations, np.broadcast_to(GRAVITY, world.shape)))
+        return world
+
+    def quasi_static(self, skinned: np.ndarray, node_rotations: np.ndarray, loads: np.ndarray | None,
+                     start: np.ndarray | None = None, iterations: int = ITERATIONS) -> tuple[np.ndarray, float]:
+        """Local correction δ_qs (N, 3) of the equilibrium about the skinned nodes, and the last step (m).
+
+        Solved on the corner nodes (start: a previous δ), lifted to mid-edge nodes as their edge's mean.
+        """
+        c = len(self.statics.points)
+        g, R = skinned[:c], node_rotations[:c]
+        x = g if start is None else g + rotate(R, start[:c])
+        x, size = self.statics.solve(x, None if loads is None else loads[:c], iterations)
+        delta = np.zeros((self.n_nodes, 3))
+        delta[:c] = unrotate(R, x - g)
+        elements = self.model.elements
+        if elements.shape[1] == 10:
+            delta[elements[:, 4:]] = 0.5 * (delta[elements[:, P2_EDGES[:, 0]]] + delta[elements[:, P2_EDGES[:, 1]]])
+        return delta, size
+
+
+def cut_fade(vertices: np.ndarray, model) -> np.ndarray:
+    """(V,) 0 → 1 over one element from the model's cut faces (neck, hips, arms of a trunk), else 1.
+
+    Beyond a cut the skin moves by skinning alone; fading the elastic
+    displacement in over an element keeps the skin surface whole there.
+    """
+    cut = np.unique(model.volume.boundary_faces[~model.volume.boundary_on_skin])
+    if not len(cut):
+        return np.ones(len(vertices))
+    distance, _ = cKDTree(model.points[cut]).query(vertices)
+    u = np.clip(distance / model.volume.element_size, 0.0, 1.0)
+    return u * u * (3.0 - 2.0 * u)
+
+
+@dataclass(frozen=True, eq=False)
+class Motion:
+    """The simulated body at the output times."""
+
+    dynamics: BodyDynamics
+    times: np.ndarray  # (F,) s
+    angles: np.ndarray  # (F, D) rest-relative radians
+    rotations: np.ndarray  # (F, parts, 3, 3)
+    translations: np.ndarray  # (F, parts, 3)
+    nodes: np.ndarray  # (F, N, 3) float32, deformed FE nodes
+    elastic: np.ndarray  # (F, N, 3) float32, x − g: the elastic body's displacement from the skinning
+    skin: np.ndarray  # (F, V, 3) float32, the body's skin surface
+    skinned_skin: np.ndarray  # (F, V, 3) float32, the same skin by skinning alone
+    q: np.ndarray  # (F, k) modal coordinates
+    s: np.ndarray  # (F, k) their quasi-static values
+    qd: np.ndarray  # (F, k) modal velocities
+
+    @property
+    def frequencies(self) -> np.ndarray:
+        """Natural frequencies (Hz) of the modes."""
+        return self.dynamics.model.modes.frequencies
+
+
+def simulate(dynamics: BodyDynamics, timeline: Timeline, duration: float, rate: float, substeps: int = 1,
+             gravity: bool = True, on_limit: str = "raise", iterations: int = ITERATIONS,
+             progress: Callable[[int, int], None] | None = None) -> Motion:
+    """Run a timeline for `duration` seconds; outputs at `rate` frames per second, `substeps` steps per frame."""
+    if not (np.isfinite(duration) and duration > 0 and np.isfinite(rate) and rate > 0):
+        raise HitogataError(f"duration {duration!r} s and rate {rate!r}/s: allowed positive numbers")
+    if int(substeps) != substeps or substeps < 1:
+        raise HitogataError(f"substeps {substeps!r}: allowed a whole number >= 1")
+    n_frames = int(round(duration * rate)) + 1
+    h = 1.0 / (rate * substeps)
+    n_steps = (n_frames - 1) * substeps + 1
+    t = np.arange(n_steps) * h
+    channels = timeline.sample(t)
+    angles = _angles(dynamics.poser, channels, n_steps, on_limit)
+    pose = dynamics.poser.kinematics.pose(angles)
+    contractions = channels["contraction"]
+
+    k = len(dynamics.eigenvalues)
+    lam = dynamics.eigenvalues
+    s_all, p_all = np.zeros((n_steps, k)), np.zeros((n_steps, k))
+    frames = np.arange(0, n_steps, substeps)
+    keep = {int(f): i for i, f in enumerate(frames)}
+    n_nodes = dynamics.n_nodes
+    g_out = np.zeros((n_frames, n_nodes, 3))
+    r_out = np.zeros((n_frames, n_nodes, 3, 3))
+    dqs_out = np.zeros((n_frames, n_nodes, 3))
+    delta, s_now, previous, size = None, None, None, np.inf
+
+    def skinned(n: int) -> tuple[np.ndarray, np.ndarray]:
+        n = min(n, n_steps - 1)  # the skeleton holds still after the end (and before 0)
+        g, R = dynamics.rig.pose(pose.rotations[n:n + 1], pose.translations[n:n + 1])
+        return g[0], R[0]
+
+    g_prev = g_now = None
+    g_next, r_next = skinned(0)
+    for n in range(n_steps):
+        g_now, r_now = g_next, r_next
+        g_prev = g_now if g_prev is None else g_prev
+        g_next, r_next = skinned(n + 1)
+        c_now = {m: float(v[n]) for m, v in contractions.items()}
+        state = (angles[n].tobytes(), tuple(sorted(c_now.items())))
+        if not angles[n].any() and not any(c_now.values()):  # the rest pose, unloaded: the rest shape
+            delta, size = np.zeros((dynamics.n_nodes, 3)), 0.0
+            s_now = np.zeros(k)
+        elif state != previous or size > TOLERANCE:  # a held pose and load keep a converged answer
+            delta, size = dynamics.quasi_static(g_now, r_now, dynamics.loads(r_now, c_now, gravity), delta,
+                                                iterations)
+            s_now = dynamics.modal(delta)
+        previous = state
+        s_all[n] = s_now
+        acceleration = (g_next - 2.0 * g_now + g_prev) / (h * h)
+        p_all[n] = lam * s_now - dynamics.modal(unrotate(r_now, acceleration))
+        if n in keep:
+            g_out[keep[n]], r_out[keep[n]], dqs_out[keep[n]] = g_now, r_now, delta
+        g_prev = g_now
+        if progress is not None:
+            progress(n + 1, n_steps)
+
+    step = modal_step(lam, dynamics.model.alpha, dynamics.model.beta, h)
+    q, qd = np.zeros((n_steps, k)), np.zeros((n_steps, k))
+    q[0] = s_all[0]
+    for n in range(n_steps - 1):
+        q[n + 1], qd[n + 1] = advance(step, q[n], qd[n], p_all[n], p_all[n + 1])
+
+    return _frames(dynamics, t[frames], angles[frames], pose.rotations[frames], pose.translations[frames],
+                   g_out, r_out, dqs_out, q[frames], s_all[frames], qd[frames])
+
+
+def _angles(poser: Poser, channels: dict[str, dict[str, np.ndarray]], n: int, on_limit: str) -> np.ndarray:
+    """(n, D) joint angles from the sampled channels, one pose at a time (eq. 1, 2)."""
+    out = np.zeros((n, poser.skeleton.n_dofs))
+    for i in range(n):
+        pick = {kind: {name: float(v[i]) for name, v in values.items()} for kind, values in channels.items()}
+        out[i] = poser.angles(contractions=pick["contraction"] or None, angles=pick["angle"] or None,
+                              clinical=pick["clinical"] or None, on_limit=on_limit)
+    return out
+
+
+def _frames(dynamics: BodyDynamics, times, angles, rotations, translations, skinned, node_rotations,
+            delta_qs, q, s, qd) -> Motion:
+    """Assemble the output frames: elastic displacement, nodes and skin surfaces."""
+    n = len(times)
+    elastic = np.empty((n, dynamics.n_nodes, 3), dtype=np.float32)
+    skin = np.empty((n, len(dynamics.poser.body.vertices), 3), dtype=np.float32)
+    plain = np.empty_like(skin)
+    for k in range(n):
+        elastic[k], skin[k], plain[k] = dynamics.frame(rotations[k], translations[k], node_rotations[k],
+                                                       delta_qs[k], q[k] - s[k])
+    nodes = (skinned + elastic).astype(np.float32)
+    return Motion(dynamics, times, angles, rotations, translations, nodes, elastic, skin, plain, q, s, qd)

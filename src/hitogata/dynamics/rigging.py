@@ -1,0 +1,156 @@
+"""The skeleton's skinning carried into the elastic body: part weights at every FE node.
+
+The gross motion of the tissue is skinning, evaluated at the FE nodes, so the
+weights must live there too:
+
+- nodes on the skin take the part weights of the body's nearest skin vertices
+  (inverse-distance blend of the 4 nearest), the weights an artist's rig gives;
+- bone nodes take their rig bone's part (the spine's rig bones are shared
+  among the vertebrae by height, as for the skin), so they move rigidly
+  with their part;
+- every other node is harmonic: the graph-Laplacian interpolation between
+  those two, which keeps the weights in [0, 1], summing to 1 and smooth
+  through the depth of the tissue;
+- quadratic (P2) mid-edge nodes take the mean of their edge's ends.
+
+Per pose, `NodeRig.pose` gives the skinned node positions and a rotation per
+node (the normalised blend of the parts' quaternions, the rotation DQS
+uses): the local frame in which the elastic correction is computed.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.sparse as sp
+import scipy.sparse.linalg as sla
+from scipy.spatial import cKDTree
+
+from hitogata.dynamics.rotations import quaternion_matrices
+from hitogata.errors import HitogataError
+from hitogata.fem.elements import P2_EDGES
+from hitogata.pose import Poser
+from hitogata.skeleton.weights import part_weights
+from hitogata.skinning import Skin, dual_quaternions, prepare_skin, skin_vertices
+
+SKIN_NEIGHBOURS = 4
+RIGID = 0.99  # a bone node whose largest part weight reaches this moves with that part alone
+
+
+@dataclass(frozen=True, eq=False)
+class NodeRig:
+    """FE nodes prepared for skinning by the skeleton's parts."""
+
+    skin: Skin  # rest = the FE nodes
+    method: str  # "lbs" or "dqs"
+
+    @property
+    def weights(self) -> sp.csr_matrix:
+        """(N, parts) part weights, rows summing to 1."""
+        return self.skin.weights
+
+    def pose(self, rotations: np.ndarray, translations: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Skinned nodes (P, N, 3) and node rotations (P, N, 3, 3) for part rotations and translations."""
+        x = skin_vertices(self.skin, rotations, translations, self.method)
+        return x, self.rotations(rotations, translations)
+
+    def rotations(self, rotations: np.ndarray, translations: np.ndarray) -> np.ndarray:
+        """(P, N, 3, 3) node rotations: the blended, normalised part quaternions."""
+        dq = dual_quaternions(self.skin, rotations, translations)[..., :4]  # (P, parts, 4), hemispheres aligned
+        q = np.stack([self.skin.weights @ d for d in dq])
+        q /= np.linalg.norm(q, axis=-1, keepdims=True)
+        return quaternion_matrices(q)
+
+
+def node_weights(poser: Poser, volume, points: np.ndarray, elements: np.ndarray,
+                 fixed_nodes: np.ndarray, fixed_bone: np.ndarray) -> sp.csr_matrix:
+    """(N, parts) part weights of the FE nodes (see the module note).
+
+    volume: the `VolumeModel` (its P1 nodes are the first nodes of `points`);
+    fixed_nodes/fixed_bone: bone nodes and their rig bone (index into volume.bone_names).
+    """
+    corners = len(volume.nodes)
+    if not np.allclose(points[:corners], volume.nodes):
+        raise HitogataError("elastic model: its first nodes must be the volume mesh's nodes")
+    body, sk = poser.body, poser.skeleton
+    n_parts = len(sk.names)
+
+    skin_nodes = np.unique(volume.boundary_faces[volume.boundary_on_skin])
+    dist, near = cKDTree(body.vertices).query(volume.nodes[skin_nodes], k=SKIN_NEIGHBOURS)
+    idw = 1.0 / np.maximum(dist, 1e-6)
+    idw /= idw.sum(axis=1, keepdims=True)
+    part_w = poser.skin.weights
+    skin_w = sum(sp.diags(idw[:, j]) @ part_w[near[:, j]] for j in range(SKIN_NEIGHBOURS))
+
+    bone = fixed_nodes < corners
+    bone_nodes, bone_of = fixed_nodes[bone], np.asarray(fixed_bone)[bone]
+    rig = body.rig
+    rig_cols = np.array([rig.index(volume.bone_names[b]) for b in bone_of], dtype=np.int64)
+    one_hot = sp.csr_matrix((np.ones(len(bone_nodes)), (np.arange(len(bone_nodes)), rig_cols)),
+                            shape=(len(bone_nodes), len(rig.names)))
+    bone_w = part_weights(sk, rig, one_hot, volume.nodes[bone_nodes])
+
+    known = np.zeros((corners, n_parts))
+    is_known = np.zeros(corners, dtype=bool)
+    known[skin_nodes] = skin_w.toarray()
+    known[bone_nodes] = bone_w.toarray()  # a node both on the skin and on a bone follows the bone
+    is_known[skin_nodes] = True
+    is_known[bone_nodes] = True
+    w = _harmonic(volume.tets, known, is_known)
+
+    if elements.shape[1] == 10:
+        mids = elements[:, 4:].ravel()
+        ends = elements[:, P2_EDGES].reshape(-1, 2)
+        full = np.zeros((len(points), n_parts))
+        full[:corners] = w
+        full[mids] = 0.5 * (w[ends[:, 0]] + w[ends[:, 1]])
+        w = full
+    w[w < 1e-6] = 0.0
+    w /= w.sum(axis=1, keepdims=True)
+    return sp.csr_matrix(w)
+
+
+def _harmonic(tets: np.ndarray, known: np.ndarray, is_known: np.ndarray) -> np.ndarray:
+    """Values at unknown nodes solving the graph Laplace equation with the known nodes fixed."""
+    n = len(known)
+    a, b = tets[:, [0, 0, 0, 1, 1, 2]].ravel(), tets[:, [1, 2, 3, 2, 3, 3]].ravel()
+    adj = sp.csr_matrix((np.ones(2 * len(a)), (np.concatenate([a, b]), np.concatenate([b, a]))), shape=(n, n))
+    adj.data[:] = 1.0
+    lap = (sp.diags(np.asarray(adj.sum(axis=1)).ravel()) - adj).tocsr()
+    free = np.flatnonzero(~is_known)
+    out = known.copy()
+    if len(free):
+        fixed = np.flatnonzero(is_known)
+        rhs = -(lap[free][:, fixed] @ known[fixed])
+        out[free] = sla.splu(lap[free][:, free].tocsc()).solve(np.ascontiguousarray(rhs))
+    return np.clip(out, 0.0, None)
+
+
+def joint_nodes(weights: sp.csr_matrix, elements: np.ndarray, fixed_nodes: np.ndarray) -> np.ndarray:
+    """Bone nodes sharing an element with a bone node of another part: the joints' "cartilage".
+
+    Only nodes carried rigidly by one part count (the spine's nodes, blended
+    between neighbouring vertebrae, bend smoothly). An element with nodes on
+    two parts that rotate apart (elbow, knee, hip, shoulder) cannot keep from
+    inverting, so the quasi-statics lets these nodes settle between the bones.
+    """
+    top = np.asarray(weights.max(axis=1).todense()).ravel()
+    part = np.asarray(weights.argmax(axis=1)).ravel()
+    rigid = np.zeros(weights.shape[0], dtype=bool)
+    rigid[fixed_nodes] = True
+    rigid &= top >= RIGID
+    corners = elements[:, :4]
+    parts = np.where(rigid[corners], part[corners], -1)
+    high = parts.max(axis=1)
+    low = np.where(parts >= 0, parts, high[:, None]).min(axis=1)
+    mixed = corners[low != high]
+    return np.unique(mixed[rigid[mixed]])
+
+
+def node_rig(poser: Poser, model, method: str = "dqs") -> NodeRig:
+    """The elastic model's nodes prepared for skinning by the poser's skeleton ('lbs' or 'dqs')."""
+    if method not in ("lbs", "dqs"):
+        raise HitogataError(f"skinning = {method!r}: allowed lbs, dqs")
+    w = node_weights(poser, model.volume, model.points, model.elements, model.fixed_nodes, model.fixed_bone)
+    return NodeRig(prepare_skin(model.points, w, poser.skeleton.parents), method)

@@ -1,0 +1,173 @@
+"""Run a scenario end to end: body → elastic model → motion → files and a short summary."""
+
+from __future__ import annotations
+
+import json
+import time
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from hitogata.body import Body, default_body
+from hitogata.dynamics import files
+from hitogata.dynamics.motion import BodyDynamics, Motion, simulate
+from hitogata.dynamics.quasistatic import corner_volumes
+from hitogata.dynamics.scenario import BodySpec, Scenario
+from hitogata.errors import HitogataError
+from hitogata.export.atomic import write_bytes_atomically
+
+SNAPSHOTS = 3  # automatic snapshot pictures: start, largest motion, end
+
+
+def make_body(spec: BodySpec) -> Body:
+    """The scenario's body: from stature and mass, or the shipped default of that sex."""
+    if spec.stature is None:
+        if spec.sex not in ("female", "male"):
+            raise HitogataError(f"body sex {spec.sex!r} without stature and mass: the default bodies are female, male")
+        return default_body(spec.sex)
+    return Body.from_measurements(sex=spec.sex, age=spec.age, stature=spec.stature, mass=spec.mass)
+
+
+def build_dynamics(body: Body, scenario: Scenario) -> BodyDynamics:
+    """The elastic model the scenario asks for, prepared for simulation."""
+    from hitogata.elastic import build_elastic_model
+
+    m = scenario.model
+    model = build_elastic_model(body, extent=m.extent, element_size=m.element_size, element=m.element,
+                                n_modes=m.modes, damping_ratios=m.damping_ratios, alpha_beta=m.alpha_beta)
+    return BodyDynamics.build(body, model, skinning=m.skinning)
+
+
+@dataclass(frozen=True)
+class Summary:
+    """The headline figures of a run (SI units) and the files written."""
+
+    title: str
+    figures: dict
+    files: list[str] = field(default_factory=list)
+
+    def text(self) -> str:
+        f = self.figures
+        lines = [
+            f"{self.title}",
+            f"  body: {f['body']}",
+            f"  model: {f['model']}",
+            f"  lowest frequencies: " + ", ".join(f"{x:.2f}" for x in f["frequencies_hz"][:6])
+            + f" Hz (damping ratios {f['damping_ratios'][0]:.2f}..{max(f['damping_ratios'][:6]):.2f})",
+            f"  largest skin displacement by the elastic body: {f['largest_elastic_mm']:.1f} mm "
+            f"at t = {f['largest_elastic_time_s']:.2f} s on the {f['largest_elastic_part']} "
+            f"(from rest, skinning included: {f['largest_total_mm']:.0f} mm)",
+            "  regions moved most (peak mean elastic displacement): "
+            + ", ".join(f"{k} {v:.1f} mm" for k, v in f["region_motion_mm"].items()),
+            f"  tissue: inverted elements at most {f['inverted_max']}; region volumes within "
+            f"{f['volume_change_max_percent']:.2f}% of rest",
+            f"  time: model {f['seconds']['model']:.1f} s, simulation {f['seconds']['simulation']:.1f} s, "
+            f"files {f['seconds']['files']:.1f} s",
+        ]
+        return "\n".join(lines) + "\n"
+
+
+def figures(motion: Motion, scenario: Scenario) -> dict:
+    """Largest displacements, regions that moved most, frequencies, tissue checks."""
+    dyn = motion.dynamics
+    model = dyn.model
+    elastic_skin = np.linalg.norm(motion.skin - motion.skinned_skin, axis=2)
+    frame, vertex = np.unravel_index(np.argmax(elastic_skin), elastic_skin.shape)
+    total = np.linalg.norm(motion.skin - dyn.poser.body.vertices[None].astype(np.float32), axis=2)
+    magnitude = np.linalg.norm(motion.elastic, axis=2)  # (F, N)
+    region_motion = {}
+    for k, name in enumerate(model.region_names):
+        nodes = np.unique(model.elements[model.region == k])
+        if len(nodes):
+            region_motion[name] = float(magnitude[:, nodes].mean(axis=1).max() * 1e3)
+    v0 = corner_volumes(model.points, model.elements)
+    worst_change, inverted = 0.0, 0
+    for x in motion.nodes:
+        v = corner_volumes(x.astype(np.float64), model.elements)
+        inverted = max(inverted, int((v <= 0).sum()))
+        for k in range(len(model.region_names)):
+            mine = model.region == k
+            if mine.any():
+                worst_change = max(worst_change, abs(v[mine].sum() / v0[mine].sum() - 1.0))
+    body = dyn.poser.body
+    return {
+        "body": f"{scenario.body.sex}, stature {body.stature * 100:.1f} cm, mass {body.mass:.1f} kg",
+        "model": (f"{scenario.model.extent}, {model.element}, {len(model.elements)} elements, "
+                  f"{len(model.points)} nodes, {len(model.modes.eigenvalues)} modes, "
+                  f"alpha {model.alpha:.3g}/s beta {model.beta:.3g} s"),
+        "frequencies_hz": [float(x) for x in model.modes.frequencies],
+        "damping_ratios": [float(x) for x in model.damping_ratios],
+        "largest_elastic_mm": float(elastic_skin.max() * 1e3),
+        "largest_elastic_time_s": float(motion.times[frame]),
+        "largest_elastic_vertex": int(vertex),
+        "largest_elastic_part": dyn.poser.skeleton.names[int(dyn.poser.skin.weights[vertex].toarray().argmax())],
+        "largest_total_mm": float(total.max() * 1e3),
+        "region_motion_mm": dict(sorted(region_motion.items(), key=lambda kv: -kv[1])),
+        "inverted_max": inverted,
+        "volume_change_max_percent": worst_change * 100.0,
+        "frames": len(motion.times),
+    }
+
+
+def snapshot_times(motion: Motion, scenario: Scenario) -> list[float]:
+    """The scenario's snapshot times, or start, the frame of largest elastic motion, and end."""
+    if scenario.output.snapshots is not None:
+        return list(scenario.output.snapshots)
+    peak = int(np.argmax(np.linalg.norm(motion.elastic, axis=2).max(axis=1)))
+    return sorted({float(motion.times[0]), float(motion.times[peak]), float(motion.times[-1])})
+
+
+def _bar(label: str, enabled: bool) -> Callable[[int, int], None] | None:
+    """A tqdm progress callback (done, total), or None when disabled or tqdm is missing."""
+    if not enabled:
+        return None
+    from tqdm import tqdm
+
+    state: dict = {}
+
+    def update(done: int, total: int) -> None:
+        bar = state.setdefault("bar", tqdm(total=total, desc=label, unit="step", leave=False))
+        bar.update(done - bar.n)
+        if done >= total:
+            bar.close()
+
+    return update
+
+
+def run_scenario(scenario: Scenario, out: str | Path, progress: bool = False, body: Body | None = None,
+                 dynamics: BodyDynamics | None = None, name: str = "motion") -> Summary:
+    """Simulate a scenario and write what its [output] asks for into `out` (created if needed)."""
+    out = Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    clock = {}
+    start = time.perf_counter()
+    if dynamics is None:
+        dynamics = build_dynamics(body or make_body(scenario.body), scenario)
+    clock["model"] = time.perf_counter() - start
+    start = time.perf_counter()
+    motion = simulate(dynamics, scenario.timeline, scenario.duration, scenario.rate, scenario.substeps,
+                      scenario.model.gravity, scenario.on_limit, progress=_bar("simulate", progress))
+    clock["simulation"] = time.perf_counter() - start
+    start = time.perf_counter()
+    o = scenario.output
+    written = []
+    if "glb" in o.files:
+        written.append(files.write_glb(out / f"{name}.glb", motion))
+    if "pvd" in o.files:
+        written.append(files.write_pvd(out, motion, name))
+    if "png" in o.files:
+        written += files.write_pictures(out, motion, snapshot_times(motion, scenario), o.views, o.size, name)
+    if "gif" in o.files:
+        size = (o.size[0] * 2 // 3, o.size[1] * 2 // 3)
+        written.append(files.write_gif(out / f"{name}.gif", motion, o.views, size, o.gif_rate,
+                                       progress=_bar("gif", progress)))
+    clock["files"] = time.perf_counter() - start
+    figs = figures(motion, scenario)
+    figs["seconds"] = clock
+    summary = Summary(scenario.title, figs, [str(p) for p in written])
+    write_bytes_atomically(out / f"{name}_summary.txt", summary.text().encode())
+    document = {"title": summary.title, **figs, "files": summary.files}
+    write_bytes_atomically(out / f"{name}_summary.json", json.dumps(document, indent=2).encode())
+    return summary

@@ -1,0 +1,94 @@
+"""Files of an elastic model: frequencies (CSV), the mesh with mode shapes (VTU), mode pictures (PNG).
+
+The VTU file holds quadratic `tetra10` cells for P2 models (VTK's node order
+equals ours: corners, then edges 01, 12, 02, 03, 13, 23), `tetra` for P1;
+ParaView draws the quadratic cells curved-capable and interpolates mode
+shapes quadratically. All writes are atomic.
+"""
+
+from __future__ import annotations
+
+import io
+import os
+import tempfile
+from pathlib import Path
+
+import meshio
+import numpy as np
+from matplotlib.figure import Figure
+
+from hitogata.elastic.model import ElasticModel
+from hitogata.export.atomic import write_bytes_atomically
+from hitogata.render import Layer, render_views
+
+PICTURE_AMPLITUDE = 0.03  # m: the largest skin displacement drawn in a mode picture
+
+
+def frequency_table(model: ElasticModel) -> str:
+    """CSV text: mode number, frequency (Hz), eigenvalue ((rad/s)^2), damping ratio."""
+    lines = ["mode,frequency_hz,eigenvalue_rad2_s2,damping_ratio"]
+    for k, (f, lam, zeta) in enumerate(zip(model.frequencies, model.modes.eigenvalues, model.damping_ratios), 1):
+        lines.append(f"{k},{f:.6f},{lam:.6e},{zeta:.4f}")
+    return "\n".join(lines) + "\n"
+
+
+def write_frequencies(path: str | os.PathLike, model: ElasticModel) -> Path:
+    """Write the frequency table (see `frequency_table`)."""
+    return write_bytes_atomically(path, frequency_table(model).encode())
+
+
+def vtu_mesh(model: ElasticModel, n_shapes: int | None = None) -> meshio.Mesh:
+    """The FE mesh with labels (cell data: region, muscle) and the first mode shapes (point data).
+
+    Point data: `mode_01`... (N, 3) mass-normalised shapes, `fixed` (1 on
+    nodes that follow the skeleton), `bone` (the rig bone they follow, -1).
+    """
+    n_shapes = model.modes.vectors.shape[1] if n_shapes is None else min(n_shapes, model.modes.vectors.shape[1])
+    cell_type = "tetra10" if model.elements.shape[1] == 10 else "tetra"
+    n = len(model.points)
+    fixed = np.zeros(n, dtype=np.int8)
+    fixed[model.fixed_nodes] = 1
+    bone = np.full(n, -1, dtype=np.int32)
+    bone[model.fixed_nodes] = model.fixed_bone
+    point_data = {"fixed": fixed, "bone": bone}
+    for k in range(n_shapes):
+        point_data[f"mode_{k + 1:02d}"] = model.modes.vectors[:, k].reshape(n, 3)
+    cell_data = {"region": [model.region.astype(np.int32)], "muscle": [model.volume.muscle.astype(np.int32)]}
+    return meshio.Mesh(model.points, [(cell_type, model.elements)], point_data=point_data, cell_data=cell_data)
+
+
+def write_vtu(path: str | os.PathLike, model: ElasticModel, n_shapes: int | None = None) -> Path:
+    """Write the model as a VTU file for ParaView (see `vtu_mesh`)."""
+    with tempfile.TemporaryDirectory() as scratch:  # meshio writes to a path; the move is atomic
+        temporary = Path(scratch) / "model.vtu"
+        meshio.write(temporary, vtu_mesh(model, n_shapes), file_format="vtu")
+        return write_bytes_atomically(path, temporary.read_bytes())
+
+
+def mode_picture(model: ElasticModel, body, mode: int, size: tuple[int, int] = (360, 540)) -> bytes:
+    """PNG of one mode on the body's skin, front and side, coloured by displacement.
+
+    The shape is scaled so that its largest skin displacement is `PICTURE_AMPLITUDE`.
+    """
+    u = model.skin_displacement(model.modes.vectors[:, mode])
+    magnitude = np.linalg.norm(u, axis=1)
+    scale = PICTURE_AMPLITUDE / max(float(magnitude.max()), 1e-300)
+    skin = Layer(body.vertices + scale * u, body.faces, scalars=scale * magnitude * 1e3, colormap="viridis",
+                 clim=(0.0, PICTURE_AMPLITUDE * 1e3), scalar_title="mm")
+    figure = Figure(figsize=(2 * size[0] / 100, size[1] / 100 + 0.4), dpi=100)
+    for k, image in enumerate(render_views([skin], views=("front", "side"), size=size)):
+        axes = figure.add_subplot(1, 2, k + 1)
+        axes.imshow(image)
+        axes.set_axis_off()
+    figure.suptitle(f"mode {mode + 1}: {model.frequencies[mode]:.2f} Hz")
+    figure.tight_layout()
+    buffer = io.BytesIO()
+    figure.savefig(buffer, format="png")
+    return buffer.getvalue()
+
+
+def write_mode_pictures(folder: str | os.PathLike, model: ElasticModel, body, count: int) -> list[Path]:
+    """`mode_01.png`... for the first `count` modes (see `mode_picture`)."""
+    folder = Path(folder)
+    return [write_bytes_atomically(folder / f"mode_{k + 1:02d}.png", mode_picture(model, body, k))
+            for k in range(min(count, model.modes.vectors.shape[1]))]

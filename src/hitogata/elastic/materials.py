@@ -1,0 +1,82 @@
+"""Tissue materials from a TOML file: one table per tissue region, checked on load.
+
+`data/materials.toml` ships the defaults with their literature sources; a user
+file has the same form. Every mistake (a missing or unknown region or key, a
+value out of range) is a one-line `HitogataError` naming the file, the entry
+and the value.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from importlib import resources
+from pathlib import Path
+from types import MappingProxyType
+from typing import Any, Mapping
+
+from hitogata import units
+from hitogata.errors import HitogataError
+from hitogata.fem import Material
+from hitogata.skeleton.spec import Entry, read_toml
+from hitogata.volume import REGIONS
+
+DEFAULT_FILE = "materials.toml"
+KEYS = ("density", "youngs_modulus", "poissons_ratio")
+PRESSURE_UNITS = {"pa": 1.0, "kpa": 1e3, "mpa": 1e6, "gpa": 1e9}  # parse_quantity lower-cases the unit
+
+
+@dataclass(frozen=True)
+class Materials:
+    """A checked material per tissue region (names as in `hitogata.volume.REGIONS`)."""
+
+    source: str
+    regions: Mapping[str, Material]
+
+    def table(self, region_names: tuple[str, ...]) -> dict[int, Material]:
+        """Region index -> Material, for `hitogata.fem.region_materials`."""
+        return {k: self.regions[name] for k, name in enumerate(region_names)}
+
+
+def default_materials_path() -> Path:
+    """The materials file shipped with the package."""
+    return Path(str(resources.files("hitogata").joinpath("data", DEFAULT_FILE)))
+
+
+def load_materials(path: str | Path | None = None) -> Materials:
+    """Read and check a materials file (the shipped defaults when `path` is None)."""
+    source, doc = read_toml(default_materials_path() if path is None else path)
+    unknown = sorted(set(doc) - set(REGIONS))
+    if unknown:
+        raise HitogataError(f"{source}: [{unknown[0]}]: unknown region; allowed: {', '.join(REGIONS)}")
+    missing = [name for name in REGIONS if name not in doc]
+    if missing:
+        raise HitogataError(f"{source}: no [{missing[0]}] table; every region needs one: {', '.join(REGIONS)}")
+    regions = {name: _material(Entry(source, f"[{name}]", doc[name], KEYS), name) for name in REGIONS}
+    return Materials(source, MappingProxyType(regions))
+
+
+def _material(entry: Entry, name: str) -> Material:
+    for key in KEYS:
+        entry.get(key, (float, str) if key == "youngs_modulus" else float)  # presence and type
+    rho = _checked(entry, "density", entry.number("density"), lambda v: v > 0, "> 0 kg/m^3")
+    E = _checked(entry, "youngs_modulus", _pressure(entry, entry.table["youngs_modulus"]), lambda v: v > 0, "> 0 Pa")
+    nu = _checked(entry, "poissons_ratio", entry.number("poissons_ratio"), lambda v: 0 <= v < 0.5, "0 <= nu < 0.5")
+    return Material(E=E, nu=nu, rho=rho, name=name)
+
+
+def _pressure(entry: Entry, value: Any) -> float:
+    """Pa from a number (Pa) or a string with a unit ("25kPa")."""
+    if isinstance(value, str):
+        try:
+            return units.parse_quantity(value, PRESSURE_UNITS, "youngs_modulus")
+        except HitogataError:
+            entry.fail(f"youngs_modulus = {value!r}: write Pa as a number, or a number with a unit "
+                       "(Pa, kPa, MPa, GPa), e.g. \"25kPa\"")
+    return float(value)
+
+
+def _checked(entry: Entry, key: str, value: float, ok, allowed: str) -> float:
+    if not (math.isfinite(value) and ok(value)):
+        entry.fail(f"{key} = {entry.table[key]!r} is invalid; allowed: {allowed}")
+    return float(value)

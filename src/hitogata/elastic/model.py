@@ -1,0 +1,311 @@
+"""The body's elastic model: the volume model's labelled tets + the FEM core, ready for dynamics.
+
+`build_elastic_model(body)` meshes the trunk (or the whole body), lifts the
+mesh to quadratic tets, gives each tissue region its material, assembles K
+and M, attaches the bone nodes to the skeleton, solves the lowest modes and
+maps the FE nodes to the body's skin vertices. Everything is SI; the element
+size alone is in millimetres, like the volume model's.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Mapping
+from dataclasses import dataclass
+from pathlib import Path
+from types import MappingProxyType
+
+import numpy as np
+import scipy.sparse as sp
+from scipy.sparse.csgraph import connected_components
+
+from hitogata.elastic.mapping import DEFAULT_FADE, skin_vertex_map
+from hitogata.elastic.materials import Materials, load_materials
+from hitogata.errors import HitogataError
+from hitogata.fem import (
+    Modes,
+    eigenstrain_load,
+    gravity_load,
+    mass_matrix,
+    muscle_eigenstrain,
+    p2_mesh,
+    rayleigh_coefficients,
+    region_materials,
+    solve_modes,
+    sparsity,
+    stiffness_matrix,
+)
+from hitogata.fem.damping import check_rayleigh, damping_ratios as modal_damping_ratios
+from hitogata.fem.elements import P2_EDGES, TET_FACES, tet_geometry
+from hitogata.volume import VolumeModel, build_volume_model
+from hitogata.volume.trunk import segment_distance
+
+ELEMENTS = ("P2", "P1")
+BONE_MODES = ("rigid", "elastic")
+CUT_MODES = ("free", "attached")
+# Default lattice spacing (mm) per element type. P2 at 40 mm: the largest trunk model whose 40
+# modes solve within the 10 s budget; its frequencies are within 3 % of an 8x finer discretisation
+# of the same geometry, but 1 % is out of reach at any affordable size (docs/elastic.md).
+# P1 at 20 mm has the same number of dof.
+DEFAULT_ELEMENT_SIZE = {"P2": 40.0, "P1": 20.0}
+# Rayleigh damping: ratio 0.2 at 2 Hz and at 10 Hz (≥ 0.15 in between), within the 0.1-0.5 of
+# soft-tissue and whole-body resonances (docs/elastic.md).
+DEFAULT_DAMPING = ((2.0, 0.2), (10.0, 0.2))
+# ARPACK residual tolerance: eigenvalue errors ~tol², far below the 1 % discretisation target.
+EIGEN_TOLERANCE = 1e-6
+# Elastic bone: the nodes within this fraction of an element of each bone's axis (beyond the
+# nearest) follow the skeleton, the rest of the bone deforms.
+AXIS_BAND = 0.25
+
+
+@dataclass(frozen=True, eq=False)
+class ElasticSystem:
+    """The assembled FE system of a volume model: mesh, skeleton attachment, materials, K and M."""
+
+    element: str  # "P2" or "P1"
+    points: np.ndarray  # (N, 3) rest node positions; P2: the P1 nodes first, then edge midpoints
+    elements: np.ndarray  # (T, 10) or (T, 4)
+    fixed_nodes: np.ndarray  # (B,) nodes that follow the skeleton
+    fixed_bone: np.ndarray  # (B,) index into volume.bone_names of the bone each follows
+    materials: Materials
+    bone: str  # "rigid" or "elastic"
+    cuts: str  # "attached" or "free": the trunk's cut faces
+    E: np.ndarray  # (T,) Pa
+    nu: np.ndarray  # (T,)
+    rho: np.ndarray  # (T,) kg/m^3
+    K: sp.csr_matrix  # (3N, 3N), node-major dofs
+    M: sp.csr_matrix  # consistent mass, on K's sparsity pattern
+
+
+@dataclass(frozen=True, eq=False)
+class ElasticModel(ElasticSystem):
+    """The elastic body: the assembled system plus its modes, damping and the map to the skin."""
+
+    volume: VolumeModel
+    modes: Modes  # lowest modes, mass-normalised, zero at the fixed nodes' dofs
+    alpha: float  # 1/s
+    beta: float  # s
+    skin_vertex_map: sp.csr_matrix  # (V, N): skin vertex displacements = map @ (N, 3) nodal ones
+    timings: Mapping[str, float]  # seconds per stage: mesh, assembly, modes, skin_map
+
+    @property
+    def region(self) -> np.ndarray:
+        """(T,) tissue region index per element, into `region_names`."""
+        return self.volume.region
+
+    @property
+    def region_names(self) -> tuple[str, ...]:
+        return self.volume.region_names
+
+    @property
+    def muscle_names(self) -> tuple[str, ...]:
+        return self.volume.muscle_names
+
+    @property
+    def frequencies(self) -> np.ndarray:
+        """Natural frequencies (Hz) of the modes, ascending."""
+        return self.modes.frequencies
+
+    @property
+    def damping_ratios(self) -> np.ndarray:
+        """Damping ratio of each mode under the Rayleigh damping (1 = critical)."""
+        return modal_damping_ratios(self.modes.eigenvalues, self.alpha, self.beta)
+
+    @property
+    def region_volumes(self) -> dict[str, float]:
+        """Volume (m^3) of each tissue region."""
+        return dict(self.volume.quality.region_volumes)
+
+    @property
+    def mass(self) -> float:
+        """Total mass (kg) of the meshed body, bones included."""
+        return float(self.rho @ tet_geometry(self.points, self.elements)[1])
+
+    def muscle_elements(self, name: str) -> np.ndarray:
+        """Indices of the elements of a named muscle region."""
+        if name not in self.muscle_names:
+            raise HitogataError(f"muscle {name!r} has no region in the elastic body; allowed: "
+                                f"{', '.join(self.muscle_names)}")
+        return np.flatnonzero(self.volume.muscle == self.muscle_names.index(name))
+
+    def muscle_load(self, name: str, contraction: float) -> np.ndarray:
+        """Nodal forces (3N,) of a muscle contracting by `contraction` along its fibres.
+
+        An isochoric eigenstrain (fibre strain -contraction, the cross-section
+        thickening at constant volume) in the muscle's elements; positive
+        contraction shortens, negative stretches (the paper's experiment).
+        """
+        if not np.isfinite(contraction):
+            raise HitogataError(f"contraction {contraction!r} of {name!r}: allowed a finite number (strain)")
+        mine = self.muscle_elements(name)
+        strain = muscle_eigenstrain(self.volume.fibres[mine], contraction)
+        return eigenstrain_load(self.points, self.elements, self.E, self.nu, strain, elements=mine)
+
+    def gravity_load(self, g: tuple[float, float, float] = (0.0, -9.81, 0.0)) -> np.ndarray:
+        """Nodal forces (3N,) of the body's weight under acceleration g (m/s^2; default down)."""
+        return gravity_load(self.points, self.elements, self.rho, g)
+
+    def skin_displacement(self, u: np.ndarray) -> np.ndarray:
+        """Displacements (V, 3) of the body's skin vertices from nodal displacements (3N,) or (N, 3)."""
+        return self.skin_vertex_map @ np.asarray(u, dtype=float).reshape(len(self.points), 3)
+
+
+def build_elastic_model(body, *, extent: str = "trunk", element_size: float | None = None, element: str = "P2",
+                        n_modes: int = 40, materials: str | Path | Materials | None = None, bone: str = "rigid",
+                        cuts: str = "free",
+                        damping_ratios: tuple[tuple[float, float], tuple[float, float]] | None = None,
+                        alpha_beta: tuple[float, float] | None = None, solver: str = "auto",
+                        volume: VolumeModel | None = None) -> ElasticModel:
+    """The elastic model of a `hitogata.body.Body`.
+
+    extent: "trunk" (the paper's) or "body"; element_size: lattice spacing in
+    mm (default per element type, `DEFAULT_ELEMENT_SIZE`); element: "P2"
+    (quadratic tets, default) or "P1"; materials: a TOML path, a `Materials`,
+    or None for the shipped defaults; bone: "rigid" (bone nodes follow the
+    skeleton) or "elastic" (bone deforms, only its axis follows the
+    skeleton); cuts: "free" (the paper's bare trunk: fixed_nodes are the bone
+    nodes) or "attached" (the trunk's cut faces also follow their nearest
+    bone, as the neck, arms and thighs would hold them in small vibrations);
+    damping: `damping_ratios` ((f1 Hz, zeta1), (f2 Hz, zeta2)) or
+    `alpha_beta` (alpha 1/s, beta s), default `DEFAULT_DAMPING`; solver: see
+    `hitogata.fem.solve_modes`; volume: a volume model of this body already
+    built (skips meshing; extent and element_size are then its own).
+    """
+    _check_options(element, bone, cuts)
+    alpha, beta = _rayleigh(damping_ratios, alpha_beta)
+    table = materials if isinstance(materials, Materials) else load_materials(materials)
+    timings: dict[str, float] = {}
+
+    start = time.perf_counter()
+    if volume is None:
+        size = DEFAULT_ELEMENT_SIZE[element] if element_size is None else element_size
+        volume = build_volume_model(body.vertices, body.faces, body.rig, body.skin_weights, bmi=body.bmi,
+                                    sex=body.params.sex, extent=extent, element_size=size)
+    timings["mesh"] = time.perf_counter() - start
+
+    start = time.perf_counter()
+    system = assemble_system(volume, body.rig, element=element, materials=table, bone=bone, cuts=cuts)
+    timings["assembly"] = time.perf_counter() - start
+
+    start = time.perf_counter()
+    modes = solve_modes(system.K, system.M, n_modes, system.fixed_nodes, solver=solver, tol=EIGEN_TOLERANCE)
+    timings["modes"] = time.perf_counter() - start
+
+    start = time.perf_counter()
+    skin_map = skin_vertex_map(body.vertices, system.points, system.elements, volume.quality.surface_distance_max,
+                               DEFAULT_FADE)
+    timings["skin_map"] = time.perf_counter() - start
+    return ElasticModel(volume=volume, **vars(system), modes=modes, alpha=alpha, beta=beta,
+                        skin_vertex_map=skin_map, timings=MappingProxyType(timings))
+
+
+def assemble_system(volume: VolumeModel, rig, *, element: str = "P2", materials: str | Path | Materials | None = None,
+                    bone: str = "rigid", cuts: str = "free") -> ElasticSystem:
+    """Lift the volume model's mesh to `element`, attach bone nodes to `rig`'s bones, assemble K and M.
+
+    rig: the body's rig (bone names, heads, tails). cuts: "free" (default, the
+    paper's bare trunk) leaves the trunk's cut faces (neck, hips, arms) free
+    surfaces; "attached" holds them to their nearest bone, as the body beyond
+    them would for small vibrations (see docs/elastic.md).
+    """
+    _check_options(element, bone, cuts)
+    table = materials if isinstance(materials, Materials) else load_materials(materials)
+    fixed, fixed_bone = volume.bone_nodes, volume.bone_node_bone
+    if bone == "elastic":
+        fixed, fixed_bone = _axis_nodes(volume, rig)
+    if cuts == "attached":
+        fixed, fixed_bone = _with_cut_nodes(volume, rig, fixed, fixed_bone)
+    fixed, fixed_bone = _with_loose_pieces(volume, rig, fixed, fixed_bone)
+    points, elements = volume.nodes, volume.tets
+    if element == "P2":
+        points, elements = p2_mesh(points, elements)
+        fixed, fixed_bone = _lift(elements, fixed, fixed_bone, len(points))
+    E, nu, rho = region_materials(volume.region, table.table(volume.region_names))
+    pattern = sparsity(elements, len(points))
+    K = stiffness_matrix(points, elements, E, nu, pattern)
+    M = mass_matrix(points, elements, rho, pattern=pattern)
+    return ElasticSystem(element=element, points=points, elements=elements, fixed_nodes=fixed, fixed_bone=fixed_bone,
+                         materials=table, bone=bone, cuts=cuts, E=E, nu=nu, rho=rho, K=K, M=M)
+
+
+def _check_options(element: str, bone: str, cuts: str) -> None:
+    for name, value, allowed in (("element", element, ELEMENTS), ("bone", bone, BONE_MODES), ("cuts", cuts, CUT_MODES)):
+        if value not in allowed:
+            raise HitogataError(f"{name} {value!r}: allowed {', '.join(allowed)}")
+
+
+def _rayleigh(ratios, alpha_beta) -> tuple[float, float]:
+    """(alpha, beta) from target damping ratios or given directly (not both)."""
+    if ratios is not None and alpha_beta is not None:
+        raise HitogataError("damping: give damping_ratios or alpha_beta, not both")
+    if alpha_beta is not None:
+        alpha, beta = (float(v) for v in alpha_beta)
+        check_rayleigh(alpha, beta)
+        return alpha, beta
+    (f1, z1), (f2, z2) = DEFAULT_DAMPING if ratios is None else ratios
+    return rayleigh_coefficients(z1, f1, z2, f2)
+
+
+def _lift(elements2: np.ndarray, nodes: np.ndarray, bones: np.ndarray, n_nodes: int) -> tuple[np.ndarray, np.ndarray]:
+    """A P1 node set and its bones carried to the P2 mesh: a midpoint between two of the nodes
+    joins the set and follows the bone of the edge's first end (as `fem.lift_node_set`)."""
+    bone_of = np.full(n_nodes, -1, dtype=np.int64)
+    bone_of[nodes] = bones
+    first, second = elements2[:, P2_EDGES[:, 0]], elements2[:, P2_EDGES[:, 1]]
+    both = (bone_of[first] >= 0) & (bone_of[second] >= 0)
+    bone_of[elements2[:, 4:][both]] = bone_of[first[both]]
+    lifted = np.flatnonzero(bone_of >= 0)
+    return lifted, bone_of[lifted]
+
+
+def _bone_segments(volume: VolumeModel, rig) -> tuple[np.ndarray, np.ndarray]:
+    """Heads and tails (B, 3) of the volume model's bones, in `volume.bone_names` order."""
+    rows = [rig.names.index(name) for name in volume.bone_names]
+    return np.asarray(rig.heads)[rows], np.asarray(rig.tails)[rows]
+
+
+def _with_cut_nodes(volume: VolumeModel, rig, nodes: np.ndarray, bones: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """A node set plus the nodes of the cut faces (not on the skin), each with its nearest bone."""
+    cut = np.setdiff1d(np.unique(volume.boundary_faces[~volume.boundary_on_skin]), nodes)
+    if cut.size == 0:
+        return nodes, bones
+    nearest = segment_distance(volume.nodes[cut], *_bone_segments(volume, rig)).argmin(axis=1)
+    order = np.argsort(np.concatenate([nodes, cut]))
+    return np.concatenate([nodes, cut])[order], np.concatenate([bones, nearest])[order]
+
+
+def _with_loose_pieces(volume: VolumeModel, rig, nodes: np.ndarray, bones: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """A node set plus every node of a mesh piece that holds none of it, each following its nearest bone.
+
+    Pieces are the tets connected through shared faces: a lattice island or a few
+    tets hanging on by an edge or a corner (a fingertip at a coarse size) would
+    float free or hinge, i.e. have zero-frequency modes.
+    """
+    tets = volume.tets
+    faces = np.sort(tets[:, TET_FACES].reshape(-1, 3), axis=1)
+    order = np.lexsort(faces.T[::-1])
+    shared = np.flatnonzero(np.all(faces[order][1:] == faces[order][:-1], axis=1))
+    a, b = order[shared] // 4, order[shared + 1] // 4
+    graph = sp.csr_matrix((np.ones(len(a), dtype=np.int8), (a, b)), shape=(len(tets), len(tets)))
+    _, piece = connected_components(graph, directed=False)
+    is_fixed = np.zeros(len(volume.nodes), dtype=bool)
+    is_fixed[nodes] = True
+    held = np.zeros(piece.max() + 1, dtype=bool)
+    held[piece[is_fixed[tets].any(axis=1)]] = True
+    loose = np.setdiff1d(np.unique(tets[~held[piece]]), nodes)
+    if loose.size == 0:
+        return nodes, bones
+    nearest = segment_distance(volume.nodes[loose], *_bone_segments(volume, rig)).argmin(axis=1)
+    order = np.argsort(np.concatenate([nodes, loose]))
+    return np.concatenate([nodes, loose])[order], np.concatenate([bones, nearest])[order]
+
+
+def _axis_nodes(volume: VolumeModel, rig) -> tuple[np.ndarray, np.ndarray]:
+    """The bone nodes nearest each bone's axis (within `AXIS_BAND` elements of the nearest)."""
+    heads, tails = _bone_segments(volume, rig)
+    nodes, bones = volume.bone_nodes, volume.bone_node_bone
+    d = segment_distance(volume.nodes[nodes], heads, tails)[np.arange(len(nodes)), bones]
+    nearest = np.full(len(heads), np.inf)
+    np.minimum.at(nearest, bones, d)
+    keep = d <= nearest[bones] + AXIS_BAND * volume.element_size
+    return nodes[keep], bones[keep]

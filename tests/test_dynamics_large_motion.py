@@ -1,0 +1,69 @@
+"""Large motion: the extreme poses the joint limits allow, against plain linear blend skinning.
+
+For each pose the elastic body (DQS + the quasi-static correction) must keep
+every tissue region within 3 % of its rest volume and distort the skin less
+than LBS. Inverted elements: none in the trunk; in the whole body fewer than
+LBS leaves (creases where, without contact, tissue of thigh and belly or
+forearm and arm must pass through itself; see docs/scenarios.md).
+"""
+
+import numpy as np
+import pytest
+
+from hitogata.dynamics import BodyDynamics, compare_pose
+from hitogata.elastic import build_elastic_model
+
+TRUNK = [f"lumbar_{i}" for i in range(1, 6)] + [f"thoracic_{i}" for i in range(1, 13)]
+BODY_POSES = {
+    "elbow 150°": {"forearm_l.flexion": 150},
+    "knee 130°": {"shank_l.flexion": 130},
+    "hip flexion 120°": {"thigh_l.flexion": 120},
+    "shoulder abduction 170°": {"upper_arm_l.abduction": 120, "scapula_l.upward_rotation": 50},
+}
+
+
+def clinical_pose(skeleton, clinical: dict[str, float]) -> np.ndarray:
+    q = np.zeros(skeleton.n_dofs)
+    for name, degrees in clinical.items():
+        k = skeleton.dof_index(name)
+        q[k] = np.radians(degrees) - skeleton.rest[k]
+    assert np.all(q >= skeleton.lower - 1e-9) and np.all(q <= skeleton.upper + 1e-9), "within the joint limits"
+    return q
+
+
+@pytest.fixture(scope="module")
+def body_dynamics(male):
+    return BodyDynamics.build(male, build_elastic_model(male, extent="body", element_size=40.0, n_modes=2))
+
+
+@pytest.fixture(scope="module")
+def trunk_dynamics(female):
+    return BodyDynamics.build(female, build_elastic_model(female, extent="trunk", n_modes=2))
+
+
+def check(figures, inverted_most: int) -> None:
+    lbs, elastic = figures["lbs"], figures["elastic"]
+    print("\n" + "\n".join(f.line() for f in figures.values()))
+    assert max(abs(v) for v in elastic.region_change.values()) < 0.03
+    assert elastic.skin_distortion < lbs.skin_distortion
+    assert elastic.inverted <= inverted_most
+
+
+def test_trunk_flexion_80(trunk_dynamics):
+    sk = trunk_dynamics.poser.skeleton
+    q = np.zeros(sk.n_dofs)
+    for part in TRUNK:
+        k = sk.dof_index(f"{part}.flexion")
+        q[k] = sk.upper[k]
+    assert np.degrees(q[[sk.dof_index(f"{p}.flexion") for p in TRUNK]].sum()) == pytest.approx(80, abs=0.5)
+    figures = compare_pose(trunk_dynamics, q)
+    assert figures["lbs"].region_change["viscera"] < -0.1  # LBS loses a tenth of the viscera
+    check(figures, inverted_most=0)
+
+
+@pytest.mark.parametrize("name", BODY_POSES)
+def test_whole_body_extreme_poses(body_dynamics, name):
+    q = clinical_pose(body_dynamics.poser.skeleton, BODY_POSES[name])
+    figures = compare_pose(body_dynamics, q)
+    check(figures, inverted_most=min(figures["lbs"].inverted, figures["dqs"].inverted))
+    assert figures["elastic"].inverted < 0.005 * len(body_dynamics.model.elements)

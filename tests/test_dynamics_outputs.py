@@ -1,0 +1,113 @@
+"""What a motion is written as: GLB animation (Khronos validator), VTU series, pictures, GIF, the CLI."""
+
+import json
+import xml.etree.ElementTree as ET
+
+import meshio
+import numpy as np
+import pygltflib as gl
+import pytest
+from gltf_validator import needs_validator, validate_gltf
+from PIL import Image
+
+from hitogata.cli import main
+from hitogata.dynamics import BodyDynamics, Keyframe, Timeline, simulate
+from hitogata.dynamics import files
+from hitogata.elastic import build_elastic_model
+
+SCENARIO = """
+title = "tiny"
+[body]
+sex = "female"
+[model]
+element_size = "60mm"
+modes = 6
+[time]
+duration = "0.4s"
+rate = 10
+[timeline]
+on_limit = "clamp"
+[[keyframe]]
+time = 0
+[[keyframe]]
+time = "0.3s"
+contractions = { rectus_abdominis_l = "-5%" }
+[output]
+files = ["glb", "png"]
+size = [160, 240]
+"""
+
+
+@pytest.fixture(scope="module")
+def motion(female):
+    model = build_elastic_model(female, extent="trunk", element_size=60.0, n_modes=8)
+    timeline = Timeline.from_keyframes([Keyframe(0.0, {}),
+                                        Keyframe(0.4, {("contraction", "rectus_abdominis_l"): -0.06})])
+    return simulate(BodyDynamics.build(female, model), timeline, duration=0.6, rate=10, on_limit="clamp")
+
+
+@needs_validator
+def test_glb_animation_is_valid_and_plays_the_frames(tmp_path, motion):
+    path = files.write_glb(tmp_path / "m.glb", motion)
+    report, _ = validate_gltf(path)
+    assert report["issues"]["numErrors"] == 0 and report["issues"]["numWarnings"] == 0
+    doc = gl.GLTF2.load_binary(path)
+    targets = doc.meshes[0].primitives[0].targets
+    assert len(targets) == len(motion.times) and len(doc.animations) == 1
+    sampler = doc.animations[0].samplers[0]
+    times = doc.accessors[sampler.input]
+    assert times.count == len(motion.times) and times.max[0] == pytest.approx(motion.times[-1])
+    last = doc.accessors[targets[-1]["POSITION"]]
+    moved = np.abs(motion.skin[-1] - motion.dynamics.poser.body.vertices).max(axis=0)
+    assert np.allclose(np.maximum(np.abs(last.min), np.abs(last.max)), moved, atol=1e-6)
+
+
+def test_vtu_series_reads_back(tmp_path, motion):
+    pvd = files.write_pvd(tmp_path, motion)
+    steps = ET.parse(pvd).getroot().findall("./Collection/DataSet")
+    assert [float(s.get("timestep")) for s in steps] == pytest.approx(motion.times)
+    frame = meshio.read(tmp_path / steps[-1].get("file"))
+    model = motion.dynamics.model
+    assert frame.cells[0].type == "tetra10" and len(frame.cells[0].data) == len(model.elements)
+    assert np.allclose(frame.points, motion.nodes[-1], atol=1e-6)
+    assert np.array_equal(frame.cell_data["region"][0], model.region)
+    assert np.allclose(frame.point_data["displacement"], motion.nodes[-1] - model.points, atol=1e-6)
+
+
+def not_blank(path) -> bool:
+    image = np.asarray(Image.open(path).convert("RGB"), dtype=float)
+    return image.std() > 10 and (image < 200).mean() > 0.02
+
+
+def test_pictures_and_gif_show_something(tmp_path, motion):
+    pytest.importorskip("pyvista")
+    pngs = files.write_pictures(tmp_path, motion, [0.0, 0.6], ("front", "side"), (160, 240), "m")
+    assert [p.name for p in pngs] == ["m_0.00s.png", "m_0.60s.png", "m_elastic.png"]
+    assert all(not_blank(p) for p in pngs)
+    width, height = Image.open(pngs[0]).size
+    assert height == 240 and width >= 300  # two views side by side
+    gif = Image.open(files.write_gif(tmp_path / "m.gif", motion, ("front", "side"), (120, 180), rate=5))
+    assert gif.n_frames == 4
+
+
+def test_simulate_command_writes_files_and_a_summary(tmp_path, capsys):
+    pytest.importorskip("pyvista")
+    scenario = tmp_path / "tiny.toml"
+    scenario.write_text(SCENARIO)
+    assert main(["simulate", str(scenario), "--out", str(tmp_path / "out"), "--quiet"]) == 0
+    printed = capsys.readouterr().out
+    assert "largest skin displacement by the elastic body" in printed and "lowest frequencies" in printed
+    out = tmp_path / "out"
+    assert (out / "motion.glb").stat().st_size > 0 and (out / "motion_elastic.png").is_file()
+    figures = json.loads((out / "motion_summary.json").read_text())
+    assert figures["inverted_max"] == 0 and figures["volume_change_max_percent"] < 3
+    assert figures["largest_elastic_mm"] > 0.1
+
+
+def test_simulate_command_reports_a_bad_scenario_in_one_line(tmp_path, capsys):
+    scenario = tmp_path / "bad.toml"
+    scenario.write_text(SCENARIO.replace('modes = 6', 'modes = "many"'))
+    assert main(["simulate", str(scenario), "--out", str(tmp_path / "out")]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.count("\n") == 0 and "bad.toml: [model].modes" in err
+    assert not (tmp_path / "out").exists()

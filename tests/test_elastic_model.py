@@ -1,0 +1,141 @@
+"""The elastic trunk: mesh sanity, constrained and mass-normalised modes, loads, the skin map."""
+
+import numpy as np
+import pytest
+
+from hitogata.elastic import build_elastic_model
+from hitogata.errors import HitogataError
+from hitogata.fem import check_mesh, solve_static, tet_geometry
+from hitogata.volume import build_volume_model
+
+SIZE = 50.0  # mm: coarse, so the file runs in seconds; the default model is checked in benchmarks/
+N_MODES = 12
+
+
+@pytest.fixture(scope="module")
+def model(female):
+    return build_elastic_model(female, element_size=SIZE, n_modes=N_MODES)
+
+
+def test_no_inverted_elements(model, female):
+    check_mesh(model.points, model.elements)  # raises on an inverted or flat tet
+    assert model.volume.quality.inverted == 0
+    assert model.elements.shape[1] == 10 and model.element == "P2"
+    whole = build_volume_model(female.vertices, female.faces, female.rig, female.skin_weights, bmi=female.bmi,
+                               sex=female.params.sex, extent="body", element_size=60.0)
+    assert whole.quality.inverted == 0
+    assert tet_geometry(whole.nodes, whole.tets)[1].min() > 0
+
+
+def test_region_volumes_are_sane(model):
+    volumes = model.region_volumes
+    assert set(volumes) == set(model.region_names) == {"bone", "viscera", "muscle", "skin"}
+    total = tet_geometry(model.points, model.elements)[1].sum()
+    assert sum(volumes.values()) == pytest.approx(total, rel=1e-9)
+    assert 20e-3 < total < 45e-3  # an adult trunk, neck to hips, without the arms: 20-45 L
+    assert 0.02 < volumes["bone"] / total < 0.10
+    assert 0.15 < volumes["viscera"] / total < 0.45
+    assert 0.2 < volumes["muscle"] / total < 0.55
+    assert 0.1 < volumes["skin"] / total < 0.45
+    assert 20.0 < model.mass < 45.0  # kg
+
+
+def test_fixed_nodes_follow_bones_and_modes_vanish_there(model):
+    fixed = model.fixed_nodes
+    assert len(fixed) > 50 and len(fixed) == len(model.fixed_bone)
+    assert set(model.volume.bone_nodes.tolist()) <= set(fixed.tolist())
+    assert np.all((model.fixed_bone >= 0) & (model.fixed_bone < len(model.volume.bone_names)))
+    spine = [model.volume.bone_names.index(n) for n in ("spine01", "spine03", "spine05")]
+    assert set(spine) <= set(model.fixed_bone.tolist())
+    shapes = model.modes.vectors.reshape(len(model.points), 3, -1)
+    assert np.all(shapes[fixed] == 0.0)
+    assert np.abs(shapes).max() > 0
+
+
+def test_frequencies_positive_sorted_and_plausible(model):
+    f = model.frequencies
+    assert len(f) == N_MODES
+    assert np.all(f > 0) and np.all(np.diff(f) >= 0)
+    assert 0.5 < f[0] < 20.0  # soft tissue on a fixed skeleton: a few Hz
+
+
+def test_modes_are_mass_normalised(model):
+    phi = model.modes.vectors
+    assert np.allclose(phi.T @ (model.M @ phi), np.eye(N_MODES), atol=1e-9)
+    assert np.allclose(phi.T @ (model.K @ phi), np.diag(model.modes.eigenvalues), rtol=1e-6,
+                       atol=1e-6 * model.modes.eigenvalues.max())
+
+
+def test_muscle_load_moves_that_muscle_most(model):
+    name = "rectus_abdominis"
+    f = model.muscle_load(name, 0.05)
+    u = solve_static(model.K, f, model.fixed_nodes).reshape(-1, 3)
+    mine = np.unique(model.elements[model.muscle_elements(name)])
+    others = np.setdiff1d(np.arange(len(model.points)), mine)
+    size = np.linalg.norm(u, axis=1)
+    assert size[mine].mean() > 3.0 * size[others].mean()
+    # contraction shortens the band along its (vertical) fibres: its top comes down, its bottom up
+    band = model.points[mine]
+    top, bottom = band[:, 1] > np.quantile(band[:, 1], 0.8), band[:, 1] < np.quantile(band[:, 1], 0.2)
+    assert u[mine][top, 1].mean() < 0 < u[mine][bottom, 1].mean()
+    assert np.allclose(model.muscle_load(name, -0.05), -f)
+
+
+def test_gravity_load_is_the_weight(model):
+    f = model.gravity_load().reshape(-1, 3)
+    assert f[:, 1].sum() == pytest.approx(-9.81 * model.mass, rel=1e-9)
+    assert np.abs(f[:, [0, 2]].sum(axis=0)).max() < 1e-9 * model.mass
+
+
+def test_skin_map_reproduces_a_rigid_translation(model, female):
+    W = model.skin_vertex_map
+    assert W.shape == (len(female.vertices), len(model.points))
+    rows = np.asarray(W.sum(axis=1)).ravel()
+    assert rows.min() >= -1e-12 and rows.max() <= 1 + 1e-12
+    inside = np.abs(rows - 1.0) < 1e-12
+    torso = (np.abs(female.vertices[:, 0]) < 0.08) & (np.abs(female.vertices[:, 1] - 1.2) < 0.1)  # chest, belly, back
+    assert np.all(inside[torso])
+    assert 1000 < inside.sum() < len(rows)  # the trunk's skin, not the head or the feet
+    shift = np.array([0.01, -0.02, 0.03])
+    moved = model.skin_displacement(np.tile(shift, len(model.points)))
+    assert np.abs(moved[inside] - shift).max() < 1e-12
+    assert np.abs(model.skin_displacement(np.zeros(3 * len(model.points)))).max() == 0.0
+    feet = female.vertices[:, 1] < 0.2
+    assert np.all(rows[feet] == 0.0)
+
+
+def test_damping(model):
+    zeta = model.damping_ratios
+    assert np.all(zeta > 0.1) and np.all(zeta < 0.5)
+    assert model.alpha > 0 and model.beta > 0
+
+
+def test_options_p1_elastic_bone_and_errors(female, model):
+    p1 = build_elastic_model(female, element_size=60.0, element="P1", n_modes=4, bone="elastic",
+                             alpha_beta=(1.0, 0.01), volume=None)
+    assert p1.elements.shape[1] == 4 and p1.alpha == 1.0 and p1.beta == 0.01
+    assert len(p1.fixed_nodes) < len(p1.volume.bone_nodes)  # only the bones' axes follow the skeleton
+    assert np.all(p1.frequencies > 0)
+    rigid = build_elastic_model(female, element="P1", n_modes=4, volume=p1.volume)
+    assert np.allclose(p1.frequencies, rigid.frequencies, rtol=0.1)  # GPa bone barely moves
+    assert len(rigid.fixed_nodes) == len(rigid.volume.bone_nodes)  # cuts free: exactly the bone nodes
+    held = build_elastic_model(female, element="P1", n_modes=4, volume=p1.volume, cuts="attached")
+    cut = np.unique(held.volume.boundary_faces[~held.volume.boundary_on_skin])
+    assert set(cut.tolist()) <= set(held.fixed_nodes.tolist())  # the neck, hip and arm cuts are held
+    assert np.all(held.frequencies > rigid.frequencies)  # held cut faces: a stiffer trunk
+    for kwargs, words in [({"element": "P3"}, "element 'P3'"), ({"bone": "soft"}, "bone 'soft'"),
+                          ({"cuts": "sewn"}, "cuts 'sewn'"),
+                          ({"damping_ratios": ((1, 0.1), (10, 0.1)), "alpha_beta": (1, 0)}, "not both"),
+                          ({"alpha_beta": (-1.0, 0.0)}, "alpha"), ({"extent": "legs"}, "extent")]:
+        with pytest.raises(HitogataError, match=words):
+            build_elastic_model(female, **{"volume": model.volume, **kwargs} if "extent" not in kwargs else kwargs)
+    with pytest.raises(HitogataError, match="rectus_abdominis"):
+        model.muscle_load("biceps_l", 0.1)
+
+
+def test_whole_body_has_no_floating_or_hinged_pieces(female):
+    # at 60 mm the lattice leaves a fingertip island and tets hanging on by an edge: they follow a bone
+    body = build_elastic_model(female, extent="body", element_size=60.0, n_modes=6)
+    assert body.frequencies[0] > 1.0
+    assert 50.0 < body.mass < 75.0  # the whole 62 kg body, at the tissue densities
+    assert np.abs(np.asarray(body.skin_vertex_map.sum(axis=1)).ravel() - 1.0).max() < 1e-12  # every vertex
