@@ -111,3 +111,23 @@ def test_simulate_command_reports_a_bad_scenario_in_one_line(tmp_path, capsys):
     err = capsys.readouterr().err.strip()
     assert err.count("\n") == 0 and "bad.toml: [model].modes" in err
     assert not (tmp_path / "out").exists()
+
+
+def test_sequence_reads_back_and_measures_over_time(tmp_path, motion, female, capsys):
+    path = files.write_sequence(tmp_path / f"m{files.SEQUENCE_SUFFIX}", motion)
+    body, arrays = files.read_sequence_body(path)
+    assert body.params == female.params
+    assert np.array_equal(body.vertices, female.vertices)
+    assert arrays["vertices"].shape == (len(motion.times), len(female.vertices), 3)
+    assert arrays["joints"].shape == (len(motion.times), len(female.rig.names), 3)
+    assert files.find_sequence(tmp_path) == path
+    assert main(["measure", str(tmp_path), "--out", str(tmp_path / "report")]) == 0
+    rows = (tmp_path / "report" / "measurements_over_time.csv").read_text().splitlines()
+    assert len(rows) == 1 + len(motion.times)
+    assert "frames; wrote measurements_over_time.csv" in capsys.readouterr().out
+
+
+def test_measure_rejects_a_folder_without_one_sequence(tmp_path, capsys):
+    assert main(["measure", str(tmp_path), "--out", str(tmp_path / "report")]) == 2
+    assert "a results folder holds one *_sequence.npz; found none" in capsys.readouterr().err
+    assert not (tmp_path / "report").exists()

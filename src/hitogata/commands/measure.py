@@ -1,7 +1,8 @@
 """`hitogata measure`: ISO 8559-1 measurements (and skin strain for a posture) of a body.
 
-The body comes from a GLB written by hitogata (its extras hold the shape) or
-from the body options; the report (JSON, CSV, pictures) goes to --out.
+INPUT is a GLB written by `hitogata body` (its extras hold the shape), a results
+folder or `*_sequence.npz` of `hitogata simulate` (measurements and zone strains
+over time), or nothing (the body options). The report goes to --out.
 """
 
 from __future__ import annotations
@@ -17,7 +18,9 @@ from hitogata.commands.body import body_from_args
 from hitogata.errors import HitogataError
 from hitogata.export.body_files import body_from_extras
 from hitogata.export.gltf import read_glb_skin
-from hitogata.measure import measure
+from hitogata.dynamics.files import find_sequence, read_sequence_body
+from hitogata.measure import Measurements, measure
+from hitogata.measure.timeseries import measure_sequence, write_series
 from hitogata.measure.cli_support import measure_report, measurement_table
 
 
@@ -38,8 +41,22 @@ def body_from_file(path: Path) -> tuple[Body, np.ndarray | None]:
     return body, None if at_rest else skin.vertices
 
 
+def measure_results(path: Path, out: Path) -> None:
+    """Measurements and zone strains over time of a simulated motion: CSV and plot."""
+    body, arrays = read_sequence_body(find_sequence(path) if path.is_dir() else path)
+    series = measure_sequence(body, arrays["times"], arrays["vertices"], arrays["joints"])
+    out.mkdir(parents=True, exist_ok=True)
+    written = write_series(series, out, title=str(path))
+    last = {name: series.values[-1, k] for k, name in enumerate(series.names)}
+    print(measurement_table(Measurements(**last), reference=measure(body)))
+    print(f"{len(series.times)} frames; wrote {', '.join(p.name for p in written.values())} in {out}/")
+
+
 def run(args: argparse.Namespace) -> None:
     out = Path(args.out)
+    if args.input is not None and (Path(args.input).is_dir() or args.input.endswith(".npz")):
+        measure_results(Path(args.input), out)
+        return
     if args.input is not None:
         body, vertices = body_from_file(Path(args.input))
     else:
@@ -52,7 +69,8 @@ def run(args: argparse.Namespace) -> None:
 
 def register(sub: argparse._SubParsersAction) -> None:
     parser = sub.add_parser("measure", help="apparel measurements of a body (a hitogata .glb or the body options)")
-    parser.add_argument("input", nargs="?", default=None, help="a .glb written by `hitogata body` (optional)")
+    parser.add_argument("input", nargs="?", default=None,
+                        help="a .glb written by `hitogata body`, or a results folder / *_sequence.npz of `hitogata simulate`")
     add_body_arguments(parser)
     parser.add_argument("--out", required=True, help="report folder: measurements.json/.csv/.png")
     parser.set_defaults(run=run)

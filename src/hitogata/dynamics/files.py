@@ -14,8 +14,10 @@ Every file is written whole or not at all.
 from __future__ import annotations
 
 import io
+import json
 import os
 import secrets
+import zipfile
 from pathlib import Path
 from xml.sax.saxutils import quoteattr
 
@@ -26,8 +28,12 @@ import scipy.sparse as sp
 
 from hitogata.dynamics.motion import Motion
 from hitogata.export.atomic import write_bytes_atomically
+from hitogata.body import Body
+from hitogata.errors import HitogataError
+from hitogata.export.body_files import body_from_extras, shape_extras
 from hitogata.export.gltf import GlbBuilder
 from hitogata.fem.elements import boundary_faces
+from hitogata.measure.rig_joints import posed_rig_heads
 
 SMOOTHING = 4  # Taubin steps on the pictures' region surfaces
 MAX_TARGETS = 120  # morph targets in a GLB: frames beyond are subsampled evenly
@@ -207,3 +213,52 @@ def write_gif(path: str | os.PathLike, motion: Motion, views, size, rate: float,
     step = 1000.0 * span / max(len(picks) - 1, 1)
     images[0].save(buffer, format="GIF", save_all=True, append_images=images[1:], duration=int(round(step)), loop=0)
     return write_bytes_atomically(path, buffer.getvalue())
+
+
+SEQUENCE_SUFFIX = "_sequence.npz"
+
+
+def write_sequence(path: str | os.PathLike, motion: Motion) -> Path:
+    """The motion as plain arrays: what `hitogata measure` and the viewer's player read.
+
+    `times` (F,) s, `vertices` (F, V, 3) float32 skin, `angles` (F, D) rest-relative
+    radians, `joints` (F, B, 3) the rig's joint centres, and `shape` (the body's shape
+    parameters as JSON) with `density`, so the body can be rebuilt exactly.
+    """
+    poser = motion.dynamics.poser
+    body = poser.body
+    joints = np.stack([
+        posed_rig_heads(body.rig.heads, poser.skeleton.joints, r, t)
+        for r, t in zip(motion.rotations, motion.translations)
+    ])
+    buffer = io.BytesIO()
+    np.savez_compressed(
+        buffer, times=motion.times, vertices=motion.skin.astype(np.float32), angles=motion.angles,
+        joints=joints, shape=np.array(json.dumps(shape_extras(body.params))), density=np.array(body.density),
+    )
+    return write_bytes_atomically(path, buffer.getvalue())
+
+
+def find_sequence(folder: Path) -> Path:
+    """The one motion sequence a results folder holds (`sequence.npz` or `<name>_sequence.npz`)."""
+    found = sorted(folder.glob("sequence.npz")) or sorted(folder.glob(f"*{SEQUENCE_SUFFIX}"))
+    if len(found) != 1:
+        names = ", ".join(p.name for p in found) or "none"
+        raise HitogataError(
+            f"{folder}: a results folder holds one *{SEQUENCE_SUFFIX}; found {names} (name the file instead)"
+        )
+    return found[0]
+
+
+def read_sequence_body(path: Path) -> tuple[Body, dict[str, np.ndarray]]:
+    """The body a sequence file was simulated on, and its arrays (times, vertices, angles, joints)."""
+    try:
+        with np.load(path, allow_pickle=False) as data:
+            arrays = {k: data[k] for k in data.files}
+    except (OSError, ValueError, zipfile.BadZipFile, EOFError) as exc:
+        raise HitogataError(f"{path}: not a readable .npz file ({exc})") from None
+    missing = [k for k in ("times", "vertices", "joints", "shape") if k not in arrays]
+    if missing:
+        raise HitogataError(f"{path}: no array {missing[0]!r}; allowed a sequence written by `hitogata simulate`")
+    extras = {"shape": json.loads(str(arrays.pop("shape"))), "density": float(arrays.pop("density", 1000.0))}
+    return body_from_extras(path, extras), arrays

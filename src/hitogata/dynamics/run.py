@@ -152,7 +152,7 @@ def run_scenario(scenario: Scenario, out: str | Path, progress: bool = False, bo
     clock["simulation"] = time.perf_counter() - start
     start = time.perf_counter()
     o = scenario.output
-    written = []
+    written = [files.write_sequence(out / f"{name}{files.SEQUENCE_SUFFIX}", motion)]
     if "glb" in o.files:
         written.append(files.write_glb(out / f"{name}.glb", motion))
     if "pvd" in o.files:

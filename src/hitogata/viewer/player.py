@@ -7,8 +7,8 @@ by kind of path (`load_sequence`):
 - a `.npz` file with arrays `times` (T,) s, `vertices` (T, V, 3) m and
   optionally `angles` (T, D) rad (the 65-part skeleton, rest-relative) and
   `joints` (T, B, 3) m (the rig's joint centres, as `hitogata.measure` takes them);
-- a results folder holding such a file as `sequence.npz` (the dynamics
-  scenario's output format is not settled: this is the one place to adapt);
+- a results folder of `hitogata simulate`, holding such a file as
+  `<scenario>_sequence.npz` (`dynamics.files.write_sequence`);
 - a `.toml` file of pose keyframes (muscle contractions or clinical angles
   at times), posed kinematically by the body's Poser at `FRAME_RATE`.
 
@@ -25,6 +25,7 @@ from pathlib import Path
 
 import numpy as np
 
+from hitogata.dynamics.files import find_sequence
 from hitogata.errors import HitogataError
 from hitogata.pose import Poser
 from hitogata.skeleton.spec import Entry, read_toml
@@ -95,11 +96,8 @@ def load_npz(path: Path, poser: Poser) -> Sequence:
 
 
 def load_results_folder(path: Path, poser: Poser) -> Sequence:
-    """The sequence a results folder holds as `RESULT_FILE`."""
-    found = path / RESULT_FILE
-    if not found.is_file():
-        raise HitogataError(f"{path}: a results folder holds {RESULT_FILE}; none found")
-    return load_npz(found, poser)
+    """The sequence a results folder of `hitogata simulate` holds."""
+    return load_npz(find_sequence(path), poser)
 
 
 def load_keyframes(path: Path, poser: Poser) -> Sequence:
