@@ -42,3 +42,18 @@ def test_measure_bad_input(tmp_path: Path, capsys, name: str, content: bytes | N
     err = capsys.readouterr().err.strip()
     assert message in err and "\n" not in err
     assert not (tmp_path / "report").exists()
+
+
+def test_measure_a_pose_file(tmp_path: Path, capsys) -> None:
+    """A `hitogata pose` GLB is measured in its posture: the sleeve path over a bent elbow is longer."""
+    glb = tmp_path / "posed.glb"
+    assert main(["pose", "--angle", "elbow_r.flexion=120deg", "--out", str(glb)]) == 0
+    assert main(["measure", str(glb), "--out", str(tmp_path / "report")]) == 0
+    out = capsys.readouterr().out
+    row = next(line for line in out.splitlines() if line.startswith("arm length"))
+    posed_cm, rest_cm, change = (float(x) for x in row.split()[2:5])
+    assert change > 1.0 and posed_cm == pytest.approx(rest_cm + change, abs=0.11)
+    names = {p.name for p in (tmp_path / "report").iterdir()}
+    assert {"strain_zones.csv", "strain.png"} <= names
+    zones = (tmp_path / "report" / "strain_zones.csv").read_text()
+    assert "elbow" in zones

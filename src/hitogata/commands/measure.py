@@ -19,7 +19,8 @@ from hitogata.errors import HitogataError
 from hitogata.export.body_files import body_from_extras
 from hitogata.export.gltf import read_glb_skin
 from hitogata.dynamics.files import find_sequence, read_sequence_body
-from hitogata.measure import Measurements, measure
+from hitogata.measure import Measurements, measure, posed_rig_heads
+from hitogata.pose import pose_body
 from hitogata.measure.timeseries import measure_sequence, write_series
 from hitogata.measure.cli_support import measure_report, measurement_table
 
@@ -27,18 +28,27 @@ from hitogata.measure.cli_support import measure_report, measurement_table
 REST_TOLERANCE = 1e-5  # m: a GLB stores float32 positions; closer than this to rest is the rest pose
 
 
-def body_from_file(path: Path) -> tuple[Body, np.ndarray | None]:
-    """The body a hitogata GLB describes, and its skin vertices when they are a posture."""
+def body_from_file(path: Path) -> tuple[Body, np.ndarray | None, np.ndarray | None]:
+    """The body a hitogata GLB describes, and its skin vertices and rig joints when posed.
+
+    A `hitogata pose` file holds the rest skin with the pose as joint rotations and
+    the pose's angles in its extras: the posture is rebuilt from those.
+    """
     if path.suffix.lower() != ".glb":
-        raise HitogataError(f"{path}: allowed a .glb written by `hitogata body` (OBJ/PLY carry no shape)")
+        raise HitogataError(f"{path}: allowed a .glb written by `hitogata body` or `hitogata pose` (OBJ/PLY carry no shape)")
     if not path.is_file():
         raise HitogataError(f"{path}: no such file")
     skin = read_glb_skin(path)
-    body = body_from_extras(path, skin.extras or {})
+    extras = skin.extras or {}
+    body = body_from_extras(path, extras)
     if skin.vertices.shape != body.vertices.shape:
         raise HitogataError(f"{path}: {len(skin.vertices)} vertices, allowed {len(body.vertices)} (the hitogata skin)")
+    if "angles_rad" in extras:
+        posed = pose_body(body, angles=np.asarray(extras["angles_rad"], dtype=float))
+        joints = posed_rig_heads(body.rig.heads, posed.skeleton.joints, posed.pose.rotations[0], posed.pose.translations[0])
+        return body, posed.vertices, joints
     at_rest = np.abs(skin.vertices - body.vertices).max() < REST_TOLERANCE
-    return body, None if at_rest else skin.vertices
+    return body, (None if at_rest else skin.vertices), None
 
 
 def measure_results(path: Path, out: Path) -> None:
@@ -58,12 +68,13 @@ def run(args: argparse.Namespace) -> None:
         measure_results(Path(args.input), out)
         return
     if args.input is not None:
-        body, vertices = body_from_file(Path(args.input))
+        body, vertices, joints = body_from_file(Path(args.input))
     else:
-        body, vertices = body_from_args(args), None
+        body, vertices, joints = body_from_args(args), None, None
     out.mkdir(parents=True, exist_ok=True)
-    written = measure_report(body, out, vertices=vertices, title=args.input or "")
-    print(measurement_table(measure(body, vertices=vertices)))
+    written = measure_report(body, out, vertices=vertices, joints=joints, title=args.input or "")
+    posture = measure(body, vertices=vertices, joints=joints)
+    print(measurement_table(posture, reference=None if vertices is None else measure(body)))
     print(f"wrote {', '.join(p.name for p in written.values())} in {out}/")
 
 

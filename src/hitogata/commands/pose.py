@@ -12,7 +12,7 @@ from hitogata.commands.pose_args import add_pose_arguments
 from hitogata.commands.pose_summary import moved_count, pose_summary
 from hitogata.commands.posing import pose_from_args
 from hitogata.errors import HitogataError
-from hitogata.export.body_files import body_figures
+from hitogata.export.body_files import body_figures, shape_extras
 from hitogata.export.pose_files import check_posed_path, write_posed
 from hitogata.pose import Poser
 
@@ -42,9 +42,10 @@ def run(args: argparse.Namespace) -> None:
     check_posed_path(args.out, args.skinning)
     poser, request, posed = pose_from_args(args)
     extras = {
-        "sex": poser.body.params.sex,
-        "age_years": poser.body.params.age,
+        "shape": shape_extras(poser.body.params),
+        "density": poser.body.density,
         **body_figures(poser.body),
+        "angles_rad": [float(a) for a in posed.angles],
         "clinical_angles_deg": {
             name: round(float(np.degrees(value)), 4) for name, value in zip(posed.skeleton.dof_names, posed.clinical)
         },
