@@ -63,7 +63,7 @@ def test_keyframes_are_posed_and_interpolated(tmp_path, poser):
     ("content", "message"),
     [
         ("[[keyframe]]\ntime = 0.0\n", "two or more"),
-        ("[scenario]\ntitle = 'a dynamics scenario'\n", r"no \[\[keyframe\]\] tables.*not played yet"),
+        ("[scenario]\ntitle = 'a dynamics scenario'\n", r"no \[\[keyframe\]\] tables; allowed pose keyframes or a scenario"),
         ("[[keyframe]]\ntime = 1.0\n[[keyframe]]\ntime = 0.5\n", "increasing"),
         ("[[keyframe]]\ntime = 0.0\n[[keyframe]]\ntime = 1.0\ncontractions = { nosuch = 0.1 }\n", "keyframe 2.*nosuch"),
         ("[[keyframe]]\ntime = 0.0\n[[keyframe]]\ntime = 1.0\ncontractions = { quadriceps_r = 9.0 }\n", "keyframe 2.*quadriceps_r"),
@@ -118,3 +118,31 @@ def test_clock_plays_pauses_scrubs_and_stops_at_the_end():
     assert clock.time == 0.0 and clock.playing
     clock.scrub(-3.0)
     assert clock.time == 0.0
+
+
+TINY_SCENARIO = """
+title = "tiny"
+[model]
+element_size = "60mm"
+modes = 6
+[time]
+duration = "0.3s"
+rate = 10
+[timeline]
+on_limit = "clamp"
+[[keyframe]]
+time = 0
+[[keyframe]]
+time = "0.2s"
+contractions = { rectus_abdominis_l = "-5%" }
+"""
+
+
+def test_a_dynamics_scenario_is_simulated_on_the_viewers_body(tmp_path, poser):
+    path = tmp_path / "tiny.toml"
+    path.write_text(TINY_SCENARIO)
+    seq = load_sequence(path, poser)
+    assert len(seq.times) == 4 and seq.times[-1] == pytest.approx(0.3)
+    assert seq.vertices.shape == (4, len(poser.body.vertices), 3)
+    assert np.abs(seq.vertices[-1] - poser.body.vertices).max() > 1e-3  # the trunk moved
+    assert np.abs(seq.vertices[0] - poser.body.vertices).max() < 1e-6  # from rest

@@ -10,7 +10,9 @@ by kind of path (`load_sequence`):
 - a results folder of `hitogata simulate`, holding such a file as
   `<scenario>_sequence.npz` (`dynamics.files.write_sequence`);
 - a `.toml` file of pose keyframes (muscle contractions or clinical angles
-  at times), posed kinematically by the body's Poser at `FRAME_RATE`.
+  at times), posed kinematically by the body's Poser at `FRAME_RATE`;
+- a dynamics scenario `.toml` (docs/scenarios.md), simulated on the viewer's
+  body (elastic model and all: seconds, on a worker thread).
 
 Every mistake is a one-line `HitogataError` naming the file.
 """
@@ -26,11 +28,16 @@ from pathlib import Path
 import numpy as np
 
 from hitogata.dynamics.files import find_sequence
+from hitogata.dynamics.motion import simulate
+from hitogata.dynamics.run import build_dynamics
+from hitogata.dynamics.scenario import load_scenario
+from hitogata.measure import posed_rig_heads
 from hitogata.errors import HitogataError
 from hitogata.pose import Poser
 from hitogata.skeleton.spec import Entry, read_toml
 
 RESULT_FILE = "sequence.npz"
+SCENARIO_TABLES = {"body", "model", "time", "timeline", "output"}  # a dynamics scenario, not pose keyframes
 FRAME_RATE = 30.0  # frames per second for keyframe files
 MAX_FRAMES = 3000
 
@@ -113,9 +120,10 @@ def load_keyframes(path: Path, poser: Poser) -> Sequence:
     ```
     """
     source, doc = read_toml(path)
+    if SCENARIO_TABLES & doc.keys():
+        return simulate_scenario(path, poser)
     if "keyframe" not in doc:
-        raise HitogataError(f"{source}: no [[keyframe]] tables; the player reads pose keyframes "
-                            "(dynamics scenario files are not played yet)")
+        raise HitogataError(f"{source}: no [[keyframe]] tables; allowed pose keyframes or a scenario (docs/scenarios.md)")
     Entry(source, "file", doc, ("keyframe",))
     tables = doc.get("keyframe")
     if not isinstance(tables, list) or len(tables) < 2:
@@ -138,6 +146,17 @@ def load_keyframes(path: Path, poser: Poser) -> Sequence:
     frame_times = times[0] + np.arange(count) / FRAME_RATE
     q = np.stack([np.interp(frame_times, times, column) for column in np.array(angles).T], axis=1)
     return Sequence(source, frame_times, poser.pose_many(q).astype(np.float32), q, None)
+
+
+def simulate_scenario(path: Path, poser: Poser) -> Sequence:
+    """A dynamics scenario (docs/scenarios.md) simulated on the viewer's body, without writing files."""
+    scenario = load_scenario(path)
+    dynamics = build_dynamics(poser.body, scenario)
+    motion = simulate(dynamics, scenario.timeline, scenario.duration, scenario.rate, scenario.substeps,
+                      scenario.model.gravity, scenario.on_limit)
+    joints = np.stack([posed_rig_heads(poser.body.rig.heads, poser.skeleton.joints, r, t)
+                       for r, t in zip(motion.rotations, motion.translations)])
+    return Sequence(str(path), motion.times, motion.skin.astype(np.float32), motion.angles, joints)
 
 
 def _numbers(entry: Entry, key: str) -> dict[str, float]:
