@@ -28,6 +28,14 @@ region — solved from the linearised constraints after each global step
 (one more back-substitution per region). The steps are Anderson-accelerated
 and start from the previous frame's answer, so a few per frame suffice.
 
+Elements kept right side out (a floor, not a guarantee): after the
+accelerated steps, while some element's corner volume is below FLOOR x its
+rest volume, up to REPAIRS plain steps add those elements' volumes as
+further multipliers (an inequality: one the floor would pull down is let
+go), each projection capped at STEP_CAP per node (a flat element's
+linearisation is poor), then the regions' volumes restored exactly. A pose
+with no such element costs one volume check more than before.
+
 The solve runs on the elements' corner (linear) mesh: the correction is
 smooth, the shear-only energy does not lock, and it is ~10x cheaper than on
 the quadratic mesh; the dynamics lift it to the mid-edge nodes.
@@ -44,6 +52,9 @@ from hitogata.fem.factor import factorize
 from hitogata.fem.materials import lame, per_element
 
 MEMORY = 5  # Anderson acceleration: past steps mixed
+REPAIRS = 30  # at most so many plain steps after the last one, holding elements over the floor
+STEP_CAP = 0.02  # m: the largest node move of one projection while elements are held over the floor
+FLOOR = 0.02  # an element's corner volume is held at least at this share of its rest volume
 
 
 def rotate(rotations: np.ndarray, vectors: np.ndarray) -> np.ndarray:
@@ -83,6 +94,11 @@ class QuasiStatic:
         self._lap_fb = lap[self.free][:, self.fixed]
         self._solve = factorize(lap[self.free][:, self.free], method)
         self.rest_volumes = self.region_volumes(self.points)
+        self.rest_element_volumes = corner_volumes(self.points, self.elements)
+        # elements with a free corner: those whose volume the floor can hold
+        self._movable = np.isin(self.elements[:, :4], self.free).any(axis=1)
+        self.active = np.zeros(0, dtype=int)  # elements held at the volume floor in the current solve
+        self.floor = False  # whether steps add elements under the floor to the active ones
         self.quaternions = np.tile([1.0, 0.0, 0.0, 0.0], (t * len(w), 1))  # warm start of the local step
 
     def region_volumes(self, x: np.ndarray) -> np.ndarray:
@@ -125,13 +141,61 @@ class QuasiStatic:
             rhs += 0.5 * loads
         new = x.copy()
         new[self.free] = self._global(rhs, x[self.fixed])
-        if self.constrained:
-            grads = self._volume_gradients(new)
-            basis = np.stack([self._global(gr, None) for gr in grads])  # (regions, free, 3)
-            coupling = np.einsum("rfk,sfk->rs", grads[:, self.free], basis)
-            p = np.linalg.solve(coupling, self.rest_volumes - self.region_volumes(new))
-            new[self.free] += np.einsum("r,rfk->fk", p, basis)
+        return self._project(new)
+
+    def _floor_violations(self, x: np.ndarray) -> np.ndarray:
+        """Movable elements whose corner volume at x is below the floor."""
+        v = corner_volumes(x, self.elements)
+        return np.flatnonzero((v < FLOOR * self.rest_element_volumes) & self._movable)
+
+    def _project(self, new: np.ndarray) -> np.ndarray:
+        """Enforce the linearised constraints at `new`: each region's rest volume, and the volume
+        floor of the active elements (those that have fallen below it in this solve), by one
+        multiplier each (a pressure), the Laplacian's response solved by back-substitution."""
+        if self.floor:
+            self.active = np.union1d(self.active, self._floor_violations(new))
+        if not self.constrained and not len(self.active):
+            return new
+        grads = [self._volume_gradients(new)] if self.constrained else []
+        targets = [self.rest_volumes - self.region_volumes(new)] if self.constrained else []
+        if len(self.active):
+            grads.append(self._element_volume_gradients(new, self.active))
+            targets.append(FLOOR * self.rest_element_volumes[self.active]
+                           - corner_volumes(new, self.elements[self.active]))
+        grads = np.concatenate(grads)  # (constraints, N, 3)
+        g_free = grads[:, self.free]
+        m = len(grads)
+        # L⁻¹ g, all constraints and axes in one back-substitution: (constraints, free, 3)
+        basis = self._solve(np.ascontiguousarray(g_free.transpose(1, 2, 0).reshape(len(self.free), 3 * m)))
+        basis = basis.reshape(len(self.free), 3, m).transpose(2, 0, 1)
+        coupling = np.einsum("rfk,sfk->rs", g_free, basis)
+        p = np.linalg.lstsq(coupling, np.concatenate(targets), rcond=1e-12)[0]
+        move = np.einsum("r,rfk->fk", p, basis)
+        if len(self.active):  # the floor is an inequality: an element it would pull down is let go
+            self.active = self.active[p[m - len(self.active):] >= 0.0]
+        new = new.copy()
+        if len(self.active):  # a flat element's linearisation is poor: no node moves more than STEP_CAP,
+            move *= min(1.0, STEP_CAP / max(float(np.abs(move).max()), 1e-30))
+            new[self.free] += move
+            if self.constrained:  # and the regions' volumes are then restored exactly
+                grads = self._volume_gradients(new)
+                basis = np.stack([self._global(gr, None) for gr in grads])
+                coupling = np.einsum("rfk,sfk->rs", grads[:, self.free], basis)
+                p = np.linalg.solve(coupling, self.rest_volumes - self.region_volumes(new))
+                new[self.free] += np.einsum("r,rfk->fk", p, basis)
+            return new
+        new[self.free] += move
         return new
+
+    def _element_volume_gradients(self, x: np.ndarray, elements: np.ndarray) -> np.ndarray:
+        """(len(elements), N, 3): derivative of each listed element's corner volume by the node positions."""
+        corners = self.elements[elements, :4]
+        c = x[corners]
+        out = np.zeros((len(elements), len(x), 3))
+        rows = np.arange(len(elements))
+        for a, (i, j, k) in enumerate(TET_FACES):
+            out[rows, corners[:, a]] += -np.cross(c[:, j] - c[:, i], c[:, k] - c[:, i]) / 6.0
+        return out
 
     def solve(self, x: np.ndarray, loads: np.ndarray | None = None, iterations: int = 8,
               tolerance: float = 1e-5) -> tuple[np.ndarray, float]:
@@ -146,6 +210,7 @@ class QuasiStatic:
         free = self.free
         xs, gs = [], []
         size = np.inf
+        self.active = np.zeros(0, dtype=int)
         for _ in range(iterations):
             gx = self.step(x, loads)
             size = float(np.abs(gx - x).max(initial=0.0))
@@ -160,6 +225,12 @@ class QuasiStatic:
                 gamma = np.linalg.lstsq(np.diff(res, axis=1), res[:, -1], rcond=None)[0]
                 x = gx.copy()
                 x[free] = (gs[-1] - np.diff(np.stack(gs, axis=1), axis=1) @ gamma).reshape(-1, 3)
+        self.floor = True
+        for _ in range(REPAIRS):
+            if not len(self._floor_violations(x)):
+                break
+            x = self.step(x, loads)
+        self.floor = False
         return x, size
 
 
