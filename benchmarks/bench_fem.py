@@ -29,7 +29,7 @@ import numpy as np
 import scipy
 
 from hitogata.fem.assembly import mass_matrix, sparsity, stiffness_matrix
-from hitogata.fem.box_mesh import box_mesh
+from hitogata.fem.box_mesh import box_mesh, cantilever_system
 from hitogata.fem.elements import lift_node_set, p2_mesh
 from hitogata.fem.factor import available_methods
 from hitogata.fem.materials import Material, region_materials
@@ -124,26 +124,17 @@ def part1(sizes: list[int], n_modes: int, scipy_limit: int) -> None:
     print(f"times: best of {REPEAT} wall-clock runs on a machine shared with other jobs.")
 
 
-def cantilever(div, order):
-    points, tets = box_mesh((1.0, 0.1, 0.1), div)
-    fixed = np.flatnonzero(points[:, 0] < 1e-12)
-    if order == 2:
-        points, tets = p2_mesh(points, tets)
-        fixed = lift_node_set(tets, fixed)
-    pattern = sparsity(tets, len(points))
-    return stiffness_matrix(points, tets, 1e6, 0.3, pattern), mass_matrix(points, tets, 1000.0, pattern=pattern), fixed
-
 
 def part2(scipy_limit: int) -> None:
     print("\n=== Part 2: accuracy per cost, cantilever 1 x 0.1 x 0.1 m, E = 1 MPa, nu = 0.3 (first 10 modes) ===")
-    K, M, fixed = cantilever((64, 6, 6), 2)
+    K, M, fixed = cantilever_system((64, 6, 6), 2)
     reference, t = timed(solve_modes, K, M, 10, fixed)
     print(f"reference: P2 64x6x6 ({K.shape[0] - 3 * len(fixed)} dof) in {t:.1f} s; "
           f"f1 = {reference.frequencies[0]:.5f} Hz (Timoshenko 0.50687)")
     print(f"{'mesh':>14} {'dof':>7} {'K+M':>6} {'ours':>7} {'scipy':>7} {'f1 vs Timo':>10} {'max err f1..10':>14}")
     for order, div in [(1, (20, 2, 2)), (1, (40, 4, 4)), (1, (80, 8, 8)), (2, (10, 1, 1)), (2, (20, 2, 2)),
                        (2, (40, 4, 4))]:
-        (K, M, fixed), t_asm = timed(cantilever, div, order)
+        (K, M, fixed), t_asm = timed(cantilever_system, div, order)
         dof = K.shape[0] - 3 * len(fixed)
         modes, t_ours = timed(solve_modes, K, M, 10, fixed)
         t_scipy = f"{timed(scipy_default, K, M, 10, fixed)[1]:7.2f}" if dof <= scipy_limit else f"{'-':>7}"

@@ -3,27 +3,13 @@
 import numpy as np
 import pytest
 
-from hitogata.fem.assembly import mass_matrix, sparsity, stiffness_matrix
-from hitogata.fem.box_mesh import box_mesh
-from hitogata.fem.elements import lift_node_set, p2_mesh
+from hitogata.fem.box_mesh import cantilever_system
 from hitogata.fem.factor import available_methods
 from hitogata.fem.modes import frequencies_hz, solve_modes
 
-# 1 x 0.1 x 0.1 m, E = 1 MPa, nu = 0.3, rho = 1000 kg/m^3, clamped at x = 0.
-E, NU, RHO = 1e6, 0.3, 1000.0
+# cantilever_system: 1 x 0.1 x 0.1 m, E = 1 MPa, nu = 0.3, rho = 1000 kg/m^3, clamped at x = 0.
+E, RHO = 1e6, 1000.0
 TIMOSHENKO_HZ = 0.50687  # first bending frequency (Euler-Bernoulli: 0.51083 Hz)
-
-
-def cantilever_system(div, order):
-    points, tets = box_mesh((1.0, 0.1, 0.1), div)
-    fixed = np.flatnonzero(points[:, 0] < 1e-12)
-    if order == 2:
-        points, tets = p2_mesh(points, tets)
-        fixed = lift_node_set(tets, fixed)
-    pattern = sparsity(tets, len(points))
-    K = stiffness_matrix(points, tets, E, NU, pattern)
-    M = mass_matrix(points, tets, RHO, pattern=pattern)
-    return K, M, fixed
 
 
 def test_euler_bernoulli_reference_value():
