@@ -99,7 +99,7 @@ def test_player_loads_plays_scrubs_and_returns_to_muscles(app, tmp_path):
     assert app.showing_sequence and "10 frames" in app.panels.sequence_info.content
     assert app.panels.time.disabled is False and app.panels.time.max == pytest.approx(0.3)
     app.play()
-    assert wait_for(lambda: not app.clock.playing, timeout=10.0)
+    assert app.wait_playback(timeout=10.0) and not app.clock.playing
     assert app.clock.time == pytest.approx(0.3)
     np.testing.assert_allclose(app.scene.skin.vertices, poser.pose_many(q[-1:])[0], atol=1e-5)
     app.scrub(0.0)

@@ -281,6 +281,13 @@ class ViewerApp:
                 self.panels.time.value = round(t, 2)
             last = now
 
+    def wait_playback(self, timeout: float = 30.0) -> bool:
+        """Block until playback has reached its end (or paused) and its last frame is shown."""
+        thread = self._playback
+        if thread is not None:
+            thread.join(timeout)
+        return thread is None or not thread.is_alive()
+
     @reported
     def pause(self) -> None:
         with self.lock:

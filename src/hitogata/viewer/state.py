@@ -79,13 +79,13 @@ class PoseState:
         }
         drivers[name] = float(fraction)
         posed = self.poser.pose(contractions=drivers)
-        self.drivers, self.posed = drivers, posed
+        self.posed, self.drivers = posed, drivers  # posed first: readers wait on drivers
         return posed
 
     def reset(self) -> PosedBody:
         """Back to the rest pose: no muscle drives."""
-        self.drivers = {}
         self.posed = self.poser.pose()
+        self.drivers = {}
         return self.posed
 
     def set_body(self, body: Body) -> PosedBody:
