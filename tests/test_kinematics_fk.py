@@ -126,3 +126,26 @@ def test_limits_are_reported_clipped_or_refused(poser):
         forward_kinematics(sk, q, limits="sometimes")
     with pytest.raises(HitogataError, match="angles of shape"):
         forward_kinematics(sk, q[:-1])
+
+
+@pytest.mark.parametrize("side, lateral", [("l", 1.0), ("r", -1.0)])
+def test_clinical_shoulder_flexion_and_abduction_move_the_arm_in_the_body_planes(poser, side, lateral):
+    """From the anatomical position (arm hanging), flexion swings the arm forward in the sagittal plane
+    and abduction out to the side in the frontal plane, although the rest pose is an A-pose."""
+    sk = poser.skeleton
+    part = sk.index(f"upper_arm_{side}")
+
+    def arm_direction(**clinical_degrees):
+        q = poser.angles(clinical={f"upper_arm_{side}.{k}": np.radians(v) for k, v in clinical_degrees.items()})
+        pose = poser.kinematics.pose(q[None])
+        d = pose.tails[0, part] - pose.joints[0, part]
+        return d / np.linalg.norm(d)
+
+    hanging = arm_direction(abduction=0)
+    assert hanging[1] < -0.97  # down along the trunk
+    forward = arm_direction(abduction=0, flexion=90)
+    assert forward[2] > 0.97 and abs(forward[0]) < 0.2  # straight ahead, not across the chest
+    raised = arm_direction(abduction=0, flexion=120)
+    assert raised[1] > 0.4 and raised[2] > 0.4 and abs(raised[0]) < 0.2
+    side_on = arm_direction(abduction=90)
+    assert side_on[0] * lateral > 0.97  # out to its own side

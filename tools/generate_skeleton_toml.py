@@ -52,7 +52,7 @@ L5_S1_FRACTION = 0.18  # of the rig's spine chain (pelvis joint → neck joint):
 LUMBAR_CM, THORACIC_CM = 18.0, 28.0
 CERVICAL_CM = {"C7": 1.9, "C6": 1.9, "C5": 1.9, "C4": 1.9, "C3": 1.9, "C2": 2.0, "C1": 1.0}  # shares, C7/T1 upward
 
-MIRROR = {"x": "x", "hinge": "hinge", "y": "-y", "z": "-z", "long": "-long"}  # left-side axis → right side
+MIRROR = {"x": "x", "X": "X", "hinge": "hinge", "y": "-y", "Y": "-Y", "z": "-z", "Z": "-Z", "long": "-long"}  # left-side axis → right side
 
 HEADER = """\
 # The default skeleton of hitogata: 65 parts, pelvis at the root (the paper's §2.1).
@@ -72,8 +72,9 @@ HEADER = """\
 #   bones               MakeHuman bones whose skinning weights this part takes; a bone listed nowhere
 #                       goes with its nearest listed ancestor (face -> head, tongue -> jaw)
 #   dof                 the joint's degrees of freedom, applied in list order (intrinsic):
-#                       name; axis in the part's frame: x, y, z, long (the part's own axis),
-#                       hinge (normal to the parent's and the part's axes, towards the body's left),
+#                       name; axis in the part's frame: x, y, z, or in the body's: X, Y, Z;
+#                       long (the part's own axis), hinge (normal to the parent's and the
+#                       part's axes, towards the body's left),
 #                       each optionally negated ("-z"); min, max = clinical range of motion in
 #                       degrees (0 = anatomical position); rest = the clinical angle of the rest pose
 #                       (default 0; "measured" for a hinge: the bend between the part and its parent).
@@ -82,7 +83,7 @@ HEADER = """\
 #
 # Sign conventions (positive direction): flexion forward, lateral bending to the body's left,
 # rotation turning the face to the left; limbs: flexion, abduction, internal rotation, pronation.
-# Right-side axes mirror the left: x and hinge keep their sign, y, z and long flip.
+# Right-side axes mirror the left: x, X and hinge keep their sign, y, Y, z, Z and long flip.
 #
 # Sources. Limb ranges: AAOS averages (Greene & Heckman, The Clinical Measurement of Joint
 # Motion, AAOS 1994; as tabulated in Norkin & White, Measurement of Joint Motion).
@@ -253,10 +254,11 @@ def limbs(s: str) -> list[str]:
         dofs=[d("upward_rotation", "z", -10, 50, comment="acromion to glenoid: the scapula's third of arm elevation")])
     out += part(
         f"upper_arm_{s}", f"scapula_{s}", joint=head_of(f"upperarm01.{S}"), bones=[f"upperarm01.{S}", f"upperarm02.{S}"],
-        dofs=[d("flexion", "-x", -40, 120,
-                comment="glenohumeral: 2/3 of the AAOS elevation (180), scapulohumeral rhythm"),
-              d("abduction", "z", 0, 120, 42),
-              d("internal_rotation", "y", -90, 70)])
+        dofs=[d("flexion", "-X", -40, 120,
+                comment="glenohumeral: 2/3 of the AAOS elevation (180), scapulohumeral rhythm;"
+                        " in the body's sagittal plane after abduction"),
+              d("abduction", "Z", 0, 120, 42, "in the body's frontal plane; the rest pose is abducted"),
+              d("internal_rotation", "long", -90, 70)])
     out += part(
         f"forearm_{s}", f"upper_arm_{s}", joint=head_of(f"lowerarm01.{S}"), bones=[f"lowerarm01.{S}", f"lowerarm02.{S}"],
         dofs=[d("flexion", "-hinge", 0, 150, "measured", "elbow; rest: the bend measured on the body (about 40°)"),

@@ -33,8 +33,10 @@ accelerated steps, while some element's corner volume is below FLOOR x its
 rest volume, up to REPAIRS plain steps add those elements' volumes as
 further multipliers (an inequality: one the floor would pull down is let
 go), each projection capped at STEP_CAP per node (a flat element's
-linearisation is poor), then the regions' volumes restored exactly. A pose
-with no such element costs one volume check more than before.
+linearisation is poor), then the regions' volumes restored exactly. The
+few elements that deep creases leave below the floor after that are lifted
+by moving single nodes (`untangle`). A pose with no such element costs two
+volume checks more than before.
 
 The solve runs on the elements' corner (linear) mesh: the correction is
 smooth, the shear-only energy does not lock, and it is ~10x cheaper than on
@@ -47,9 +49,11 @@ import numpy as np
 import scipy.sparse as sp
 
 from hitogata.dynamics.rotations import extract_rotations
+from hitogata.dynamics.untangle import Untangler
 from hitogata.fem.elements import TET_FACES, element_order, quadrature, shape_gradients, tet_geometry
 from hitogata.fem.factor import factorize
 from hitogata.fem.materials import lame, per_element
+from hitogata.volume.quality import signed_volumes
 
 MEMORY = 5  # Anderson acceleration: past steps mixed
 REPAIRS = 30  # at most so many plain steps after the last one, holding elements over the floor
@@ -99,6 +103,7 @@ class QuasiStatic:
         self._movable = np.isin(self.elements[:, :4], self.free).any(axis=1)
         self.active = np.zeros(0, dtype=int)  # elements held at the volume floor in the current solve
         self.floor = False  # whether steps add elements under the floor to the active ones
+        self.untangle = Untangler(self.points, self.elements, mask, FLOOR)
         self.quaternions = np.tile([1.0, 0.0, 0.0, 0.0], (t * len(w), 1))  # warm start of the local step
 
     def region_volumes(self, x: np.ndarray) -> np.ndarray:
@@ -231,10 +236,9 @@ class QuasiStatic:
                 break
             x = self.step(x, loads)
         self.floor = False
-        return x, size
+        return self.untangle(x), size
 
 
 def corner_volumes(x: np.ndarray, elements: np.ndarray) -> np.ndarray:
     """Signed volume (T,) of each element's corner tetrahedron."""
-    c = x[elements[:, :4]]
-    return np.einsum("ij,ij->i", c[:, 1] - c[:, 0], np.cross(c[:, 2] - c[:, 0], c[:, 3] - c[:, 0])) / 6.0
+    return signed_volumes(x, elements[:, :4])

@@ -8,8 +8,10 @@ A part's frame is either 'bone' — y along the bone, z the body's front made
 perpendicular to it, x perpendicular to both, pointing to the body's left — or
 'world' (the body's axes; for parts lying near the front or the side axis:
 feet, toes, jaw, clavicles, pelvis). DOF axes are named in that frame ('x',
-'-z', ...), plus 'long' (the bone) and 'hinge' (normal to the parent's and the
-part's long axes, towards the body's left: the plane of a bent elbow).
+'-z', ...), or in the body's frame whatever the part's ('X', '-Z', ...: the
+shoulder, whose rest pose is abducted, flexes in the body's sagittal plane),
+plus 'long' (the bone) and 'hinge' (normal to the parent's and the part's long
+axes, towards the body's left: the plane of a bent elbow).
 """
 
 from __future__ import annotations
@@ -143,6 +145,8 @@ def resolve_axis(
         return sign * long
     if name in WORLD:
         return sign * basis[:, "xyz".index(name)]
+    if name.lower() in WORLD:
+        return sign * WORLD[name.lower()]
     if parent_long is None:
         raise HitogataError(f"{where}: axis {axis!r} needs a parent part")
     h = np.cross(parent_long, long)

@@ -21,7 +21,7 @@ from typing import Any
 from hitogata.errors import HitogataError
 
 DEFAULT_FILE = "skeleton.toml"
-AXES = ("x", "-x", "y", "-y", "z", "-z", "long", "-long", "hinge", "-hinge")
+AXES = ("x", "-x", "y", "-y", "z", "-z", "X", "-X", "Y", "-Y", "Z", "-Z", "long", "-long", "hinge", "-hinge")
 FRAMES = ("bone", "world")
 ENDS = ("head", "tail")
 

@@ -1,0 +1,108 @@
+"""Last-resort untangling: move the free nodes round flat or inverted elements until none is left.
+
+The quasi-statics' volume floor pulls most elements back right side out, but
+in deep creases (thigh against belly at 120° of hip flexion, calf against
+thigh at 130° of knee flexion) a few elements next to the bones can stay
+flat or inverted: the floor's multipliers act through the whole Laplacian
+and fight the bones held nearby. What is left is a local problem.
+
+An element's volume is linear in any one of its corners, so the volume
+deficit of the elements round the offending nodes, linearised in those
+nodes' moves, is a linear programme (after Freitag & Plassmann 2000,
+"Local optimization-based simplicial mesh untangling and improvement",
+IJNME 49:109, there node by node; here all the nodes of a crease at once,
+since two flat elements sharing a node can each need it on the other's side):
+maximise Σ_t s_t subject to v_t + Σ_k g_tk·d_k ≥ s_t V_t, s_t ≤ floor, a
+small price on Σ|d| so that nodes move no further than they must, and a
+trust region |d| ≤ r. A step that does not lower the true deficit
+Σ max(0, floor − v_t / V_t) halves r (sequential linear programming).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import scipy.sparse as sp
+from scipy.optimize import linprog
+
+from hitogata.fem.elements import TET_FACES
+from hitogata.volume.quality import signed_volumes
+
+STEPS = 20  # at most so many linear programmes (accepted or not)
+REACH = 0.25  # first trust radius, as a share of the mean edge length round the moved nodes
+MOVE_PRICE = 0.05  # per metre of movement (L1), against volume ratios of order FLOOR
+
+
+class Untangler:
+    """Repair of the elements whose corner volume falls below `floor` x rest, by moving their free corners."""
+
+    def __init__(self, rest: np.ndarray, elements: np.ndarray, movable: np.ndarray, floor: float) -> None:
+        self.corners = np.asarray(elements)[:, :4]
+        self.rest_volumes = signed_volumes(rest, self.corners)
+        self.movable = np.asarray(movable, dtype=bool)  # (N,): nodes the untangler may move
+        self.floor = float(floor)
+        edges = rest[self.corners[:, [1, 2, 3, 2, 3, 3]]] - rest[self.corners[:, [0, 0, 0, 1, 1, 2]]]
+        self._element_size = np.linalg.norm(edges, axis=2).mean(axis=1)
+
+    def below_floor(self, x: np.ndarray) -> np.ndarray:
+        """Elements with a movable corner whose corner volume at x is below the floor."""
+        low = signed_volumes(x, self.corners) < self.floor * self.rest_volumes
+        return np.flatnonzero(low & self.movable[self.corners].any(axis=1))
+
+    def deficit(self, x: np.ndarray, elements: np.ndarray) -> float:
+        """Σ max(0, floor − v/V) over the listed elements."""
+        ratio = signed_volumes(x, self.corners[elements]) / self.rest_volumes[elements]
+        return float(np.maximum(self.floor - ratio, 0.0).sum())
+
+    def __call__(self, x: np.ndarray) -> np.ndarray:
+        """Node positions (N, 3) with the elements below the floor lifted as far as the free nodes allow."""
+        x = np.array(x, dtype=float)
+        bad = self.below_floor(x)
+        if not len(bad):
+            return x
+        nodes = np.unique(self.corners[bad])
+        nodes = nodes[self.movable[nodes]]
+        elements = np.flatnonzero(np.isin(self.corners, nodes).any(axis=1))
+        reach = REACH * float(self._element_size[bad].mean())
+        deficit = self.deficit(x, elements)
+        for _ in range(STEPS):
+            if deficit <= 0.0:
+                break
+            trial = x.copy()
+            trial[nodes] += self._step(x, nodes, elements, reach)
+            now = self.deficit(trial, elements)
+            if now < deficit:
+                x, deficit = trial, now
+            else:
+                reach *= 0.5
+        return x
+
+    def _step(self, x: np.ndarray, nodes: np.ndarray, elements: np.ndarray, reach: float) -> np.ndarray:
+        """Moves (len(nodes), 3) solving the linearised programme within the trust radius."""
+        n, m = len(nodes), len(elements)
+        corners = self.corners[elements]
+        c = x[corners]
+        column = np.full(len(x), -1)
+        column[nodes] = np.arange(n)
+        rows, cols, values = [], [], []
+        for a, (i, j, k) in enumerate(TET_FACES):  # dv/dx of corner a: the inward normal of the face opposite
+            grad = -np.cross(c[:, j] - c[:, i], c[:, k] - c[:, i]) / 6.0
+            moved = np.flatnonzero(column[corners[:, a]] >= 0)
+            for axis in range(3):
+                rows.append(moved)
+                cols.append(3 * column[corners[moved, a]] + axis)
+                values.append(-grad[moved, axis])
+        # variables: d (3n), |d| (3n), s (m); minimise -Σ s + price Σ|d|
+        volume = sp.csr_matrix((np.concatenate(values), (np.concatenate(rows), np.concatenate(cols))), shape=(m, 3 * n))
+        eye = sp.identity(3 * n, format="csr")
+        a_ub = sp.vstack([
+            sp.hstack([volume, sp.csr_matrix((m, 3 * n)), sp.diags(self.rest_volumes[elements])]),
+            sp.hstack([eye, -eye, sp.csr_matrix((3 * n, m))]),
+            sp.hstack([-eye, -eye, sp.csr_matrix((3 * n, m))]),
+        ], format="csr")
+        b_ub = np.r_[signed_volumes(x, corners), np.zeros(6 * n)]
+        cost = np.r_[np.zeros(3 * n), np.full(3 * n, MOVE_PRICE), -np.ones(m)]
+        bounds = [(-reach, reach)] * (3 * n) + [(0.0, reach)] * (3 * n) + [(None, self.floor)] * m
+        result = linprog(cost, A_ub=a_ub, b_ub=b_ub, bounds=bounds, method="highs")
+        if result.status != 0:
+            return np.zeros((n, 3))
+        return result.x[:3 * n].reshape(n, 3)
