@@ -60,6 +60,19 @@ def test_glb_animation_is_valid_and_plays_the_frames(tmp_path, motion):
     last = doc.accessors[targets[-1]["POSITION"]]
     moved = np.abs(motion.skin[-1] - motion.dynamics.poser.body.vertices).max(axis=0)
     assert np.allclose(np.maximum(np.abs(last.min), np.abs(last.max)), moved, atol=1e-6)
+    # the tissue regions' surfaces, translucent, morph with the same keys
+    model = motion.dynamics.model
+    regions = [m for m in doc.meshes if m.name.startswith("region: ")]
+    assert sorted(m.name[8:] for m in regions) == sorted(n for k, n in enumerate(model.region_names)
+                                                       if np.any(model.region == k))
+    assert len(doc.animations[0].channels) == 1 + len(regions)
+    viscera = next(m for m in regions if m.name == "region: viscera").primitives[0]
+    assert doc.materials[viscera.material].alphaMode == "BLEND"
+    used = np.unique(files.region_surfaces(motion)["viscera"])
+    assert doc.accessors[viscera.attributes.POSITION].count == len(used)
+    last = doc.accessors[viscera.targets[-1]["POSITION"]]
+    moved = np.abs(motion.nodes[-1][used] - model.points[used]).max(axis=0)
+    assert moved.max() > 1e-4 and np.allclose(np.maximum(np.abs(last.min), np.abs(last.max)), moved, atol=1e-6)
 
 
 def test_vtu_series_reads_back(tmp_path, motion):

@@ -1,8 +1,9 @@
 """What a simulated motion is written as: GLB animation, VTU series, pictures, GIF, summary.
 
-- GLB: the skin surface with one morph target per frame and an animation of
-  the morph weights (one-hot, linear in between), so three.js and Blender
-  play it as a shape-key animation; checked by the Khronos validator in the tests.
+- GLB: the skin surface and the tissue regions' boundary surfaces, each with
+  one morph target per frame, and an animation of the morph weights (one-hot,
+  linear in between), so three.js and Blender play it as a shape-key
+  animation; checked by the Khronos validator in the tests.
 - VTU + PVD: the FE mesh per frame (quadratic tets as VTK's tetra10) with
   displacement, elastic displacement and region, a time series for ParaView.
 - PNG: front and side views of the region boundary surfaces, translucent,
@@ -51,28 +52,55 @@ def frame_subset(n_frames: int, most: int) -> np.ndarray:
 
 
 def write_glb(path: str | os.PathLike, motion: Motion) -> Path:
-    """The skin as a morph-target animation (frames subsampled to `MAX_TARGETS`)."""
-    body = motion.dynamics.poser.body
+    """The skin and the tissue regions' boundary surfaces as one morph-target animation.
+
+    Each surface is a mesh with one morph target per frame (frames subsampled
+    to `MAX_TARGETS`); one set of one-hot weight keys drives them all. The
+    skin is the whole body's, opaque; the regions (the elastic model's
+    corner mesh) are translucent in the colours of the pictures, nested inside
+    it: hide the skin in Blender or three.js to see them move.
+    """
     pick = frame_subset(len(motion.times), MAX_TARGETS)
-    rest = body.vertices.astype(np.float32)
+    body = motion.dynamics.poser.body
     builder = GlbBuilder()
-    position = builder.add_accessor(rest, gl.VEC3, target=gl.ARRAY_BUFFER, with_bounds=True)
-    indices = builder.add_accessor(body.faces.astype(np.uint32).reshape(-1), gl.SCALAR,
-                                   target=gl.ELEMENT_ARRAY_BUFFER)
-    targets = [{"POSITION": builder.add_accessor((motion.skin[k] - rest).astype(np.float32), gl.VEC3,
-                                                 target=gl.ARRAY_BUFFER, with_bounds=True)} for k in pick]
-    primitive = gl.Primitive(attributes=gl.Attributes(POSITION=position), indices=indices, targets=targets)
-    builder.gltf.meshes.append(gl.Mesh(name="skin", primitives=[primitive], weights=[0.0] * len(pick),
-                                       extras={"targetNames": [f"t={motion.times[k]:.3f}s" for k in pick]}))
-    node = builder.add_node(gl.Node(name="hitogata motion", mesh=0), root=True)
+    names = [f"t={motion.times[k]:.3f}s" for k in pick]
+    nodes = [_add_morphing_mesh(builder, "skin", body.faces, body.vertices, motion.skin[pick], names)]
+    points = motion.dynamics.model.points
+    for name, faces in region_surfaces(motion).items():
+        used, local = np.unique(faces, return_inverse=True)
+        colour, opacity = REGION_STYLE[name]
+        rgb = [int(colour[i:i + 2], 16) / 255.0 for i in (1, 3, 5)]
+        builder.gltf.materials.append(gl.Material(
+            name=name, alphaMode="BLEND", doubleSided=True,
+            pbrMetallicRoughness=gl.PbrMetallicRoughness(baseColorFactor=[*rgb, opacity], metallicFactor=0.0)))
+        nodes.append(_add_morphing_mesh(builder, f"region: {name}", local.reshape(faces.shape), points[used],
+                                        motion.nodes[pick][:, used], names,
+                                        material=len(builder.gltf.materials) - 1))
     times = builder.add_accessor(motion.times[pick].astype(np.float32), gl.SCALAR, with_bounds=True)
     weights = builder.add_accessor(np.eye(len(pick), dtype=np.float32).reshape(-1), gl.SCALAR)
     builder.gltf.animations.append(gl.Animation(
         name="motion",
         samplers=[gl.AnimationSampler(input=times, output=weights, interpolation="LINEAR")],
-        channels=[gl.AnimationChannel(sampler=0, target=gl.AnimationChannelTarget(node=node, path="weights"))],
+        channels=[gl.AnimationChannel(sampler=0, target=gl.AnimationChannelTarget(node=node, path="weights"))
+                  for node in nodes],
     ))
     return write_bytes_atomically(path, builder.to_bytes())
+
+
+def _add_morphing_mesh(builder: GlbBuilder, name: str, faces: np.ndarray, rest: np.ndarray, frames: np.ndarray,
+                       target_names: list[str], material: int | None = None) -> int:
+    """A root node with a mesh of `faces` at `rest` (V, 3) and a morph target per frame (F, V, 3)."""
+    rest = rest.astype(np.float32)
+    position = builder.add_accessor(rest, gl.VEC3, target=gl.ARRAY_BUFFER, with_bounds=True)
+    indices = builder.add_accessor(np.asarray(faces, dtype=np.uint32).reshape(-1), gl.SCALAR,
+                                   target=gl.ELEMENT_ARRAY_BUFFER)
+    targets = [{"POSITION": builder.add_accessor((frame - rest).astype(np.float32), gl.VEC3,
+                                                 target=gl.ARRAY_BUFFER, with_bounds=True)} for frame in frames]
+    primitive = gl.Primitive(attributes=gl.Attributes(POSITION=position), indices=indices, targets=targets,
+                             material=material)
+    builder.gltf.meshes.append(gl.Mesh(name=name, primitives=[primitive], weights=[0.0] * len(frames),
+                                       extras={"targetNames": target_names}))
+    return builder.add_node(gl.Node(name=name, mesh=len(builder.gltf.meshes) - 1), root=True)
 
 
 def write_pvd(folder: str | os.PathLike, motion: Motion, name: str = "motion") -> Path:
