@@ -51,6 +51,16 @@ def modal_envelopes(motion, dynamics):
     return np.sqrt(e**2 + ((ed + z * w * e) / wd) ** 2), z * w
 
 
+def test_a_clinical_keyframe_moves_from_the_rest_pose(dynamics):
+    """No jump at t = 0: a shoulder keyed only later starts at its rest abduction (42°), elastic part zero."""
+    k = dynamics.poser.skeleton.dof_index("upper_arm_l.abduction")
+    rest = dynamics.poser.skeleton.rest[k]
+    raise_arm = Timeline.from_keyframes([Keyframe(0.0, {}), Keyframe(0.2, {("clinical", "upper_arm_l.abduction"): rest + 0.3})])
+    motion = simulate(dynamics, raise_arm, duration=0.2, rate=20)
+    assert np.abs(motion.angles[0]).max() == 0.0 and np.abs(motion.elastic[0]).max() == 0.0
+    assert motion.angles[-1][k] == pytest.approx(0.3)
+
+
 def test_a_held_contraction_settles_at_the_rate_the_damping_ratios_give(dynamics):
     motion = simulate(dynamics, ramp_and_hold(-0.05), duration=3.0, rate=50, on_limit="clamp")
     after = motion.times >= 0.2 + 1e-9

@@ -112,3 +112,13 @@ def test_a_channel_starts_at_rest_before_its_first_keyframe():
     assert tl.sample(np.array([0.0, 0.5, 1.0]))["angle"]["a.b"] == pytest.approx([0.0, 1.0, 2.0])
     with pytest.raises(HitogataError, match="strictly increasing"):
         Timeline.from_keyframes([Keyframe(1.0, {}), Keyframe(1.0, {})])
+
+
+def test_a_clinical_channel_starts_from_the_rest_pose_not_the_anatomical_zero():
+    """The elbow rests ~40° flexed: a clinical channel first named later starts there, at t = 0."""
+    tl = Timeline.from_keyframes([Keyframe(0.0, {}), Keyframe(1.0, {("clinical", "forearm_l.flexion"): 2.0}, "linear")])
+    rest = {("clinical", "forearm_l.flexion"): 0.7}
+    assert tl.sample(np.array([0.0, 0.5, 1.0]), rest)["clinical"]["forearm_l.flexion"] == pytest.approx([0.7, 1.35, 2.0])
+    named = Timeline.from_keyframes([Keyframe(0.0, {("clinical", "forearm_l.flexion"): 0.0}),
+                                     Keyframe(1.0, {("clinical", "forearm_l.flexion"): 2.0}, "linear")])
+    assert named.sample(np.array([0.0]), rest)["clinical"]["forearm_l.flexion"] == pytest.approx([0.0])  # said so

@@ -211,7 +211,10 @@ def simulate(dynamics: BodyDynamics, timeline: Timeline, duration: float, rate: 
     h = 1.0 / (rate * substeps)
     n_steps = (n_frames - 1) * substeps + 1
     t = np.arange(n_steps) * h
-    channels = timeline.sample(t)
+    sk = dynamics.poser.skeleton
+    rest = {("clinical", c.name): float(sk.rest[sk.dof_names.index(c.name)]) for c in timeline.channels
+            if c.kind == "clinical" and c.name in sk.dof_names}
+    channels = timeline.sample(t, rest)
     angles = _angles(dynamics.poser, channels, n_steps, on_limit)
     pose = dynamics.poser.kinematics.pose(angles)
     contractions = channels["contraction"]

@@ -1,8 +1,11 @@
 """Keyframed channels: a muscle's contraction or a joint's angle as a function of time.
 
 A channel is set by the keyframes that name it. Before the first of them it
-is at rest (0) — as if a keyframe at t = 0 said 0, unless one does — and
-after the last it holds. Between two keyframes the value follows the
+is at rest — as if a keyframe at t = 0 said so, unless one does: 0 for a
+contraction or an angle, the rest pose's own clinical angle for a clinical
+channel (the elbow's rest is ~40° flexed, not the anatomical 0°; the
+caller, who knows the skeleton, gives it when sampling) — and after the
+last it holds. Between two keyframes the value follows the
 interpolation the later keyframe names:
 
 - "linear": constant speed; the velocity jumps at keyframes;
@@ -16,6 +19,7 @@ anatomical position).
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass
 
 import numpy as np
@@ -44,11 +48,14 @@ class Channel:
     times: tuple[float, ...]
     values: tuple[float, ...]
     interpolations: tuple[str, ...]  # how keyframe k is reached from k − 1 (entry 0 unused)
+    rest_start: bool = False  # entry 0 is the implicit rest at t = 0, its value given when called
 
-    def __call__(self, t: np.ndarray) -> np.ndarray:
-        """Values at times t (any shape)."""
+    def __call__(self, t: np.ndarray, rest: float = 0.0) -> np.ndarray:
+        """Values at times t (any shape); `rest`: the channel's rest value, for an implicit start."""
         t = np.asarray(t, dtype=float)
-        times, values = np.asarray(self.times), np.asarray(self.values)
+        times, values = np.asarray(self.times), np.array(self.values)
+        if self.rest_start:
+            values[0] = rest
         out = np.full(t.shape, values[-1])
         out[t <= times[0]] = values[0]
         for k in range(1, len(times)):
@@ -87,17 +94,21 @@ class Timeline:
                 series.setdefault(key, []).append((k.time, float(value), k.interpolation))
         channels = []
         for (kind, name), points in series.items():
-            if points[0][0] > 0:
+            implicit = points[0][0] > 0
+            if implicit:
                 points.insert(0, (0.0, 0.0, "linear"))
             t, v, how = zip(*points)
-            channels.append(Channel(kind, name, t, v, how))
+            channels.append(Channel(kind, name, t, v, how, implicit))
         return cls(tuple(channels))
 
-    def sample(self, t: np.ndarray) -> dict[str, dict[str, np.ndarray]]:
-        """{kind: {name: values at t}} for every channel."""
+    def sample(self, t: np.ndarray, rest: Mapping[tuple[str, str], float] | None = None
+               ) -> dict[str, dict[str, np.ndarray]]:
+        """{kind: {name: values at t}} for every channel; rest: (kind, name) -> the value a channel
+        starts from when no keyframe at t = 0 names it (default 0)."""
+        rest = rest or {}
         out: dict[str, dict[str, np.ndarray]] = {kind: {} for kind in KINDS}
         for c in self.channels:
-            out[c.kind][c.name] = c(t)
+            out[c.kind][c.name] = c(t, rest.get((c.kind, c.name), 0.0))
         return out
 
     @property
