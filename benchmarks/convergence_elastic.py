@@ -7,8 +7,9 @@ Two studies on the default female trunk (shipped materials, bone rigid, cuts att
    mesh (P1r: P1 on the split mesh, the same nodes as P2) against P2 on the split
    mesh. This is the discretisation error alone.
 2. Lattice sequence. The whole model at several lattice sizes, P2 and P1, against
-   the finest P2: discretisation plus the geometry the lattice resolves (bone
-   capsules are at least half an element thick; the skin layer is a staircase).
+   the finest P2: discretisation plus the geometry the lattice resolves (the bone
+   capsules' surface, a polyhedron of the lattice's resolution; the region
+   interfaces, staircases of tets).
 
 Eigen-solves use our default solver; times are wall-clock on a shared machine.
 Runs ~15-25 minutes (the references have ~200k dof). docs/elastic.md quotes its output.

@@ -95,4 +95,5 @@ def test_bone_nodes_follow_their_parts(dynamics, model):
     rigid = held[weights.max(axis=1) == 1.0]
     part = weights.argmax(axis=1)[weights.max(axis=1) == 1.0]
     expected = np.einsum("nij,nj->ni", motion.rotations[-1, part], model.points[rigid]) + motion.translations[-1, part]
-    assert len(rigid) > 20 and np.abs(motion.nodes[-1, rigid] - expected).max() < 1e-6
+    # At 60 mm the bone capsules' surfaces carry few nodes: a dozen of them follow one part alone.
+    assert len(rigid) >= 10 and np.abs(motion.nodes[-1, rigid] - expected).max() < 1e-6

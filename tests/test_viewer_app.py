@@ -119,7 +119,7 @@ def test_strain_and_tissue_layers(app):
     app.set_layer("tissue", True)
     assert wait_for(lambda: "tissue regions ready" in app.panels.message.content, timeout=60.0)
     regions = [surface.region for surface, _ in app.scene.tissue]
-    assert regions == ["bone", "viscera", "muscle"]
+    assert regions == ["bone", "viscera", "muscle"]  # bone: the held capsules' surface
     surface, handle = app.scene.tissue[0]
     np.testing.assert_allclose(handle.vertices, surface.posed(app.state.posed.pose), atol=1e-5)
     app.set_layer("tissue", False)

@@ -139,10 +139,14 @@ def _write_meshio(path: Path, mesh: meshio.Mesh) -> None:
 
 
 def region_surfaces(motion: Motion) -> dict[str, np.ndarray]:
-    """Outward boundary triangles (F, 3) of each tissue region's corner tets."""
+    """Outward boundary triangles (F, 3) of each tissue region's corner tets; for bones held outside
+    the mesh, the soft tissue's boundary on them."""
     model = motion.dynamics.model
-    return {name: boundary_faces(model.elements[model.region == k, :4])
-            for k, name in enumerate(model.region_names) if np.any(model.region == k)}
+    surfaces = {name: boundary_faces(model.elements[model.region == k, :4])
+                for k, name in enumerate(model.region_names) if np.any(model.region == k)}
+    if len(model.volume.bone_surface):
+        surfaces["bone"] = model.volume.bone_surface
+    return dict(sorted(surfaces.items(), key=lambda item: model.region_names.index(item[0])))
 
 
 def smoothed(points: np.ndarray, faces: np.ndarray, steps: int = SMOOTHING) -> np.ndarray:

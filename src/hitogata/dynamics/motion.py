@@ -168,7 +168,7 @@ def cut_fade(vertices: np.ndarray, model) -> np.ndarray:
     Beyond a cut the skin moves by skinning alone; fading the elastic
     displacement in over an element keeps the skin surface whole there.
     """
-    cut = np.unique(model.volume.boundary_faces[~model.volume.boundary_on_skin])
+    cut = np.unique(model.volume.cut_faces)
     if not len(cut):
         return np.ones(len(vertices))
     distance, _ = cKDTree(model.points[cut]).query(vertices)

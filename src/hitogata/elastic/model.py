@@ -44,9 +44,9 @@ ELEMENTS = ("P2", "P1")
 BONE_MODES = ("rigid", "elastic")
 CUT_MODES = ("free", "attached")
 # Default lattice spacing (mm) per element type. P2 at 40 mm: the largest trunk model whose 40
-# modes solve within the 10 s budget; its frequencies are within 3 % of an 8x finer discretisation
-# of the same geometry, but 1 % is out of reach at any affordable size (docs/elastic.md).
-# P1 at 20 mm has the same number of dof.
+# modes solve within the 10 s budget; with the soft tissue meshed round the bone capsules its 40
+# frequencies are 1.4 % (mean; f1 5.8 %) from P2 at 20 mm (docs/elastic.md). P1 at 20 mm has
+# about the same number of dof.
 DEFAULT_ELEMENT_SIZE = {"P2": 40.0, "P1": 20.0}
 # Rayleigh damping: ratio 0.2 at 2 Hz and at 10 Hz (≥ 0.15 in between), within the 0.1-0.5 of
 # soft-tissue and whole-body resonances (docs/elastic.md).
@@ -113,12 +113,12 @@ class ElasticModel(ElasticSystem):
 
     @property
     def region_volumes(self) -> dict[str, float]:
-        """Volume (m^3) of each tissue region."""
+        """Volume (m^3) of each tissue region ("bone": also the capsules held outside the mesh)."""
         return dict(self.volume.quality.region_volumes)
 
     @property
     def mass(self) -> float:
-        """Total mass (kg) of the meshed body, bones included."""
+        """Mass (kg) of the elements: the soft tissue, and the bone where it is meshed (elastic bone)."""
         return float(self.rho @ tet_geometry(self.points, self.elements)[1])
 
     def muscle_elements(self, name: str) -> np.ndarray:
@@ -179,8 +179,10 @@ def build_elastic_model(body, *, extent: str = "trunk", element_size: float | No
     start = time.perf_counter()
     if volume is None:
         size = DEFAULT_ELEMENT_SIZE[element] if element_size is None else element_size
+        # Rigid bone: the soft tissue meshed round the bone capsules; elastic bone needs bone tets.
         volume = build_volume_model(body.vertices, body.faces, body.rig, body.skin_weights, bmi=body.bmi,
-                                    sex=body.params.sex, extent=extent, element_size=size)
+                                    sex=body.params.sex, extent=extent, element_size=size,
+                                    bones="labelled" if bone == "elastic" else "conforming")
     timings["mesh"] = time.perf_counter() - start
 
     start = time.perf_counter()
@@ -212,6 +214,8 @@ def assemble_system(volume: VolumeModel, rig, *, element: str = "P2", materials:
     table = materials if isinstance(materials, Materials) else load_materials(materials)
     fixed, fixed_bone = volume.bone_nodes, volume.bone_node_bone
     if bone == "elastic":
+        if not np.any(volume.region == volume.region_names.index("bone")):
+            raise HitogataError("bone 'elastic' needs bone elements: a volume model built with bones='labelled'")
         fixed, fixed_bone = _axis_nodes(volume, rig)
     if cuts == "attached":
         fixed, fixed_bone = _with_cut_nodes(volume, rig, fixed, fixed_bone)
@@ -266,7 +270,7 @@ def _bone_segments(volume: VolumeModel, rig) -> tuple[np.ndarray, np.ndarray]:
 
 def _with_cut_nodes(volume: VolumeModel, rig, nodes: np.ndarray, bones: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """A node set plus the nodes of the cut faces (not on the skin), each with its nearest bone."""
-    cut = np.setdiff1d(np.unique(volume.boundary_faces[~volume.boundary_on_skin]), nodes)
+    cut = np.setdiff1d(np.unique(volume.cut_faces), nodes)
     if cut.size == 0:
         return nodes, bones
     nearest = segment_distance(volume.nodes[cut], *_bone_segments(volume, rig)).argmin(axis=1)
@@ -275,11 +279,13 @@ def _with_cut_nodes(volume: VolumeModel, rig, nodes: np.ndarray, bones: np.ndarr
 
 
 def _with_loose_pieces(volume: VolumeModel, rig, nodes: np.ndarray, bones: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """A node set plus every node of a mesh piece that holds none of it, each following its nearest bone.
+    """A node set plus every node of a mesh piece not held by it, each following its nearest bone.
 
     Pieces are the tets connected through shared faces: a lattice island or a few
     tets hanging on by an edge or a corner (a fingertip at a coarse size) would
-    float free or hinge, i.e. have zero-frequency modes.
+    float free or hinge, i.e. have zero-frequency modes. A piece is held if its
+    nodes in the set do not all lie on one line (a piece touching a bone capsule
+    at one node or along one edge would hinge about it).
     """
     tets = volume.tets
     faces = np.sort(tets[:, TET_FACES].reshape(-1, 3), axis=1)
@@ -290,14 +296,26 @@ def _with_loose_pieces(volume: VolumeModel, rig, nodes: np.ndarray, bones: np.nd
     _, piece = connected_components(graph, directed=False)
     is_fixed = np.zeros(len(volume.nodes), dtype=bool)
     is_fixed[nodes] = True
+    corner_piece, corner_node = np.repeat(piece, 4), tets.ravel()
+    touching = np.unique(np.stack([corner_piece, corner_node], axis=1)[is_fixed[corner_node]], axis=0)
+    starts = np.flatnonzero(np.r_[True, np.diff(touching[:, 0]) > 0])
     held = np.zeros(piece.max() + 1, dtype=bool)
-    held[piece[is_fixed[tets].any(axis=1)]] = True
+    for k, members in zip(touching[starts, 0], np.split(touching[:, 1], starts[1:])):
+        held[k] = _spans_a_plane(volume.nodes[members])
     loose = np.setdiff1d(np.unique(tets[~held[piece]]), nodes)
     if loose.size == 0:
         return nodes, bones
     nearest = segment_distance(volume.nodes[loose], *_bone_segments(volume, rig)).argmin(axis=1)
     order = np.argsort(np.concatenate([nodes, loose]))
     return np.concatenate([nodes, loose])[order], np.concatenate([bones, nearest])[order]
+
+
+def _spans_a_plane(points: np.ndarray) -> bool:
+    """True if the points (P, 3) do not all lie on one line (nor are fewer than three)."""
+    if len(points) < 3:
+        return False
+    spread = np.linalg.svd(points - points.mean(axis=0), compute_uv=False)
+    return bool(spread[1] > 1e-6 * spread[0])
 
 
 def _axis_nodes(volume: VolumeModel, rig) -> tuple[np.ndarray, np.ndarray]:

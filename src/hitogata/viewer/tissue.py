@@ -74,6 +74,8 @@ def tissue_surfaces(model: VolumeModel, body_skin: Skin) -> tuple[TissueSurface,
     for k, region in enumerate(SHOWN_REGIONS):
         within = np.isin(model.region, [model.region_names.index(r) for r in SHOWN_REGIONS[: k + 1]])
         faces, _ = boundary_faces(model.tets[within])
+        if region == "bone":  # bones held outside the mesh: their surface bounds the soft tissue
+            faces = np.concatenate([faces, model.bone_surface])
         if not len(faces):
             continue
         used, compact = np.unique(faces, return_inverse=True)

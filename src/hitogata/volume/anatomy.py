@@ -98,6 +98,19 @@ BODY_BONES = TRUNK_BONES + ("neck02", "neck03", "head") + LIMB_BONES
 ARM_PREFIXES = ("upperarm", "lowerarm", "wrist", "finger", "metacarpal")
 
 
+# Smallest capsule radius: the tissue this close to a bone's axis moves with the bone (a bone
+# plus its periosteum, tendons and the deep muscle fixed to it). A fixed length, so the model's
+# geometry does not change with the element size, and one a coarse lattice still resolves.
+BONE_MIN_RADIUS = 0.020
+
+
+def capsule_radii(names: tuple[str, ...], element_size: float | None = None) -> np.ndarray:
+    """Capsule radii (m) of rig bones: the anatomical radius, at least `BONE_MIN_RADIUS`, or with
+    an element_size (m) at least half an element instead (the labelled lattice's bones)."""
+    least = BONE_MIN_RADIUS if element_size is None else 0.5 * element_size
+    return np.maximum([bone_radius(n) for n in names], least)
+
+
 def bone_radius(name: str) -> float:
     """Capsule radius (m) of a rig bone."""
     for prefix, radius in BONE_RADII.items():

@@ -4,6 +4,12 @@
 weights); `build_trunk_model` and `build_body_model` take a `hitogata.body.Body`.
 The element size is given in millimetres (the lattice spacing h: the long edge
 of the BCC tets; their mean edge is ≈ 0.91 h) and used in metres inside.
+
+By default the mesh is the soft tissue only: the bone capsules are holes
+whose surface nodes follow the skeleton (`hitogata.volume.bones`), so the
+held boundary is smooth and the same at every element size; their volume is
+the "bone" region's. `bones="labelled"` meshes the bones too, as the lattice
+tets whose centroid lies in a capsule (for elastic bone).
 """
 
 from __future__ import annotations
@@ -18,7 +24,8 @@ import scipy.sparse as sp
 from hitogata.errors import HitogataError
 from hitogata.geometry.mesh_checks import enclosed_volume, is_closed
 from hitogata.volume import anatomy as A
-from hitogata.volume.domain import Domain
+from hitogata.volume.bones import PART as BONE_PART, attach_surface_nodes, held_volume, outside_capsules
+from hitogata.volume.domain import Domain, Intersection
 from hitogata.volume.lattice import stuff
 from hitogata.volume.quality import boundary_faces, dihedral_angles, interface_faces, signed_volumes, surface_distances
 from hitogata.volume.regions import attach_bone_nodes, muscle_regions, tissue_regions
@@ -27,6 +34,10 @@ from hitogata.volume.trunk import Landmarks, RigLike, arm_separator, body_domain
 DEFAULT_ELEMENT_SIZE = 20.0  # mm: ~40k tets in an adult trunk, ~2 elements across the skin+muscle wall
 ELEMENT_SIZE_RANGE = (4.0, 100.0)  # mm: finer runs out of memory on the whole body, coarser loses the trunk
 EXTENTS = ("trunk", "body")
+# How the bones enter the mesh: "conforming" meshes the soft tissue around the bone capsules
+# (their surface nodes are held, no bone tets); "labelled" meshes the whole body and labels the
+# lattice tets inside the capsules as bone (for elastic bone).
+BONE_MESHES = ("conforming", "labelled")
 # Reference volume of a cut trunk: counted on a grid 4× finer than the elements, but no
 # finer than 4 mm (there the count's own error is ~0.02% of a trunk).
 _REFERENCE_REFINEMENT = 4
@@ -42,12 +53,13 @@ class VolumeQuality:
     min_dihedral: float
     max_dihedral: float
     inverted: int
-    volume: float
+    volume: float  # of the tets plus the bone capsules left out of the mesh (`held_volume`)
     reference_volume: float
     volume_error: float  # relative: volume / reference − 1
     surface_distance_mean: float  # the mesh's skin faces to the skin
     surface_distance_max: float  # sampled Hausdorff distance, both ways
     closed: bool  # the boundary is a closed 2-manifold
+    held_volume: float  # the bone capsules left out of the mesh (conforming bones; counted in "bone"), else 0
     region_volumes: Mapping[str, float] = field(default_factory=dict)
 
     def summary(self) -> str:
@@ -76,12 +88,23 @@ class VolumeModel:
     bone_names: tuple[str, ...]  # rig bone names
     boundary_faces: np.ndarray  # (F, 3) outward triangles
     boundary_tets: np.ndarray  # (F,) the tet each boundary face belongs to
-    boundary_on_skin: np.ndarray  # (F,) True on the skin, False on a cut (neck, hips, arms)
+    boundary_on_skin: np.ndarray  # (F,) True on the skin, False on a cut (neck, hips, arms) or a bone
+    boundary_on_bone: np.ndarray  # (F,) True on a bone capsule's surface (conforming bones)
     interfaces: Mapping[tuple[str, str], np.ndarray]  # region pair → faces between them
     element_size: float  # m
     skin_thickness: float  # m
     wall_thickness: float  # m
     quality: VolumeQuality
+
+    @property
+    def cut_faces(self) -> np.ndarray:
+        """(C, 3) boundary triangles on the cuts (neither skin nor bone)."""
+        return self.boundary_faces[~self.boundary_on_skin & ~self.boundary_on_bone]
+
+    @property
+    def bone_surface(self) -> np.ndarray:
+        """(S, 3) the held bone capsules' surface (conforming bones), triangles facing out of the bone."""
+        return self.boundary_faces[self.boundary_on_bone][:, ::-1]
 
 
 def _check_size(element_size: float) -> float:
@@ -107,16 +130,19 @@ def _reference_volume(domain: Domain, lo: np.ndarray, hi: np.ndarray, spacing: f
 
 def build_volume_model(vertices: np.ndarray, faces: np.ndarray, rig: RigLike, weights: sp.csr_matrix, *,
                        bmi: float, sex: float, extent: str = "trunk",
-                       element_size: float = DEFAULT_ELEMENT_SIZE) -> VolumeModel:
+                       element_size: float = DEFAULT_ELEMENT_SIZE, bones: str = "conforming") -> VolumeModel:
     """Mesh and label the trunk (default, as in the paper) or the whole body.
 
     vertices/faces: the closed, outward skin (m); rig: bone names, heads, tails
     (m); weights: (V, B) skinning weights; bmi (kg/m²) and sex (0 female … 1
-    male) set the skin+fat thickness; element_size in mm.
+    male) set the skin+fat thickness; element_size in mm; bones: one of
+    `BONE_MESHES`.
     """
     h = _check_size(element_size)
     if extent not in EXTENTS:
         raise HitogataError(f"extent {extent!r}: allowed {', '.join(EXTENTS)}")
+    if bones not in BONE_MESHES:
+        raise HitogataError(f"bones {bones!r}: allowed {', '.join(BONE_MESHES)}")
     vertices = np.asarray(vertices, dtype=np.float64)
     faces = np.asarray(faces, dtype=np.int64)
     marks = Landmarks.from_rig(rig)
@@ -125,6 +151,15 @@ def build_volume_model(vertices: np.ndarray, faces: np.ndarray, rig: RigLike, we
     else:
         domain, bounds = body_domain(vertices, faces)
     skin_index = domain.members[0].index if extent == "trunk" else domain.index
+    bone_names = A.TRUNK_BONES if extent == "trunk" else A.BODY_BONES
+    rows = [rig.names.index(n) for n in bone_names]
+    heads, tails = np.asarray(rig.heads)[rows], np.asarray(rig.tails)[rows]
+    radii = A.capsule_radii(bone_names, None if bones == "conforming" else h)
+    whole = domain  # the body, bones included
+    bone_part = -2  # the index of the capsules' surface among the boundary parts (none: no node has it)
+    if bones == "conforming":
+        domain = Intersection(domain, outside_capsules(heads, tails, radii))
+        bone_part = domain.parts.index(BONE_PART)
     mesh = stuff(domain, h, bounds)
     nodes, tets = mesh.nodes, mesh.tets
 
@@ -134,48 +169,55 @@ def build_volume_model(vertices: np.ndarray, faces: np.ndarray, rig: RigLike, we
     not_arm = arm_separator(rig, vertices, weights)(centroids) < 0
     level = marks.level(centroids[:, 1])
     in_trunk = not_arm & (level <= 1.0)
-    bone_names = A.TRUNK_BONES if extent == "trunk" else A.BODY_BONES
-    rows = [rig.names.index(n) for n in bone_names]
-    heads, tails = np.asarray(rig.heads)[rows], np.asarray(rig.tails)[rows]
-    radii = np.maximum([A.bone_radius(n) for n in bone_names], 0.5 * h)
     skin_t = A.skin_thickness(bmi, sex)
-    region = tissue_regions(centroids, depth, marks, in_trunk, heads, tails, radii, skin_t, A.WALL)
+    labelled = len(radii) if bones == "labelled" else 0  # how many capsules label tets as bone
+    region = tissue_regions(centroids, depth, marks, in_trunk, heads[:labelled], tails[:labelled], radii[:labelled],
+                            skin_t, A.WALL)
     eligible = in_trunk & (level >= A.LEVEL_GLUTEAL_FOLD)
     muscle, fibres = muscle_regions(centroids, region, normal, marks, eligible)
-    bone_nodes, bone_of = attach_bone_nodes(nodes, tets, region, heads, tails)
+    if bones == "conforming":
+        bone_nodes, bone_of = attach_surface_nodes(nodes, mesh.node_part, bone_part, heads, tails, radii)
+    else:
+        bone_nodes, bone_of = attach_bone_nodes(nodes, tets, region, heads, tails)
 
     bfaces, btets = boundary_faces(tets)
     on_skin = np.all(mesh.node_part[bfaces] == 0, axis=1)
+    on_bone = np.all(mesh.node_part[bfaces] == bone_part, axis=1)
     interfaces = {(A.REGIONS[a], A.REGIONS[b]): f for (a, b), f in interface_faces(tets, region).items()}
 
+    spacing = max(h / _REFERENCE_REFINEMENT, _REFERENCE_MIN_SPACING)
     if extent == "trunk":
         lo, hi = bounds[0].copy(), bounds[1].copy()
         lo[1], hi[1] = marks.hip_height, marks.neck_height  # the cut planes
-        reference = _reference_volume(domain, lo, hi, max(h / _REFERENCE_REFINEMENT, _REFERENCE_MIN_SPACING))
+        reference = _reference_volume(whole, lo, hi, spacing)
         others = np.ones(len(vertices), dtype=bool)
-        for member in domain.members[1:]:
+        for member in whole.members[1:]:
             others &= member.contains(vertices)
         skin_points = vertices[others]
     else:
         reference = enclosed_volume(vertices, faces)
         skin_points = vertices
-    quality = _quality(nodes, tets, region, bfaces[on_skin], skin_index, skin_points, reference, bfaces)
+    held = held_volume(whole, heads, tails, radii, spacing) if bones == "conforming" else 0.0
+    quality = _quality(nodes, tets, region, bfaces[on_skin], skin_index, skin_points, reference, held, bfaces)
     return VolumeModel(
         nodes=nodes, tets=tets, region=region, region_names=A.REGIONS, muscle=muscle, muscle_names=A.MUSCLES,
         fibres=fibres, bone_nodes=bone_nodes, bone_node_bone=bone_of, bone_names=tuple(bone_names),
         boundary_faces=bfaces, boundary_tets=btets, boundary_on_skin=on_skin,
+        boundary_on_bone=on_bone,
         interfaces=MappingProxyType(interfaces), element_size=h, skin_thickness=skin_t, wall_thickness=A.WALL,
         quality=quality,
     )
 
 
-def _quality(nodes, tets, region, skin_faces, skin_index, skin_points, reference, all_faces) -> VolumeQuality:
+def _quality(nodes, tets, region, skin_faces, skin_index, skin_points, reference, held, all_faces) -> VolumeQuality:
     angles = np.degrees(dihedral_angles(nodes, tets))
     volumes = signed_volumes(nodes, tets)
     # Skin → mesh uses the whole boundary, so skin next to a cut is not penalised for
     # the cut faces that end the skin faces there.
     forward, backward = surface_distances(nodes, skin_faces, skin_index, skin_points, all_faces)
-    total = float(volumes.sum())
+    total = float(volumes.sum()) + held
+    region_volumes = {name: float(volumes[region == k].sum()) for k, name in enumerate(A.REGIONS)}
+    region_volumes["bone"] += held
     return VolumeQuality(
         n_nodes=len(nodes), n_tets=len(tets),
         min_dihedral=float(angles.min()), max_dihedral=float(angles.max()),
@@ -183,8 +225,8 @@ def _quality(nodes, tets, region, skin_faces, skin_index, skin_points, reference
         volume=total, reference_volume=float(reference), volume_error=total / reference - 1.0,
         surface_distance_mean=float(forward.mean()),
         surface_distance_max=float(max(forward.max(), backward.max(initial=0.0))),
-        closed=is_closed(all_faces),
-        region_volumes=MappingProxyType({name: float(volumes[region == k].sum()) for k, name in enumerate(A.REGIONS)}),
+        closed=is_closed(all_faces), held_volume=float(held),
+        region_volumes=MappingProxyType(region_volumes),
     )
 
 

@@ -3,8 +3,10 @@
 Each tet is labelled by its centroid, in this order of precedence:
 
 - skin: closer to the skin surface than the skin+fat thickness;
-- bone: inside a capsule round a rig bone (radius from `anatomy.BONE_RADII`,
-  at least half an element so every bone holds nodes at coarse sizes);
+- bone: inside a capsule round a rig bone, when the bones are meshed as
+  labelled lattice tets (`anatomy.capsule_radii`: at least half an element
+  so every bone holds nodes at coarse sizes). By default the soft tissue is
+  meshed round the capsules instead (`hitogata.volume.bones`) and no tet is bone;
 - viscera: in the trunk, deeper than skin+fat+muscle wall, in front of the
   vertebral bodies (the spine axis + the spine's capsule radius: psoas and
   quadratus lumborum lie beside the spine, the kidneys in front of them), within the rib cage's width (0.85 × the half-distance between
