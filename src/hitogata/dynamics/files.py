@@ -182,7 +182,7 @@ def frame_items(motion: Motion, k: int, surfaces: dict[str, np.ndarray], bounds:
         mm = np.linalg.norm(motion.elastic[k], axis=1).astype(np.float64) * 1e3
         top = float(np.linalg.norm(motion.elastic, axis=2).max() * 1e3)
         items.append(Layer(nodes, outer, scalars=mm, colormap="viridis", clim=(0.0, max(top, 1e-3)),
-                           scalar_title="elastic displacement (mm)", opacity=0.9))
+                           scalar_title="elastic displacement (mm)", opacity=1.0))
     else:
         for name in ("bone", "viscera", "muscle", "skin"):
             if name in surfaces:
