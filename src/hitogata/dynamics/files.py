@@ -74,7 +74,7 @@ def write_glb(path: str | os.PathLike, motion: Motion) -> Path:
             name=name, alphaMode="BLEND", doubleSided=True,
             pbrMetallicRoughness=gl.PbrMetallicRoughness(baseColorFactor=[*rgb, opacity], metallicFactor=0.0)))
         nodes.append(_add_morphing_mesh(builder, f"region: {name}", local.reshape(faces.shape), points[used],
-                                        motion.nodes[pick][:, used], names,
+                                        motion.nodes[np.ix_(pick, used)], names,
                                         material=len(builder.gltf.materials) - 1))
     times = builder.add_accessor(motion.times[pick].astype(np.float32), gl.SCALAR, with_bounds=True)
     weights = builder.add_accessor(np.eye(len(pick), dtype=np.float32).reshape(-1), gl.SCALAR)
