@@ -4,8 +4,9 @@ import numpy as np
 import pytest
 
 from hitogata.elastic import build_elastic_model
+from hitogata.elastic.model import assemble_system
 from hitogata.errors import HitogataError
-from hitogata.fem import check_mesh, solve_static, tet_geometry
+from hitogata.fem import check_mesh, solve_modes, solve_static, tet_geometry
 from hitogata.volume import build_volume_model
 
 SIZE = 50.0  # mm: coarse, so the file runs in seconds; the default model is checked in benchmarks/
@@ -59,6 +60,24 @@ def test_frequencies_positive_sorted_and_plausible(model):
     assert len(f) == N_MODES
     assert np.all(f > 0) and np.all(np.diff(f) >= 0)
     assert 0.5 < f[0] < 20.0  # soft tissue on a fixed skeleton: a few Hz
+
+
+def test_tissue_is_sampled_in_elements_and_mean_dilatation_unlocks(model, female):
+    # Materials come from the regions at each element's sample points: the mass is theirs.
+    assert model.dilatation == "mean"
+    assert model.M.sum() / 3 == pytest.approx(model.mass, rel=1e-9)
+    fractions = model.volume.region_fractions
+    assert np.allclose(fractions.sum(axis=1), 1.0)
+    mixed = (fractions.max(axis=1) < 1.0 - 1e-9).mean()
+    assert 0.3 < mixed < 0.7  # at 50 mm, half the tets straddle the ~20 mm skin and muscle layers
+    soft = [model.materials.regions[n].E for n in ("viscera", "muscle", "skin")]
+    assert min(soft) - 1e-9 <= model.E.min() and model.E.max() <= max(soft) + 1e-9
+    # P2 with the volumetric term in full locks a little at the tissue's nu 0.49: every mode stiffer.
+    full = assemble_system(model.volume, female.rig, dilatation="full")
+    f_full = solve_modes(full.K, full.M, N_MODES, full.fixed_nodes, tol=1e-6).frequencies
+    rise = f_full / model.frequencies - 1
+    print(f"\nfull vs mean dilatation at {SIZE:g} mm: +{rise.min():.1%} .. +{rise.max():.1%}")
+    assert np.all(rise > 0.01) and np.all(rise < 0.15)
 
 
 def test_modes_are_mass_normalised(model):
@@ -126,7 +145,7 @@ def test_options_p1_elastic_bone_and_errors(female, model):
     assert set(cut.tolist()) <= set(held.fixed_nodes.tolist())  # the neck, hip and arm cuts are held
     assert np.all(held.frequencies > rigid.frequencies)  # held cut faces: a stiffer trunk
     for kwargs, words in [({"element": "P3"}, "element 'P3'"), ({"bone": "soft"}, "bone 'soft'"),
-                          ({"cuts": "sewn"}, "cuts 'sewn'"),
+                          ({"cuts": "sewn"}, "cuts 'sewn'"), ({"dilatation": "half"}, "dilatation 'half'"),
                           ({"damping_ratios": ((1, 0.1), (10, 0.1)), "alpha_beta": (1, 0)}, "not both"),
                           ({"alpha_beta": (-1.0, 0.0)}, "alpha"), ({"extent": "legs"}, "extent")]:
         with pytest.raises(HitogataError, match=words):

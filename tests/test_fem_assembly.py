@@ -4,9 +4,10 @@ import numpy as np
 import pytest
 import scipy.linalg as la
 
+from hitogata.errors import HitogataError
 from hitogata.fem.assembly import lumped_masses, mass_matrix, sparsity, stiffness_matrix
 from hitogata.fem.box_mesh import box_mesh
-from hitogata.fem.elements import lift_node_set, p2_mesh
+from hitogata.fem.elements import MATERIAL_SAMPLES, lift_node_set, p2_mesh, sample_points
 from hitogata.fem.materials import Material, region_materials
 from hitogata.fem.modes import solve_modes
 
@@ -92,3 +93,52 @@ def test_pattern_reuse_and_region_materials_match_fresh_assembly():
     M = mass_matrix(points, tets, rho_el, pattern=pattern)
     assert np.array_equal(M.indptr, K_reused.indptr) and np.array_equal(M.indices, K_reused.indices)
     assert M.sum() / 3 == pytest.approx(0.005 * 1000.0 + 0.005 * 950.0, rel=1e-13)
+
+
+def test_materials_sampled_inside_elements():
+    """Per-sample-point materials: uniform samples reproduce per-element assembly; a density step
+    crossing the elements is integrated where it lies, not where the centroids put it."""
+    points, tets, _, p1_tets = cantilever((4, 1, 1), 2)  # elements 0.25 m long
+    n_samples = len(MATERIAL_SAMPLES[1])
+    E_el = np.linspace(1e5, 1e6, len(tets))
+    same = np.repeat(E_el[:, None], n_samples, axis=1)
+    for dilatation in ("full", "mean"):
+        K_el = stiffness_matrix(points, tets, E_el, NU, dilatation=dilatation)
+        K_q = stiffness_matrix(points, tets, same, NU, dilatation=dilatation)
+        assert abs(K_q - K_el).max() <= 1e-12 * abs(K_el).max()
+    M_el = mass_matrix(points, tets, RHO)
+    M_q = mass_matrix(points, tets, np.full((len(tets), n_samples), RHO))
+    assert abs(M_q - M_el).max() <= 1e-12 * abs(M_el).max()
+
+    step = 0.3  # dense below x = 0.3 m, inside the second element (0.25-0.5 m)
+    exact = 0.01 * (2000.0 * step + 1000.0 * (1.0 - step))
+    centroid = np.where(points[p1_tets].mean(axis=1)[:, 0] < step, 2000.0, 1000.0)
+    sampled = np.where(sample_points(points, tets)[..., 0] < step, 2000.0, 1000.0)
+    error = {name: abs(mass_matrix(points, tets, rho).sum() / 3 / exact - 1)
+             for name, rho in (("centroid", centroid), ("sampled", sampled))}
+    print(f"\nmass of a bar with a density step inside an element: error {error}")
+    assert error["centroid"] > 0.035 and error["sampled"] < 0.2 * error["centroid"]
+    with pytest.raises(HitogataError, match=r"E has shape \(24, 5\)"):
+        stiffness_matrix(points, tets, np.ones((len(tets), 5)), NU)
+
+
+def test_mean_dilatation_keeps_rigid_motions_and_equals_full_for_linear_tets():
+    points, tets, _, p1_tets = cantilever((3, 2, 2), 2)
+    K = stiffness_matrix(points, tets, E, 0.49, dilatation="mean")
+    assert abs(K - K.T).max() == 0.0
+    x, y, z = points.T
+    one, zero = np.ones(len(points)), np.zeros(len(points))
+    for r in [np.stack(c, axis=1).ravel() for c in [(one, zero, zero), (-y, x, zero), (z, zero, -x)]]:
+        assert np.abs(K @ r).max() < 1e-9 * abs(K).max() * np.abs(r).max()
+    # A uniform strain has a constant dilatation: both forms give the same nodal forces.
+    strain = np.stack([0.01 * x, -0.003 * y, 0.002 * z + 0.004 * x], axis=1).ravel()
+    K_full = stiffness_matrix(points, tets, E, 0.49)
+    assert np.allclose(K @ strain, K_full @ strain, rtol=0, atol=1e-9 * np.abs(K_full @ strain).max())
+    # ... and they differ otherwise (that is the point).
+    assert abs(K - K_full).max() > 0.01 * abs(K_full).max()
+    p1_points = points[: p1_tets.max() + 1]
+    K1 = stiffness_matrix(p1_points, p1_tets, E, 0.49, dilatation="mean")
+    K1_full = stiffness_matrix(p1_points, p1_tets, E, 0.49)
+    assert abs(K1 - K1_full).max() <= 1e-12 * abs(K1_full).max()
+    with pytest.raises(HitogataError, match="dilatation 'half': allowed full, mean"):
+        stiffness_matrix(points, tets, E, NU, dilatation="half")

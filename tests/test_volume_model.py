@@ -4,6 +4,7 @@ import numpy as np
 import pytest
 
 from hitogata.errors import HitogataError
+from hitogata.fem.elements import MATERIAL_SAMPLES
 from hitogata.volume import MUSCLES, REGIONS, build_body_model, build_trunk_model
 from hitogata.volume.anatomy import capsule_radii, skin_thickness
 from hitogata.volume.bones import capsule_gap
@@ -71,6 +72,24 @@ def test_trunk_regions(trunk, female):
     # Skin tets touch the skin; viscera never do.
     touched = np.unique(trunk.boundary_tets[trunk.boundary_on_skin])
     assert not np.any(trunk.region[touched] == REGIONS.index("viscera"))
+
+
+def test_regions_sampled_inside_tets_converge_faster_than_centroid_labels(trunk, female):
+    """The skin and muscle layers (~20 mm) cross the tets; their volumes from the sample points
+    of a 40 mm trunk are within 3 % of the 20 mm trunk's, where centroid labels are off up to 7 %."""
+    samples = trunk.region_samples
+    assert samples.shape == (len(trunk.tets), len(MATERIAL_SAMPLES[1]))
+    assert np.allclose(trunk.region_fractions.sum(axis=1), 1.0)
+    volumes = signed_volumes(trunk.nodes, trunk.tets)
+    assert sum(trunk.quality.region_volumes[n] for n in ("viscera", "muscle", "skin")) == pytest.approx(volumes.sum())
+    coarse = build_trunk_model(female, element_size=40.0)
+    coarse_tets = signed_volumes(coarse.nodes, coarse.tets)
+    for name in ("viscera", "muscle", "skin"):
+        fine = trunk.quality.region_volumes[name]
+        sampled = coarse.quality.region_volumes[name] / fine - 1
+        labelled = coarse_tets[coarse.region == REGIONS.index(name)].sum() / fine - 1
+        print(f"\n{name}: 40 mm vs 20 mm, sampled {sampled:+.1%}, centroid labels {labelled:+.1%}")
+        assert abs(sampled) < 0.03 and abs(sampled) < abs(labelled)
 
 
 def test_trunk_named_muscles(trunk):

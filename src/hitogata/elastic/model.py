@@ -35,8 +35,9 @@ from hitogata.fem import (
     sparsity,
     stiffness_matrix,
 )
+from hitogata.fem.assembly import DILATATIONS
 from hitogata.fem.damping import check_rayleigh, damping_ratios as modal_damping_ratios
-from hitogata.fem.elements import P2_EDGES, TET_FACES, tet_geometry
+from hitogata.fem.elements import MATERIAL_SAMPLES, P2_EDGES, TET_FACES, tet_geometry
 from hitogata.volume import VolumeModel, build_volume_model
 from hitogata.volume.trunk import segment_distance
 
@@ -70,9 +71,10 @@ class ElasticSystem:
     materials: Materials
     bone: str  # "rigid" or "elastic"
     cuts: str  # "attached" or "free": the trunk's cut faces
-    E: np.ndarray  # (T,) Pa
-    nu: np.ndarray  # (T,)
-    rho: np.ndarray  # (T,) kg/m^3
+    dilatation: str  # "mean" or "full": how K integrates the volumetric term (`fem.stiffness_matrix`)
+    E: np.ndarray  # (T,) Pa, each element's mean (K and M sample the tissue inside the elements)
+    nu: np.ndarray  # (T,) element mean
+    rho: np.ndarray  # (T,) kg/m^3, element mean
     K: sp.csr_matrix  # (3N, 3N), node-major dofs
     M: sp.csr_matrix  # consistent mass, on K's sparsity pattern
 
@@ -152,7 +154,7 @@ class ElasticModel(ElasticSystem):
 
 def build_elastic_model(body, *, extent: str = "trunk", element_size: float | None = None, element: str = "P2",
                         n_modes: int = 40, materials: str | Path | Materials | None = None, bone: str = "rigid",
-                        cuts: str = "free",
+                        cuts: str = "free", dilatation: str = "mean",
                         damping_ratios: tuple[tuple[float, float], tuple[float, float]] | None = None,
                         alpha_beta: tuple[float, float] | None = None, solver: str = "auto",
                         volume: VolumeModel | None = None) -> ElasticModel:
@@ -166,12 +168,15 @@ def build_elastic_model(body, *, extent: str = "trunk", element_size: float | No
     skeleton); cuts: "free" (the paper's bare trunk: fixed_nodes are the bone
     nodes) or "attached" (the trunk's cut faces also follow their nearest
     bone, as the neck, arms and thighs would hold them in small vibrations);
+    dilatation: "mean" (default: the volumetric term on each element's mean
+    dilatation, free of the locking of nearly incompressible tissue) or
+    "full" (the plain displacement element), see `fem.stiffness_matrix`;
     damping: `damping_ratios` ((f1 Hz, zeta1), (f2 Hz, zeta2)) or
     `alpha_beta` (alpha 1/s, beta s), default `DEFAULT_DAMPING`; solver: see
     `hitogata.fem.solve_modes`; volume: a volume model of this body already
     built (skips meshing; extent and element_size are then its own).
     """
-    _check_options(element, bone, cuts)
+    _check_options(element, bone, cuts, dilatation)
     alpha, beta = _rayleigh(damping_ratios, alpha_beta)
     table = materials if isinstance(materials, Materials) else load_materials(materials)
     timings: dict[str, float] = {}
@@ -186,7 +191,8 @@ def build_elastic_model(body, *, extent: str = "trunk", element_size: float | No
     timings["mesh"] = time.perf_counter() - start
 
     start = time.perf_counter()
-    system = assemble_system(volume, body.rig, element=element, materials=table, bone=bone, cuts=cuts)
+    system = assemble_system(volume, body.rig, element=element, materials=table, bone=bone, cuts=cuts,
+                             dilatation=dilatation)
     timings["assembly"] = time.perf_counter() - start
 
     start = time.perf_counter()
@@ -202,15 +208,17 @@ def build_elastic_model(body, *, extent: str = "trunk", element_size: float | No
 
 
 def assemble_system(volume: VolumeModel, rig, *, element: str = "P2", materials: str | Path | Materials | None = None,
-                    bone: str = "rigid", cuts: str = "free") -> ElasticSystem:
+                    bone: str = "rigid", cuts: str = "free", dilatation: str = "mean") -> ElasticSystem:
     """Lift the volume model's mesh to `element`, attach bone nodes to `rig`'s bones, assemble K and M.
 
     rig: the body's rig (bone names, heads, tails). cuts: "free" (default, the
     paper's bare trunk) leaves the trunk's cut faces (neck, hips, arms) free
     surfaces; "attached" holds them to their nearest bone, as the body beyond
-    them would for small vibrations (see docs/elastic.md).
+    them would for small vibrations (see docs/elastic.md). The materials are
+    taken at each element's sample points (`volume.region_samples`), so a
+    tissue interface inside an element counts where it lies.
     """
-    _check_options(element, bone, cuts)
+    _check_options(element, bone, cuts, dilatation)
     table = materials if isinstance(materials, Materials) else load_materials(materials)
     fixed, fixed_bone = volume.bone_nodes, volume.bone_node_bone
     if bone == "elastic":
@@ -224,16 +232,19 @@ def assemble_system(volume: VolumeModel, rig, *, element: str = "P2", materials:
     if element == "P2":
         points, elements = p2_mesh(points, elements)
         fixed, fixed_bone = _lift(elements, fixed, fixed_bone, len(points))
-    E, nu, rho = region_materials(volume.region, table.table(volume.region_names))
+    E, nu, rho = region_materials(volume.region_samples, table.table(volume.region_names))
     pattern = sparsity(elements, len(points))
-    K = stiffness_matrix(points, elements, E, nu, pattern)
+    K = stiffness_matrix(points, elements, E, nu, pattern, dilatation=dilatation)
     M = mass_matrix(points, elements, rho, pattern=pattern)
+    weights = MATERIAL_SAMPLES[1]
     return ElasticSystem(element=element, points=points, elements=elements, fixed_nodes=fixed, fixed_bone=fixed_bone,
-                         materials=table, bone=bone, cuts=cuts, E=E, nu=nu, rho=rho, K=K, M=M)
+                         materials=table, bone=bone, cuts=cuts, dilatation=dilatation, E=E @ weights,
+                         nu=nu @ weights, rho=rho @ weights, K=K, M=M)
 
 
-def _check_options(element: str, bone: str, cuts: str) -> None:
-    for name, value, allowed in (("element", element, ELEMENTS), ("bone", bone, BONE_MODES), ("cuts", cuts, CUT_MODES)):
+def _check_options(element: str, bone: str, cuts: str, dilatation: str) -> None:
+    for name, value, allowed in (("element", element, ELEMENTS), ("bone", bone, BONE_MODES), ("cuts", cuts, CUT_MODES),
+                                 ("dilatation", dilatation, DILATATIONS)):
         if value not in allowed:
             raise HitogataError(f"{name} {value!r}: allowed {', '.join(allowed)}")
 

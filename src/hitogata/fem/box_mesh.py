@@ -59,12 +59,14 @@ def _parity(perm: tuple[int, ...]) -> int:
 
 
 def cantilever_system(
-    divisions: tuple[int, int, int], order: int, E: float = 1e6, nu: float = 0.3, rho: float = 1000.0
+    divisions: tuple[int, int, int], order: int, E: float = 1e6, nu: float = 0.3, rho: float = 1000.0,
+    dilatation: str = "full",
 ) -> tuple[sp.csr_matrix, sp.csr_matrix, np.ndarray]:
     """K, M and the clamped nodes of the reference cantilever 1 × 0.1 × 0.1 m, clamped at x = 0.
 
     `order` 1 (P1) or 2 (P2); the default material is the one whose first bending
-    frequency Timoshenko beam theory puts at 0.50687 Hz (tests and benchmarks).
+    frequency Timoshenko beam theory puts at 0.50687 Hz (tests and benchmarks);
+    `dilatation` as in `stiffness_matrix`.
     """
     points, tets = box_mesh((1.0, 0.1, 0.1), divisions)
     fixed = np.flatnonzero(points[:, 0] < 1e-12)
@@ -72,4 +74,5 @@ def cantilever_system(
         points, tets = p2_mesh(points, tets)
         fixed = lift_node_set(tets, fixed)
     pattern = sparsity(tets, len(points))
-    return stiffness_matrix(points, tets, E, nu, pattern), mass_matrix(points, tets, rho, pattern=pattern), fixed
+    return (stiffness_matrix(points, tets, E, nu, pattern, dilatation), mass_matrix(points, tets, rho, pattern=pattern),
+            fixed)

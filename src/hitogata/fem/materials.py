@@ -63,8 +63,21 @@ def per_element(n_elements: int, value: float | np.ndarray, name: str) -> np.nda
     return v
 
 
+def per_sample(n_elements: int, n_samples: int, value: float | np.ndarray, name: str) -> np.ndarray:
+    """A material property as (T, 1), uniform in each element (from a scalar or (T,)), or as
+    (T, Q), one value per material sample point of each element (`elements.MATERIAL_SAMPLES`)."""
+    v = np.asarray(value, dtype=float)
+    if v.ndim == 2 and v.shape == (n_elements, n_samples):
+        return v
+    if v.ndim == 2:
+        raise HitogataError(f"{name} has shape {v.shape}; allowed: a scalar, one value per element "
+                            f"({n_elements},) or per material sample point ({n_elements}, {n_samples})")
+    return per_element(n_elements, v, name)[:, None]
+
+
 def region_materials(regions: np.ndarray, table: Mapping[int, Material]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Per-element (E, nu, rho) arrays from region labels (T,) and a region -> Material table."""
+    """(E, nu, rho) arrays of the shape of `regions` (region labels per element (T,), or per
+    material sample point (T, Q)) from a region -> Material table."""
     regions = np.asarray(regions)
     missing = sorted(set(np.unique(regions).tolist()) - set(table))
     if missing:
@@ -72,4 +85,4 @@ def region_materials(regions: np.ndarray, table: Mapping[int, Material]) -> tupl
     keys = np.array(sorted(table))
     props = np.array([[table[k].E, table[k].nu, table[k].rho] for k in keys])
     rows = props[np.searchsorted(keys, regions)]
-    return rows[:, 0].copy(), rows[:, 1].copy(), rows[:, 2].copy()
+    return rows[..., 0].copy(), rows[..., 1].copy(), rows[..., 2].copy()

@@ -22,6 +22,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from hitogata.errors import HitogataError
+from hitogata.fem.elements import MATERIAL_SAMPLES, sample_points
 from hitogata.geometry.mesh_checks import enclosed_volume, is_closed
 from hitogata.volume import anatomy as A
 from hitogata.volume.bones import PART as BONE_PART, attach_surface_nodes, held_volume, outside_capsules
@@ -78,7 +79,8 @@ class VolumeModel:
 
     nodes: np.ndarray  # (N, 3)
     tets: np.ndarray  # (T, 4) positively oriented
-    region: np.ndarray  # (T,) index into region_names
+    region: np.ndarray  # (T,) index into region_names, at the centroid
+    region_samples: np.ndarray  # (T, Q) index into region_names at the material sample points
     region_names: tuple[str, ...]
     muscle: np.ndarray  # (T,) index into muscle_names, -1 for none
     muscle_names: tuple[str, ...]
@@ -95,6 +97,12 @@ class VolumeModel:
     skin_thickness: float  # m
     wall_thickness: float  # m
     quality: VolumeQuality
+
+    @property
+    def region_fractions(self) -> np.ndarray:
+        """(T, R) volume fraction of each region in each tet (from the material sample points)."""
+        weights = MATERIAL_SAMPLES[1]
+        return np.stack([(self.region_samples == k) @ weights for k in range(len(self.region_names))], axis=1)
 
     @property
     def cut_faces(self) -> np.ndarray:
@@ -166,13 +174,16 @@ def build_volume_model(vertices: np.ndarray, faces: np.ndarray, rig: RigLike, we
     centroids = nodes[tets].mean(axis=1)
     depth, closest = skin_index.closest(centroids)
     normal = (closest - centroids) / np.maximum(depth, 1e-12)[:, None]
-    not_arm = arm_separator(rig, vertices, weights)(centroids) < 0
+    arm_side = arm_separator(rig, vertices, weights)  # < 0 on the trunk side
     level = marks.level(centroids[:, 1])
-    in_trunk = not_arm & (level <= 1.0)
+    arm_offset = arm_side(centroids)
+    in_trunk = (arm_offset < 0) & (level <= 1.0)
     skin_t = A.skin_thickness(bmi, sex)
     labelled = len(radii) if bones == "labelled" else 0  # how many capsules label tets as bone
     region = tissue_regions(centroids, depth, marks, in_trunk, heads[:labelled], tails[:labelled], radii[:labelled],
                             skin_t, A.WALL)
+    region_samples = _region_samples(nodes, tets, region, skin_index.distance(nodes), marks, arm_side, arm_offset,
+                                     skin_t)
     eligible = in_trunk & (level >= A.LEVEL_GLUTEAL_FOLD)
     muscle, fibres = muscle_regions(centroids, region, normal, marks, eligible)
     if bones == "conforming":
@@ -198,9 +209,10 @@ def build_volume_model(vertices: np.ndarray, faces: np.ndarray, rig: RigLike, we
         reference = enclosed_volume(vertices, faces)
         skin_points = vertices
     held = held_volume(whole, heads, tails, radii, spacing) if bones == "conforming" else 0.0
-    quality = _quality(nodes, tets, region, bfaces[on_skin], skin_index, skin_points, reference, held, bfaces)
+    quality = _quality(nodes, tets, region_samples, bfaces[on_skin], skin_index, skin_points, reference, held, bfaces)
     return VolumeModel(
-        nodes=nodes, tets=tets, region=region, region_names=A.REGIONS, muscle=muscle, muscle_names=A.MUSCLES,
+        nodes=nodes, tets=tets, region=region, region_samples=region_samples, region_names=A.REGIONS,
+        muscle=muscle, muscle_names=A.MUSCLES,
         fibres=fibres, bone_nodes=bone_nodes, bone_node_bone=bone_of, bone_names=tuple(bone_names),
         boundary_faces=bfaces, boundary_tets=btets, boundary_on_skin=on_skin,
         boundary_on_bone=on_bone,
@@ -209,14 +221,43 @@ def build_volume_model(vertices: np.ndarray, faces: np.ndarray, rig: RigLike, we
     )
 
 
-def _quality(nodes, tets, region, skin_faces, skin_index, skin_points, reference, held, all_faces) -> VolumeQuality:
+def _region_samples(nodes: np.ndarray, tets: np.ndarray, region: np.ndarray, node_depth: np.ndarray,
+                    marks: Landmarks, arm_side, arm_offset: np.ndarray, skin_t: float) -> np.ndarray:
+    """Tissue region (T, Q) at each tet's material sample points (`fem.elements.MATERIAL_SAMPLES`).
+
+    The layers cross the elements (a 40 mm tet straddles the ~20 mm skin and
+    muscle layers), so the material is sampled inside each tet rather than
+    taken from its centroid; depth below the skin is interpolated from the
+    corners. Labelled bone tets stay bone throughout. `arm_side` is the
+    trunk/arm separator and `arm_offset` its value at the centroids: it
+    changes by at most twice the distance moved (a difference of two
+    distances), so only tets within that of the separator are sampled anew.
+    """
+    points = sample_points(nodes, tets)
+    shape = points.shape[:2]
+    depth = (node_depth[tets] @ MATERIAL_SAMPLES[0].T).ravel()
+    reach = np.linalg.norm(nodes[tets] - nodes[tets].mean(axis=1, keepdims=True), axis=2).max(axis=1)
+    offset = np.repeat(arm_offset[:, None], shape[1], axis=1)
+    near = np.abs(arm_offset) <= 2.0 * reach
+    offset[near] = arm_side(points[near].reshape(-1, 3)).reshape(-1, shape[1])
+    points = points.reshape(-1, 3)
+    in_trunk = (offset.ravel() < 0) & (marks.level(points[:, 1]) <= 1.0)
+    none = np.zeros((0, 3))
+    samples = tissue_regions(points, depth, marks, in_trunk, none, none, np.zeros(0), skin_t, A.WALL).reshape(shape)
+    samples[region == A.BONE] = A.BONE
+    return samples
+
+
+def _quality(nodes, tets, region_samples, skin_faces, skin_index, skin_points, reference, held,
+             all_faces) -> VolumeQuality:
     angles = np.degrees(dihedral_angles(nodes, tets))
     volumes = signed_volumes(nodes, tets)
     # Skin → mesh uses the whole boundary, so skin next to a cut is not penalised for
     # the cut faces that end the skin faces there.
     forward, backward = surface_distances(nodes, skin_faces, skin_index, skin_points, all_faces)
     total = float(volumes.sum()) + held
-    region_volumes = {name: float(volumes[region == k].sum()) for k, name in enumerate(A.REGIONS)}
+    weights = MATERIAL_SAMPLES[1]
+    region_volumes = {name: float(volumes @ ((region_samples == k) @ weights)) for k, name in enumerate(A.REGIONS)}
     region_volumes["bone"] += held
     return VolumeQuality(
         n_nodes=len(nodes), n_tets=len(tets),
