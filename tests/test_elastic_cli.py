@@ -35,6 +35,10 @@ def test_modes_command_writes_csv_png_vtu(tmp_path, capsys):
     assert summary["region_names"] == ["bone", "viscera", "muscle", "skin"]
     muscle = mesh.cell_data["muscle"][0]
     assert muscle.min() == -1 and muscle.max() < len(summary["muscle_names"])
+    soft = [summary["materials"][n]["youngs_modulus_pa"] for n in ("viscera", "muscle", "skin")]
+    E = mesh.cell_data["youngs_modulus"][0]  # element means: between the tissues' moduli, mixed at the layers
+    assert min(soft) - 1e-6 <= E.min() and E.max() <= max(soft) + 1e-6 and len(np.unique(E)) > 3
+    assert summary["dilatation"] == "mean"
     shape = mesh.point_data["mode_01"]
     assert shape.shape == (len(mesh.points), 3)
     fixed = mesh.point_data["fixed"].astype(bool)

@@ -14,6 +14,7 @@ from hitogata.commands.body import body_from_args
 from hitogata.elastic import BONE_MODES, CUT_MODES, DEFAULT_ELEMENT_SIZE, ELEMENTS, build_elastic_model, load_materials
 from hitogata.elastic.files import write_frequencies, write_mode_pictures, write_vtu
 from hitogata.errors import HitogataError
+from hitogata.fem.assembly import DILATATIONS
 from hitogata.export.atomic import write_bytes_atomically
 from hitogata.render import ensure_offscreen_gl
 from hitogata.volume.model import EXTENTS
@@ -24,6 +25,7 @@ def summary(model) -> dict:
     q = model.volume.quality
     return {
         "element": model.element,
+        "dilatation": model.dilatation,
         "element_size_mm": model.volume.element_size * 1e3,
         "nodes": len(model.points),
         "elements": len(model.elements),
@@ -61,7 +63,8 @@ def run(args: argparse.Namespace) -> None:
     body = body_from_args(args)
     start = time.perf_counter()
     model = build_elastic_model(body, extent=args.region, element_size=size, element=args.element,
-                                n_modes=args.count, materials=materials, bone=args.bone, cuts=args.cuts)
+                                n_modes=args.count, materials=materials, bone=args.bone, cuts=args.cuts,
+                                dilatation=args.dilatation)
     built = time.perf_counter() - start
 
     out = Path(args.out)
@@ -107,6 +110,9 @@ def register(sub: argparse._SubParsersAction) -> None:
     parser.add_argument("--cuts", choices=CUT_MODES, default="free",
                         help="free: the trunk's neck, hip and arm cuts are free surfaces (default, the paper's); "
                              "attached: they follow their nearest bone")
+    parser.add_argument("--dilatation", choices=DILATATIONS, default="mean",
+                        help="mean: the volumetric term on each element's mean dilatation, free of locking in "
+                             "nearly incompressible tissue (default); full: the plain displacement element")
     parser.add_argument("--pictures", type=whole_number, default=6, help="mode pictures to draw; default 6")
     parser.add_argument("--out", required=True, help="output folder (created if missing)")
     parser.set_defaults(run=run)

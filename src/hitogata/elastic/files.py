@@ -38,7 +38,8 @@ def write_frequencies(path: str | os.PathLike, model: ElasticModel) -> Path:
 
 
 def vtu_mesh(model: ElasticModel, n_shapes: int | None = None) -> meshio.Mesh:
-    """The FE mesh with labels (cell data: region, muscle) and the first mode shapes (point data).
+    """The FE mesh with labels (cell data: region, muscle; the element means of the sampled tissue:
+    youngs_modulus in Pa, density in kg/m³) and the first mode shapes (point data).
 
     Point data: `mode_01`... (N, 3) mass-normalised shapes, `fixed` (1 on
     nodes that follow the skeleton), `bone` (the rig bone they follow, -1).
@@ -53,7 +54,8 @@ def vtu_mesh(model: ElasticModel, n_shapes: int | None = None) -> meshio.Mesh:
     point_data = {"fixed": fixed, "bone": bone}
     for k in range(n_shapes):
         point_data[f"mode_{k + 1:02d}"] = model.modes.vectors[:, k].reshape(n, 3)
-    cell_data = {"region": [model.region.astype(np.int32)], "muscle": [model.volume.muscle.astype(np.int32)]}
+    cell_data = {"region": [model.region.astype(np.int32)], "muscle": [model.volume.muscle.astype(np.int32)],
+                 "youngs_modulus": [model.E], "density": [model.rho]}  # element means of the sampled tissue
     return meshio.Mesh(model.points, [(cell_type, model.elements)], point_data=point_data, cell_data=cell_data)
 
 
