@@ -3,9 +3,10 @@
 import numpy as np
 import pytest
 
+from hitogata.errors import HitogataError
 from hitogata.fem.assembly import stiffness_matrix
 from hitogata.fem.box_mesh import box_mesh
-from hitogata.fem.elements import boundary_faces, lift_node_set, p2_mesh
+from hitogata.fem.elements import MATERIAL_SAMPLES, boundary_faces, lift_node_set, p2_mesh, sample_points
 from hitogata.fem.loads import (
     eigenstrain_load,
     fibre_eigenstrain,
@@ -123,3 +124,28 @@ def test_prescribed_displacement_and_point_loads():
     assert u[3 * mid].mean() == pytest.approx(0.005, rel=0.02)
     f = nodal_load(len(points), right, (0.0, 0.0, 2.0))
     assert f.reshape(-1, 3).sum(axis=0) == pytest.approx([0, 0, 2.0 * len(right)])
+
+
+def test_eigenstrain_at_sample_points_where_the_tissue_lies():
+    """Per-sample eigenstrain: uniform samples give the per-element forces; a strain ending inside
+    an element (x < 0.3 m, the elements 0.25 m long) lengthens a free bar by about eps * 0.3 m
+    (0.312), where a per-element strain (by centroid) gives eps * 0.25 m."""
+    points, tets = bar(2, (4, 1, 1))
+    p1 = points[tets[:, :4]]
+    n_samples = len(MATERIAL_SAMPLES[1])
+    eps = 2e-3
+    strain = fibre_eigenstrain(np.tile([1.0, 0.0, 0.0], (len(tets), 1)), eps)
+    uniform = eigenstrain_load(points, tets, E, 0.0, np.repeat(strain[:, None], n_samples, axis=1))
+    assert np.allclose(uniform, eigenstrain_load(points, tets, E, 0.0, strain), rtol=0, atol=1e-12 * E)
+    K = stiffness_matrix(points, tets, E, 0.0)
+    inside = sample_points(points, tets[:, :4])[..., 0] < 0.3
+    by_sample = strain[:, None] * inside[..., None, None]
+    by_centroid = strain * (p1.mean(axis=1)[:, 0] < 0.3)[:, None, None]
+    growth = {name: (extent(points, solve_static(K, eigenstrain_load(points, tets, E, 0.0, s),
+                                                  fixed_dofs=minimal_supports(points)))[0] - L) / eps
+              for name, s in (("samples", by_sample), ("centroids", by_centroid))}
+    print(f"\nbar lengthened by eps times {growth} (exact 0.3 m)")
+    assert growth["samples"] == pytest.approx(0.3, rel=0.05)  # 27 points place the edge to ~1/20 of an element
+    assert growth["centroids"] == pytest.approx(0.25, rel=1e-6)
+    with pytest.raises(HitogataError, match=r"eigenstrain has shape \(24, 3\)"):
+        eigenstrain_load(points, tets, E, NU, np.zeros((24, 3)))

@@ -78,7 +78,11 @@ def test_regions_sampled_inside_tets_converge_faster_than_centroid_labels(trunk,
     """The skin and muscle layers (~20 mm) cross the tets; their volumes from the sample points
     of a 40 mm trunk are within 3 % of the 20 mm trunk's, where centroid labels are off up to 7 %."""
     samples = trunk.region_samples
-    assert samples.shape == (len(trunk.tets), len(MATERIAL_SAMPLES[1]))
+    assert samples.shape == trunk.muscle_samples.shape == (len(trunk.tets), len(MATERIAL_SAMPLES[1]))
+    named = trunk.muscle_samples >= 0  # named muscles are muscle tissue, with unit fibres there only
+    assert np.all(samples[named] == REGIONS.index("muscle"))
+    assert np.allclose(np.linalg.norm(trunk.fibre_samples[named], axis=1), 1.0)
+    assert np.all(trunk.fibre_samples[~named] == 0.0)
     assert np.allclose(trunk.region_fractions.sum(axis=1), 1.0)
     volumes = signed_volumes(trunk.nodes, trunk.tets)
     assert sum(trunk.quality.region_volumes[n] for n in ("viscera", "muscle", "skin")) == pytest.approx(volumes.sum())

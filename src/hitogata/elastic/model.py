@@ -124,24 +124,32 @@ class ElasticModel(ElasticSystem):
         return float(self.rho @ tet_geometry(self.points, self.elements)[1])
 
     def muscle_elements(self, name: str) -> np.ndarray:
-        """Indices of the elements of a named muscle region."""
-        if name not in self.muscle_names:
-            raise HitogataError(f"muscle {name!r} has no region in the elastic body; allowed: "
-                                f"{', '.join(self.muscle_names)}")
-        return np.flatnonzero(self.volume.muscle == self.muscle_names.index(name))
+        """Indices of the elements holding some of a named muscle (at their sample points)."""
+        return np.flatnonzero((self.volume.muscle_samples == self._muscle_index(name)).any(axis=1))
 
     def muscle_load(self, name: str, contraction: float) -> np.ndarray:
         """Nodal forces (3N,) of a muscle contracting by `contraction` along its fibres.
 
         An isochoric eigenstrain (fibre strain -contraction, the cross-section
-        thickening at constant volume) in the muscle's elements; positive
-        contraction shortens, negative stretches (the paper's experiment).
+        thickening at constant volume) where the muscle is: at the sample
+        points of its elements that lie in it, with the tissue's own E and
+        nu there (as K has them); positive contraction shortens, negative
+        stretches (the paper's experiment).
         """
         if not np.isfinite(contraction):
             raise HitogataError(f"contraction {contraction!r} of {name!r}: allowed a finite number (strain)")
         mine = self.muscle_elements(name)
-        strain = muscle_eigenstrain(self.volume.fibres[mine], contraction)
-        return eigenstrain_load(self.points, self.elements, self.E, self.nu, strain, elements=mine)
+        inside = self.volume.muscle_samples[mine] == self._muscle_index(name)  # (n, Q)
+        fibres = np.where(inside[..., None], self.volume.fibre_samples[mine], [1.0, 0.0, 0.0])
+        strain = muscle_eigenstrain(fibres.reshape(-1, 3), contraction).reshape(*inside.shape, 3, 3)
+        E, nu, _ = region_materials(self.volume.region_samples, self.materials.table(self.region_names))
+        return eigenstrain_load(self.points, self.elements, E, nu, strain * inside[..., None, None], elements=mine)
+
+    def _muscle_index(self, name: str) -> int:
+        if name not in self.muscle_names:
+            raise HitogataError(f"muscle {name!r} has no region in the elastic body; allowed: "
+                                f"{', '.join(self.muscle_names)}")
+        return self.muscle_names.index(name)
 
     def gravity_load(self, g: tuple[float, float, float] = (0.0, -9.81, 0.0)) -> np.ndarray:
         """Nodal forces (3N,) of the body's weight under acceleration g (m/s^2; default down)."""

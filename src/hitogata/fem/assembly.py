@@ -118,7 +118,8 @@ def stiffness_matrix(points: np.ndarray, tets: np.ndarray, E: float | np.ndarray
     Hughes' B-bar; Nagtegaal, Parks & Rice 1974, Comput Methods Appl Mech Eng
     4:153), with lambda's harmonic mean over the element. P2 tets lock mildly
     as nu -> 0.5 (the trunk's tissue at nu 0.49 is 3 % too stiff at 40 mm);
-    "mean" removes that. For P1 tets, whose dilatation is constant, both agree.
+    "mean" removes that. For P1 tets, whose dilatation is constant, both agree
+    where the material is uniform in the element.
     """
     points = np.asarray(points, dtype=float)
     tets = np.asarray(tets)

@@ -17,6 +17,7 @@ import numpy as np
 
 from hitogata.errors import HitogataError
 from hitogata.fem.elements import (
+    MATERIAL_SAMPLES,
     check_mesh,
     element_order,
     quadrature,
@@ -24,7 +25,7 @@ from hitogata.fem.elements import (
     shape_values,
     tet_geometry,
 )
-from hitogata.fem.materials import check_material, lame, per_element
+from hitogata.fem.materials import check_material, lame, per_element, per_sample
 
 
 def fibre_eigenstrain(directions: np.ndarray, strain: float | np.ndarray, isochoric: bool = False) -> np.ndarray:
@@ -53,31 +54,41 @@ def muscle_eigenstrain(directions: np.ndarray, contraction: float | np.ndarray, 
 
 def eigenstrain_load(points: np.ndarray, tets: np.ndarray, E: float | np.ndarray, nu: float | np.ndarray,
                      strain: np.ndarray, elements: np.ndarray | None = None) -> np.ndarray:
-    """Equivalent nodal forces of eigenstrains (len(elements), 3, 3), constant in each selected tet.
+    """Equivalent nodal forces of eigenstrains in the selected tets.
 
     ``elements`` (indices or a boolean mask, default all) selects the tets
-    that carry ``strain``; E and nu are per element of the whole mesh or
-    global. Per tet: f_a = sigma0 . integral of grad N_a, exact with the
-    centroid rule (gradients are at most linear).
+    that carry ``strain``: (len(elements), 3, 3), constant in each tet, or
+    (len(elements), Q, 3, 3), one per material sample point
+    (`elements.MATERIAL_SAMPLES`; zero where the tissue has none, e.g. a
+    muscle's edge inside a tet). E and nu: global, per element of the whole
+    mesh (T,), or per sample point (T, Q). Per tet: f_a = integral of
+    sigma0 . grad N_a, exact with the centroid rule for a constant sigma0
+    (gradients are at most linear), else on the sample points.
     """
     points = np.asarray(points, dtype=float)
     tets = np.asarray(tets)
     check_mesh(points, tets)
     sel = np.arange(len(tets)) if elements is None else np.arange(len(tets))[np.asarray(elements)]
-    E_all = per_element(len(tets), E, "E")
-    nu_all = per_element(len(tets), nu, "nu")
+    bary, weights = MATERIAL_SAMPLES
+    E_all = per_sample(len(tets), len(weights), E, "E")
+    nu_all = per_sample(len(tets), len(weights), nu, "nu")
     check_material(E_all, nu_all)
     eps = np.asarray(strain, dtype=float)
-    if eps.shape != (len(sel), 3, 3):
-        raise HitogataError(f"eigenstrain has shape {eps.shape}; allowed: ({len(sel)}, 3, 3), one per selected tet")
-    eps = 0.5 * (eps + np.swapaxes(eps, 1, 2))
-    lam, mu = lame(E_all[sel], nu_all[sel])
-    sigma = lam[:, None, None] * np.trace(eps, axis1=1, axis2=2)[:, None, None] * np.eye(3) + 2 * mu[:, None, None] * eps
+    if eps.shape not in ((len(sel), 3, 3), (len(sel), len(weights), 3, 3)):
+        raise HitogataError(f"eigenstrain has shape {eps.shape}; allowed: ({len(sel)}, 3, 3), one per selected tet, "
+                            f"or ({len(sel)}, {len(weights)}, 3, 3), one per sample point")
+    per_point = eps.ndim == 4 or E_all.shape[1] > 1 or nu_all.shape[1] > 1
+    if not per_point:
+        bary, weights = quadrature(0)
+    eps = np.broadcast_to(eps if eps.ndim == 4 else eps[:, None], (len(sel), len(weights), 3, 3))
+    eps = 0.5 * (eps + np.swapaxes(eps, 2, 3))
+    lam, mu = lame(*np.broadcast_arrays(E_all[sel], nu_all[sel]))
+    trace = np.trace(eps, axis1=2, axis2=3)
+    sigma = (lam * trace)[..., None, None] * np.eye(3) + 2 * mu[..., None, None] * eps  # (n, Q, 3, 3)
     order = element_order(tets)
-    bary, w = quadrature(order - 1)
     grads_l, vol = tet_geometry(points, tets[sel])
-    integral = np.einsum("q,tqai->tai", w, shape_gradients(order, bary, grads_l)) * vol[:, None, None]
-    forces = np.einsum("tij,taj->tai", sigma, integral)
+    gradients = shape_gradients(order, bary, grads_l)  # (n, Q, nodes, 3)
+    forces = np.einsum("q,tqij,tqaj->tai", weights, sigma, gradients) * vol[:, None, None]
     return _scatter(tets[sel], forces, len(points))
 
 

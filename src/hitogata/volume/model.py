@@ -82,9 +82,11 @@ class VolumeModel:
     region: np.ndarray  # (T,) index into region_names, at the centroid
     region_samples: np.ndarray  # (T, Q) index into region_names at the material sample points
     region_names: tuple[str, ...]
-    muscle: np.ndarray  # (T,) index into muscle_names, -1 for none
+    muscle: np.ndarray  # (T,) index into muscle_names, -1 for none, at the centroid
+    muscle_samples: np.ndarray  # (T, Q) index into muscle_names at the material sample points, -1 for none
     muscle_names: tuple[str, ...]
     fibres: np.ndarray  # (T, 3) unit fibre direction in named-muscle tets, zero elsewhere
+    fibre_samples: np.ndarray  # (T, Q, 3) unit fibre direction at the sample points of named muscles, else zero
     bone_nodes: np.ndarray  # (B,) nodes attached to the skeleton
     bone_node_bone: np.ndarray  # (B,) index into bone_names of the bone each is attached to
     bone_names: tuple[str, ...]  # rig bone names
@@ -182,10 +184,10 @@ def build_volume_model(vertices: np.ndarray, faces: np.ndarray, rig: RigLike, we
     labelled = len(radii) if bones == "labelled" else 0  # how many capsules label tets as bone
     region = tissue_regions(centroids, depth, marks, in_trunk, heads[:labelled], tails[:labelled], radii[:labelled],
                             skin_t, A.WALL)
-    region_samples = _region_samples(nodes, tets, region, skin_index.distance(nodes), marks, arm_side, arm_offset,
-                                     skin_t)
     eligible = in_trunk & (level >= A.LEVEL_GLUTEAL_FOLD)
     muscle, fibres = muscle_regions(centroids, region, normal, marks, eligible)
+    region_samples, muscle_samples, fibre_samples = _tissue_samples(
+        nodes, tets, region, skin_index.distance(nodes), normal, marks, arm_side, arm_offset, skin_t)
     if bones == "conforming":
         bone_nodes, bone_of = attach_surface_nodes(nodes, mesh.node_part, bone_part, heads, tails, radii)
     else:
@@ -212,8 +214,8 @@ def build_volume_model(vertices: np.ndarray, faces: np.ndarray, rig: RigLike, we
     quality = _quality(nodes, tets, region_samples, bfaces[on_skin], skin_index, skin_points, reference, held, bfaces)
     return VolumeModel(
         nodes=nodes, tets=tets, region=region, region_samples=region_samples, region_names=A.REGIONS,
-        muscle=muscle, muscle_names=A.MUSCLES,
-        fibres=fibres, bone_nodes=bone_nodes, bone_node_bone=bone_of, bone_names=tuple(bone_names),
+        muscle=muscle, muscle_samples=muscle_samples, muscle_names=A.MUSCLES,
+        fibres=fibres, fibre_samples=fibre_samples, bone_nodes=bone_nodes, bone_node_bone=bone_of, bone_names=tuple(bone_names),
         boundary_faces=bfaces, boundary_tets=btets, boundary_on_skin=on_skin,
         boundary_on_bone=on_bone,
         interfaces=MappingProxyType(interfaces), element_size=h, skin_thickness=skin_t, wall_thickness=A.WALL,
@@ -221,17 +223,20 @@ def build_volume_model(vertices: np.ndarray, faces: np.ndarray, rig: RigLike, we
     )
 
 
-def _region_samples(nodes: np.ndarray, tets: np.ndarray, region: np.ndarray, node_depth: np.ndarray,
-                    marks: Landmarks, arm_side, arm_offset: np.ndarray, skin_t: float) -> np.ndarray:
-    """Tissue region (T, Q) at each tet's material sample points (`fem.elements.MATERIAL_SAMPLES`).
+def _tissue_samples(nodes: np.ndarray, tets: np.ndarray, region: np.ndarray, node_depth: np.ndarray,
+                    normal: np.ndarray, marks: Landmarks, arm_side, arm_offset: np.ndarray,
+                    skin_t: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Tissue region (T, Q), named muscle (T, Q) and fibre (T, Q, 3) at each tet's material sample
+    points (`fem.elements.MATERIAL_SAMPLES`).
 
     The layers cross the elements (a 40 mm tet straddles the ~20 mm skin and
-    muscle layers), so the material is sampled inside each tet rather than
+    muscle layers), so the tissue is sampled inside each tet rather than
     taken from its centroid; depth below the skin is interpolated from the
-    corners. Labelled bone tets stay bone throughout. `arm_side` is the
-    trunk/arm separator and `arm_offset` its value at the centroids: it
-    changes by at most twice the distance moved (a difference of two
-    distances), so only tets within that of the separator are sampled anew.
+    corners, the direction to the skin (for the fibres) is the tet's.
+    Labelled bone tets stay bone throughout. `arm_side` is the trunk/arm
+    separator and `arm_offset` its value at the centroids: it changes by at
+    most twice the distance moved (a difference of two distances), so only
+    tets within that of the separator are sampled anew.
     """
     points = sample_points(nodes, tets)
     shape = points.shape[:2]
@@ -245,7 +250,9 @@ def _region_samples(nodes: np.ndarray, tets: np.ndarray, region: np.ndarray, nod
     none = np.zeros((0, 3))
     samples = tissue_regions(points, depth, marks, in_trunk, none, none, np.zeros(0), skin_t, A.WALL).reshape(shape)
     samples[region == A.BONE] = A.BONE
-    return samples
+    eligible = in_trunk & (marks.level(points[:, 1]) >= A.LEVEL_GLUTEAL_FOLD)
+    muscle, fibres = muscle_regions(points, samples.ravel(), np.repeat(normal, shape[1], axis=0), marks, eligible)
+    return samples, muscle.reshape(shape), fibres.reshape(*shape, 3)
 
 
 def _quality(nodes, tets, region_samples, skin_faces, skin_index, skin_points, reference, held,
