@@ -14,6 +14,7 @@ pytest.importorskip("viser", reason="the viewer needs viser (pip install viser)"
 from hitogata.errors import HitogataError  # noqa: E402
 from hitogata.viewer import serve  # noqa: E402
 from hitogata.viewer.player import RESULT_FILE  # noqa: E402
+from waiting import wait_for  # noqa: E402
 
 
 @pytest.fixture(scope="module")
@@ -28,15 +29,6 @@ def rest_pose(app):
     app.back_to_muscles()
     app.reset_pose()
     yield
-
-
-def wait_for(predicate, timeout=30.0):
-    end = time.monotonic() + timeout
-    while time.monotonic() < end:
-        if predicate():
-            return True
-        time.sleep(0.05)
-    return False
 
 
 def test_serves_on_loopback_by_default(app):

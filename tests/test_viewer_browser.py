@@ -25,6 +25,7 @@ from PIL import Image  # noqa: E402
 
 from hitogata.viewer import serve  # noqa: E402
 from hitogata.viewer.export import snapshot_html  # noqa: E402
+from waiting import wait_for  # noqa: E402
 
 CHROMIUM_ARGS = [
     "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
@@ -61,15 +62,6 @@ def page(app, browser):
     page.locator("canvas").first.wait_for()
     page.get_by_text("stature", exact=True).wait_for()
     return page
-
-
-def wait_for(predicate, timeout=20.0):
-    end = time.monotonic() + timeout
-    while time.monotonic() < end:
-        if predicate():
-            return True
-        time.sleep(0.05)
-    return False
 
 
 def canvas_pixels(page) -> np.ndarray:
