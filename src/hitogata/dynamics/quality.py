@@ -80,6 +80,7 @@ def compare_pose(dynamics: BodyDynamics, angles: np.ndarray,
         g, R = rig.pose(pose.rotations, pose.translations)
         out[method] = measure(dynamics.model, g[0], method)
         if rig is dynamics.rig:
+            dynamics.statics.quaternions[:] = (1.0, 0.0, 0.0, 0.0)  # from rest, whatever was solved before
             delta, _ = dynamics.quasi_static(g[0], R[0], None, None, iterations)
             out["elastic"] = measure(dynamics.model, g[0] + rotate(R[0], delta), "elastic")
     return out

@@ -63,8 +63,9 @@ WALL = 0.020
 # cervical ~17 mm. Pelvis: the ilium and pubis reduced to bars from the sacrum
 # to each acetabulum, 40 mm thick. Shaft diameters: clavicle ~13 mm, humerus
 # ~21 mm, radius + ulna together ~20 mm, femur ~28 mm, tibia + fibula ~26 mm
-# (e.g. Ruff 2002, Am J Phys Anthropol; standard anatomy texts). The head is
-# taken as rigid: skull and brain move as one at apparel time scales.
+# (e.g. Ruff 2002, Am J Phys Anthropol; standard anatomy texts); metacarpal
+# shafts ~10 mm, phalanges of fingers and toes ~8 mm. The head is taken as
+# rigid: skull and brain move as one at apparel time scales.
 BONE_RADII = {
     "spine": 0.018,
     "neck": 0.010,
@@ -77,6 +78,9 @@ BONE_RADII = {
     "upperleg": 0.014,
     "lowerleg": 0.013,
     "foot": 0.012,
+    "metacarpal": 0.005,
+    "finger": 0.004,
+    "toe": 0.004,
     "head": 0.060,
 }
 
@@ -92,7 +96,17 @@ LIMB_BONES = tuple(
         "upperleg01", "upperleg02", "lowerleg01", "lowerleg02", "foot",
     )
 )
-BODY_BONES = TRUNK_BONES + ("neck02", "neck03", "head") + LIMB_BONES
+# The hands' and feet's small bones, which the skeleton moves too. Without them the whole
+# body's lowest modes were the fingers and toes flapping on the wrist and foot capsules
+# (male, 30 mm: 0.8-2.1 Hz); with them the lowest is the abdomen's (2.0 Hz).
+HAND_AND_TOE_BONES = tuple(
+    f"{name}.{side}" for side in ("L", "R") for name in (
+        *(f"metacarpal{i}" for i in range(1, 5)),
+        *(f"finger{i}-{j}" for i in range(1, 6) for j in range(1, 4)),
+        "toe1-1", "toe1-2", *(f"toe{i}-{j}" for i in range(2, 6) for j in range(1, 4)),
+    )
+)
+BODY_BONES = TRUNK_BONES + ("neck02", "neck03", "head") + LIMB_BONES + HAND_AND_TOE_BONES
 
 # Bones whose skin belongs to an arm (for cutting the arms off the trunk).
 ARM_PREFIXES = ("upperarm", "lowerarm", "wrist", "finger", "metacarpal")
