@@ -12,10 +12,12 @@ nodes' moves, is a linear programme (after Freitag & Plassmann 2000,
 "Local optimization-based simplicial mesh untangling and improvement",
 IJNME 49:109, there node by node; here all the nodes of a crease at once,
 since two flat elements sharing a node can each need it on the other's side):
-maximise Σ_t s_t subject to v_t + Σ_k g_tk·d_k ≥ s_t V_t, s_t ≤ floor, a
+maximise Σ_t s_t + W Σ_t min(s_t, 0) subject to v_t + Σ_k g_tk·d_k ≥ s_t V_t,
+s_t ≤ floor (inverted volume weighs W times more), a
 small price on Σ|d| so that nodes move no further than they must, and a
 trust region |d| ≤ r. A step that does not lower the true deficit
-Σ max(0, floor − v_t / V_t) halves r (sequential linear programming).
+Σ max(0, floor − v_t / V_t) + W Σ max(0, −v_t / V_t) halves r (sequential
+linear programming).
 """
 
 from __future__ import annotations
@@ -29,6 +31,11 @@ from hitogata.volume.quality import signed_volumes
 
 STEPS = 20  # at most so many linear programmes (accepted or not)
 REACH = 0.25  # first trust radius, as a share of the mean edge length round the moved nodes
+# Volume below zero costs this much more than volume below the floor: with equal weights, lifting
+# an inverted element by flattening its neighbours as much was no gain, and the programme stalled
+# with it inverted (whole-body hip flexion 120° after a knee pose: one element at -0.2 % of rest).
+INVERSION_WEIGHT = 10.0
+ROUND_OFF = 1e-9  # volume ratios this close to the floor count as on it
 MOVE_PRICE = 0.05  # per metre of movement (L1), against volume ratios of order FLOOR
 
 
@@ -44,14 +51,16 @@ class Untangler:
         self._element_size = np.linalg.norm(edges, axis=2).mean(axis=1)
 
     def below_floor(self, x: np.ndarray) -> np.ndarray:
-        """Elements with a movable corner whose corner volume at x is below the floor."""
-        low = signed_volumes(x, self.corners) < self.floor * self.rest_volumes
+        """Elements with a movable corner whose corner volume at x is below the floor (beyond round-off:
+        the linear programmes leave elements exactly at it)."""
+        low = signed_volumes(x, self.corners) < (self.floor - ROUND_OFF) * self.rest_volumes
         return np.flatnonzero(low & self.movable[self.corners].any(axis=1))
 
     def deficit(self, x: np.ndarray, elements: np.ndarray) -> float:
-        """Σ max(0, floor − v/V) over the listed elements."""
+        """Σ max(0, floor − v/V) + W Σ max(0, −v/V) over the listed elements: an inverted element
+        weighs more than a flat one, so lifting it is worth flattening a neighbour a little."""
         ratio = signed_volumes(x, self.corners[elements]) / self.rest_volumes[elements]
-        return float(np.maximum(self.floor - ratio, 0.0).sum())
+        return float(np.maximum(self.floor - ratio, 0.0).sum() + INVERSION_WEIGHT * np.maximum(-ratio, 0.0).sum())
 
     def __call__(self, x: np.ndarray) -> np.ndarray:
         """Node positions (N, 3) with the elements below the floor lifted as far as the free nodes allow."""
@@ -91,17 +100,19 @@ class Untangler:
                 rows.append(moved)
                 cols.append(3 * column[corners[moved, a]] + axis)
                 values.append(-grad[moved, axis])
-        # variables: d (3n), |d| (3n), s (m); minimise -Σ s + price Σ|d|
+        # variables: d (3n), |d| (3n), s (m), t = min(s, 0) (m); minimise -Σ s - W Σ t + price Σ|d|
         volume = sp.csr_matrix((np.concatenate(values), (np.concatenate(rows), np.concatenate(cols))), shape=(m, 3 * n))
-        eye = sp.identity(3 * n, format="csr")
+        eye, zero_m = sp.identity(3 * n, format="csr"), sp.csr_matrix((m, m))
         a_ub = sp.vstack([
-            sp.hstack([volume, sp.csr_matrix((m, 3 * n)), sp.diags(self.rest_volumes[elements])]),
-            sp.hstack([eye, -eye, sp.csr_matrix((3 * n, m))]),
-            sp.hstack([-eye, -eye, sp.csr_matrix((3 * n, m))]),
+            sp.hstack([volume, sp.csr_matrix((m, 3 * n)), sp.diags(self.rest_volumes[elements]), zero_m]),
+            sp.hstack([eye, -eye, sp.csr_matrix((3 * n, 2 * m))]),
+            sp.hstack([-eye, -eye, sp.csr_matrix((3 * n, 2 * m))]),
+            sp.hstack([sp.csr_matrix((m, 6 * n)), -sp.identity(m), sp.identity(m)]),
         ], format="csr")
-        b_ub = np.r_[signed_volumes(x, corners), np.zeros(6 * n)]
-        cost = np.r_[np.zeros(3 * n), np.full(3 * n, MOVE_PRICE), -np.ones(m)]
-        bounds = [(-reach, reach)] * (3 * n) + [(0.0, reach)] * (3 * n) + [(None, self.floor)] * m
+        b_ub = np.r_[signed_volumes(x, corners), np.zeros(6 * n + m)]
+        cost = np.r_[np.zeros(3 * n), np.full(3 * n, MOVE_PRICE), -np.ones(m), np.full(m, -INVERSION_WEIGHT)]
+        bounds = ([(-reach, reach)] * (3 * n) + [(0.0, reach)] * (3 * n) + [(None, self.floor)] * m
+                  + [(None, 0.0)] * m)
         result = linprog(cost, A_ub=a_ub, b_ub=b_ub, bounds=bounds, method="highs")
         if result.status != 0:
             return np.zeros((n, 3))
