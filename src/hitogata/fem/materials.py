@@ -67,7 +67,7 @@ def per_sample(n_elements: int, n_samples: int, value: float | np.ndarray, name:
     """A material property as (T, 1), uniform in each element (from a scalar or (T,)), or as
     (T, Q), one value per material sample point of each element (`elements.MATERIAL_SAMPLES`)."""
     v = np.asarray(value, dtype=float)
-    if v.ndim == 2 and v.shape == (n_elements, n_samples):
+    if v.shape == (n_elements, n_samples):
         return v
     if v.ndim == 2:
         raise HitogataError(f"{name} has shape {v.shape}; allowed: a scalar, one value per element "

@@ -103,8 +103,7 @@ class VolumeModel:
     @property
     def region_fractions(self) -> np.ndarray:
         """(T, R) volume fraction of each region in each tet (from the material sample points)."""
-        weights = MATERIAL_SAMPLES[1]
-        return np.stack([(self.region_samples == k) @ weights for k in range(len(self.region_names))], axis=1)
+        return _fractions(self.region_samples, len(self.region_names))
 
     @property
     def cut_faces(self) -> np.ndarray:
@@ -215,7 +214,8 @@ def build_volume_model(vertices: np.ndarray, faces: np.ndarray, rig: RigLike, we
     return VolumeModel(
         nodes=nodes, tets=tets, region=region, region_samples=region_samples, region_names=A.REGIONS,
         muscle=muscle, muscle_samples=muscle_samples, muscle_names=A.MUSCLES,
-        fibres=fibres, fibre_samples=fibre_samples, bone_nodes=bone_nodes, bone_node_bone=bone_of, bone_names=tuple(bone_names),
+        fibres=fibres, fibre_samples=fibre_samples, bone_nodes=bone_nodes, bone_node_bone=bone_of,
+        bone_names=tuple(bone_names),
         boundary_faces=bfaces, boundary_tets=btets, boundary_on_skin=on_skin,
         boundary_on_bone=on_bone,
         interfaces=MappingProxyType(interfaces), element_size=h, skin_thickness=skin_t, wall_thickness=A.WALL,
@@ -241,18 +241,26 @@ def _tissue_samples(nodes: np.ndarray, tets: np.ndarray, region: np.ndarray, nod
     points = sample_points(nodes, tets)
     shape = points.shape[:2]
     depth = (node_depth[tets] @ MATERIAL_SAMPLES[0].T).ravel()
-    reach = np.linalg.norm(nodes[tets] - nodes[tets].mean(axis=1, keepdims=True), axis=2).max(axis=1)
+    corners = nodes[tets]
+    reach = np.linalg.norm(corners - corners.mean(axis=1, keepdims=True), axis=2).max(axis=1)
     offset = np.repeat(arm_offset[:, None], shape[1], axis=1)
     near = np.abs(arm_offset) <= 2.0 * reach
     offset[near] = arm_side(points[near].reshape(-1, 3)).reshape(-1, shape[1])
     points = points.reshape(-1, 3)
-    in_trunk = (offset.ravel() < 0) & (marks.level(points[:, 1]) <= 1.0)
+    level = marks.level(points[:, 1])
+    in_trunk = (offset.ravel() < 0) & (level <= 1.0)
     none = np.zeros((0, 3))
     samples = tissue_regions(points, depth, marks, in_trunk, none, none, np.zeros(0), skin_t, A.WALL).reshape(shape)
     samples[region == A.BONE] = A.BONE
-    eligible = in_trunk & (marks.level(points[:, 1]) >= A.LEVEL_GLUTEAL_FOLD)
+    eligible = in_trunk & (level >= A.LEVEL_GLUTEAL_FOLD)
     muscle, fibres = muscle_regions(points, samples.ravel(), np.repeat(normal, shape[1], axis=0), marks, eligible)
     return samples, muscle.reshape(shape), fibres.reshape(*shape, 3)
+
+
+def _fractions(samples: np.ndarray, n_regions: int) -> np.ndarray:
+    """(T, R) share of each region in each tet, from its labels (T, Q) at the material sample points."""
+    weights = MATERIAL_SAMPLES[1]
+    return np.stack([(samples == k) @ weights for k in range(n_regions)], axis=1)
 
 
 def _quality(nodes, tets, region_samples, skin_faces, skin_index, skin_points, reference, held,
@@ -263,8 +271,8 @@ def _quality(nodes, tets, region_samples, skin_faces, skin_index, skin_points, r
     # the cut faces that end the skin faces there.
     forward, backward = surface_distances(nodes, skin_faces, skin_index, skin_points, all_faces)
     total = float(volumes.sum()) + held
-    weights = MATERIAL_SAMPLES[1]
-    region_volumes = {name: float(volumes @ ((region_samples == k) @ weights)) for k, name in enumerate(A.REGIONS)}
+    fractions = _fractions(region_samples, len(A.REGIONS))
+    region_volumes = {name: float(volumes @ fractions[:, k]) for k, name in enumerate(A.REGIONS)}
     region_volumes["bone"] += held
     return VolumeQuality(
         n_nodes=len(nodes), n_tets=len(tets),
