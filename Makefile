@@ -4,13 +4,19 @@ VENV ?= .venv
 PY := $(VENV)/bin/python
 STAMP := $(VENV)/.installed-stamp
 
-.PHONY: demo test bench install clean system-render system-test
+.PHONY: demo test lint bench install clean system-render system-test
 
 demo: system-render $(STAMP)
 	$(VENV)/bin/hitogata demo --out demo
 
-test: system-test $(STAMP) tools/node_modules/.package-lock.json
-	$(PY) -m pytest -q
+# The linter and the type checker (configured in pyproject.toml) before the tests.
+# Deselect what a machine cannot run: make test PYTEST_ARGS='-m "not browser"'
+test: system-test $(STAMP) tools/node_modules/.package-lock.json lint
+	$(PY) -m pytest -q $(PYTEST_ARGS)
+
+lint: $(STAMP)
+	$(VENV)/bin/ruff check src tests benchmarks
+	$(VENV)/bin/mypy
 
 # Debian packages, installed only when missing (tools/install_system_deps.sh says which and why).
 system-render:

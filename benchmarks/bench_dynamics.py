@@ -59,7 +59,6 @@ def main() -> None:
     print(f"default model: trunk {model.element}, {len(model.elements)} elements, {n} nodes, {k} modes, "
           f"{v} skin vertices; built and precomputed in {precompute:.1f} s")
 
-    sk = dyn.poser.skeleton
     angles = dyn.poser.angles(contractions={"rectus_abdominis_l": -0.08}, on_limit="clamp")
     pose = dyn.poser.kinematics.pose(angles)
     g, R = dyn.rig.pose(pose.rotations, pose.translations)

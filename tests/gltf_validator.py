@@ -3,6 +3,7 @@
 import json
 import shutil
 import subprocess
+from collections.abc import Callable
 from pathlib import Path
 
 import pytest
@@ -11,10 +12,15 @@ REPO = Path(__file__).resolve().parents[1]
 VALIDATOR_SCRIPT = REPO / "tools" / "validate_gltf.mjs"
 VALIDATOR_PACKAGE = REPO / "tools" / "node_modules" / "gltf-validator"
 
-needs_validator = pytest.mark.skipif(
+_skip_without_validator = pytest.mark.skipif(
     shutil.which("node") is None or not VALIDATOR_PACKAGE.is_dir(),
     reason="the glTF validator needs node and `npm ci --prefix tools` (make test runs it)",
 )
+
+
+def needs_validator(test: Callable) -> Callable:
+    """Mark a test as needing node and the validator (`-m "not node"` deselects it); skip it without them."""
+    return pytest.mark.node(_skip_without_validator(test))
 
 
 def validate_gltf(path: Path) -> tuple[dict, int]:

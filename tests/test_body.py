@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from hitogata.assets import load_assets
-from hitogata.body import STATURE_RANGE, Body, default_body
+from hitogata.body import STATURE_RANGE, Body
 from hitogata.errors import HitogataError
 from hitogata.geometry.mesh_checks import (
     connected_component_count,

@@ -13,6 +13,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field, replace
 from functools import cache
+from typing import Any
 
 import numpy as np
 
@@ -61,7 +62,7 @@ class ShapeParameters:
         if race.shape != (3,) or not np.all(np.isfinite(race)) or race.min() < 0 or race.sum() <= 0:
             raise HitogataError(f"race {self.race!r}: allowed three non-negative weights, not all zero")
 
-    def with_(self, **changes: float) -> "ShapeParameters":
+    def with_(self, **changes: Any) -> "ShapeParameters":
         """A copy with some parameters changed."""
         return replace(self, **changes)
 

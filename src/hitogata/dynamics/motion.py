@@ -31,6 +31,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 from scipy.spatial import cKDTree
@@ -43,6 +44,9 @@ from hitogata.fem import advance, lumped_masses, modal_step
 from hitogata.fem.elements import P2_EDGES
 from hitogata.pose import Poser, poser_for
 from hitogata.skinning import skin_vertices
+
+if TYPE_CHECKING:
+    from hitogata.elastic import ElasticModel
 
 CARTILAGE = 10.0
 MIN_FREQUENCY = 0.05  # Hz: modes below are rigid-body motions of loose mesh pieces, not vibrations
@@ -57,7 +61,7 @@ class BodyDynamics:
     """A body's skeleton and elastic model with everything precomputed for simulation."""
 
     poser: Poser
-    model: object  # hitogata.elastic.ElasticModel
+    model: ElasticModel
     rig: NodeRig
     statics: QuasiStatic
     unit_loads: dict[str, np.ndarray]  # FE muscle region → (N, 3) nodal forces per unit contraction

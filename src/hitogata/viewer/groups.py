@@ -9,11 +9,11 @@ from __future__ import annotations
 
 from hitogata.muscles.geometry import MuscleSet
 
-MIDLINE = (
+MIDLINE: tuple[tuple[str, tuple[str, ...]], ...] = (
     ("Trunk", ("lumbar", "thoracic", "pelvis")),
     ("Neck and jaw", ("cervical", "head", "jaw")),
 )
-LIMB = (
+LIMB: tuple[tuple[str, tuple[str, ...]], ...] = (
     ("shoulder", ("clavicle", "scapula", "upper_arm")),
     ("elbow and forearm", ("forearm",)),
     ("wrist", ("hand",)),

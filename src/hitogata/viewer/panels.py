@@ -10,6 +10,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass
+from functools import partial
 from typing import TYPE_CHECKING, Any, Protocol
 
 from hitogata.body import STATURE_RANGE
@@ -59,6 +60,14 @@ class Panels:
     time: "viser.GuiSliderHandle"
 
 
+def _move_muscle(actions: Actions, name: str, event: Any) -> None:
+    actions.move_muscle(name, event.target.value)
+
+
+def _set_layer(actions: Actions, layer: str, event: Any) -> None:
+    actions.set_layer(layer, event.target.value)
+
+
 def by_person(handler: Callable[[Any], None]) -> Callable[[Any], None]:
     """Wrap an on_update handler so that it runs only for a person's input, not server echoes."""
     def run(event: Any) -> None:
@@ -102,12 +111,12 @@ def _muscle_tab(gui: "viser.GuiApi", state: PoseState, actions: Actions) -> dict
                     slider_label(name, title), min=float(ranges.low[k]), max=float(ranges.high[k]),
                     step=SLIDER_STEP, initial_value=0.0, hint=f"{name}: moves {dofs}{'…' if len(ms.dofs(k)) > 2 else ''}",
                 )
-                slider.on_update(by_person(lambda event, name=name: actions.move_muscle(name, event.target.value)))
+                slider.on_update(by_person(partial(_move_muscle, actions, name)))
                 sliders[name] = slider
     return sliders
 
 
-def _body_tab(gui: "viser.GuiApi", inputs: dict[str, Any], actions: Actions) -> tuple:
+def _body_tab(gui: "viser.GuiApi", inputs: dict[str, Any], actions: Actions) -> tuple[Any, Any, Any, Any, Any, Any]:
     lo, hi = STATURE_RANGE
     sex = gui.add_dropdown("sex", SEXES, initial_value=inputs["sex"])
     age = gui.add_number("age (years)", float(inputs["age"]), step=1.0)
@@ -130,14 +139,14 @@ def _layers_tab(gui: "viser.GuiApi", actions: Actions) -> "viser.GuiCheckboxHand
         "strain": gui.add_checkbox("skin strain colours", False),
     }
     for layer, check in checks.items():
-        check.on_update(by_person(lambda event, layer=layer: actions.set_layer(layer, event.target.value)))
+        check.on_update(by_person(partial(_set_layer, actions, layer)))
     opacity = gui.add_slider("skin opacity", min=0.1, max=1.0, step=0.05, initial_value=1.0)
     opacity.on_update(by_person(lambda event: actions.set_skin_opacity(event.target.value)))
     gui.add_markdown(legend())
     return checks["tissue"]
 
 
-def _player_tab(gui: "viser.GuiApi", actions: Actions) -> tuple:
+def _player_tab(gui: "viser.GuiApi", actions: Actions) -> tuple[Any, Any, Any]:
     gui.add_markdown("A sequence file (.npz: times, vertices), pose keyframes (.toml) or a results folder.")
     path = gui.add_text("path", "")
     load = gui.add_button("Load")

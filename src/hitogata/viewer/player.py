@@ -175,7 +175,7 @@ def load_sequence(path: str | Path, poser: Poser) -> Sequence:
     """Load a sequence for the body of `poser` from a file or a results folder, checked against the body."""
     path = Path(str(path).strip()).expanduser()
     if path.is_dir():
-        loader = load_results_folder
+        loader: Loader = load_results_folder
     elif not path.exists():
         raise HitogataError(f"{path}: no such file or folder")
     elif path.suffix.lower() in LOADERS:
