@@ -31,7 +31,7 @@ from hitogata.dynamics import BodyDynamics
 from hitogata.dynamics.demo import DEMO_RATE, EXPERIMENTS, run_demo
 from hitogata.dynamics.scenario import load_scenario, shipped_scenarios
 from hitogata.elastic import build_elastic_model
-from hitogata.fem import StaticSolver
+from hitogata.fem.verify import StaticSolver
 
 
 def best(fn, repeat: int) -> float:

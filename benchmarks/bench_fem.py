@@ -29,7 +29,7 @@ import numpy as np
 import scipy
 
 from hitogata.fem.assembly import mass_matrix, sparsity, stiffness_matrix
-from hitogata.fem.box_mesh import box_mesh, cantilever_system
+from hitogata.fem.verify.box_mesh import box_mesh, cantilever_system
 from hitogata.fem.elements import lift_node_set, p2_mesh
 from hitogata.fem.factor import available_methods
 from hitogata.fem.materials import Material, region_materials

@@ -6,7 +6,8 @@ import pytest
 from hitogata.elastic import build_elastic_model
 from hitogata.elastic.model import assemble_system
 from hitogata.errors import HitogataError
-from hitogata.fem import check_mesh, solve_modes, solve_static, tet_geometry
+from hitogata.fem import check_mesh, solve_modes, tet_geometry
+from hitogata.fem.verify import solve_static
 from hitogata.volume import build_volume_model
 
 SIZE = 50.0  # mm: coarse, so the file runs in seconds; the default model is checked in benchmarks/

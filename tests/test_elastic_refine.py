@@ -3,7 +3,8 @@
 import numpy as np
 
 from hitogata.elastic.refine import refine
-from hitogata.fem import box_mesh, check_mesh, lift_node_set, p2_mesh, tet_geometry
+from hitogata.fem import check_mesh, lift_node_set, p2_mesh, tet_geometry
+from hitogata.fem.verify import box_mesh
 from hitogata.volume.quality import dihedral_angles
 
 

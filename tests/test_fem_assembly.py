@@ -6,7 +6,7 @@ import scipy.linalg as la
 
 from hitogata.errors import HitogataError
 from hitogata.fem.assembly import lumped_masses, mass_matrix, sparsity, stiffness_matrix
-from hitogata.fem.box_mesh import box_mesh
+from hitogata.fem.verify.box_mesh import box_mesh
 from hitogata.fem.elements import MATERIAL_SAMPLES, lift_node_set, p2_mesh, sample_points
 from hitogata.fem.materials import Material, region_materials
 from hitogata.fem.modes import solve_modes

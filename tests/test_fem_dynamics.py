@@ -5,9 +5,9 @@ import pytest
 
 from hitogata.errors import HitogataError
 from hitogata.fem.assembly import mass_matrix, stiffness_matrix
-from hitogata.fem.box_mesh import box_mesh
+from hitogata.fem.verify.box_mesh import box_mesh
 from hitogata.fem.damping import damping_matrix, damping_ratios, modal_damping, rayleigh_coefficients
-from hitogata.fem.direct import exact_response, newmark
+from hitogata.fem.verify.direct import exact_response, newmark
 from hitogata.fem.elements import lift_node_set, p2_mesh
 from hitogata.fem.loads import nodal_load
 from hitogata.fem.modal_dynamics import (

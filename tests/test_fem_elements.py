@@ -5,7 +5,7 @@ from math import factorial
 import numpy as np
 import pytest
 
-from hitogata.fem.box_mesh import box_mesh
+from hitogata.fem.verify.box_mesh import box_mesh
 from hitogata.fem.elements import (
     P2_EDGES,
     boundary_faces,

@@ -5,14 +5,14 @@ import pytest
 
 from hitogata.errors import HitogataError
 from hitogata.fem.assembly import mass_matrix, stiffness_matrix
-from hitogata.fem.box_mesh import box_mesh
+from hitogata.fem.verify.box_mesh import box_mesh
 from hitogata.fem.elements import p2_mesh
 from hitogata.fem.factor import factorize
 from hitogata.fem.loads import fibre_eigenstrain, traction_load
 from hitogata.fem.materials import Material, region_materials
 from hitogata.fem.modal_dynamics import integrate_modes
 from hitogata.fem.modes import solve_modes
-from hitogata.fem.static import solve_static
+from hitogata.fem.verify.static import solve_static
 
 POINTS, TETS = box_mesh((1.0, 0.1, 0.1), (2, 1, 1))
 

@@ -5,7 +5,7 @@ import pytest
 
 from hitogata.errors import HitogataError
 from hitogata.fem.assembly import stiffness_matrix
-from hitogata.fem.box_mesh import box_mesh
+from hitogata.fem.verify.box_mesh import box_mesh
 from hitogata.fem.elements import MATERIAL_SAMPLES, boundary_faces, lift_node_set, p2_mesh, sample_points
 from hitogata.fem.loads import (
     eigenstrain_load,
@@ -15,7 +15,7 @@ from hitogata.fem.loads import (
     nodal_load,
     traction_load,
 )
-from hitogata.fem.static import StaticSolver, solve_static
+from hitogata.fem.verify.static import StaticSolver, solve_static
 
 L, W = 1.0, 0.1
 E, NU, RHO = 1e6, 0.3, 1000.0

@@ -3,8 +3,8 @@ and P2 on the mean dilatation (the elastic body's default)."""
 
 import numpy as np
 
-from hitogata.fem.box_mesh import box_mesh
-from hitogata.fem.locking import poisson_sweep
+from hitogata.fem.verify.box_mesh import box_mesh
+from hitogata.fem.verify.locking import poisson_sweep
 
 
 def test_linear_tets_lock_quadratic_tets_a_little_mean_dilatation_not():

@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from hitogata.fem.box_mesh import cantilever_system
+from hitogata.fem.verify.box_mesh import cantilever_system
 from hitogata.fem.factor import available_methods
 from hitogata.fem.modes import frequencies_hz, solve_modes
 

@@ -3,7 +3,7 @@
 import numpy as np
 
 from hitogata.dynamics.untangle import Untangler
-from hitogata.fem.box_mesh import box_mesh
+from hitogata.fem.verify.box_mesh import box_mesh
 from hitogata.volume.quality import signed_volumes
 
 FLOOR = 0.02

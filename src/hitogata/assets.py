@@ -40,10 +40,6 @@ class Assets:
     def n_vertices(self) -> int:
         return len(self.base_vertices)
 
-    @property
-    def n_skin(self) -> int:
-        return self.n_surface + len(self.cap_loops)
-
 
 def skin_points(assets: Assets, vertices: np.ndarray) -> np.ndarray:
     """The skin surface's vertices: the surface ones plus a centre for each pocket cap."""

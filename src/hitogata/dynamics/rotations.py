@@ -53,11 +53,3 @@ def extract_rotations(F: np.ndarray, start: np.ndarray, steps: int = STEPS) -> t
         q = quaternion_product(dq, q)
         q /= np.linalg.norm(q, axis=1, keepdims=True)
     return quaternion_matrices(q), q
-
-
-def nearest_rotations(F: np.ndarray) -> np.ndarray:
-    """Proper rotations (..., 3, 3) nearest F (..., 3, 3) by SVD: the exact answer, for measuring."""
-    u, _, vt = np.linalg.svd(F)
-    flip = np.linalg.det(u @ vt) < 0
-    u[flip, :, 2] *= -1.0
-    return u @ vt

@@ -19,18 +19,19 @@ Typical use::
 
 Why P2: linear tets are too stiff in bending (+9 % on a cantilever's first
 frequency at 3,000 dof, where P2 is within 0.7 %) and lock as nu -> 0.5
-(+99 % at nu = 0.49 vs +2 % for P2); see ``locking.poisson_sweep``.
+(+99 % at nu = 0.49 vs +2 % for P2); see ``verify.poisson_sweep``.
+
+Reference solutions and test meshes that only the tests and benchmarks use
+(Newmark, exact responses, static solves, box meshes) live in ``hitogata.fem.verify``.
 """
 
 from hitogata.fem.assembly import Pattern, lumped_masses, mass_matrix, sparsity, stiffness_matrix
-from hitogata.fem.box_mesh import box_mesh
 from hitogata.fem.damping import (
     damping_matrix,
     damping_ratios,
     modal_damping,
     rayleigh_coefficients,
 )
-from hitogata.fem.direct import exact_response, newmark
 from hitogata.fem.elements import boundary_faces, check_mesh, lift_node_set, p2_mesh, tet_geometry
 from hitogata.fem.factor import available_methods, factorize
 from hitogata.fem.loads import (
@@ -41,7 +42,6 @@ from hitogata.fem.loads import (
     nodal_load,
     traction_load,
 )
-from hitogata.fem.locking import PoissonSweep, poisson_sweep
 from hitogata.fem.materials import Material, region_materials
 from hitogata.fem.modal_dynamics import (
     ModalStep,
@@ -53,14 +53,13 @@ from hitogata.fem.modal_dynamics import (
     superpose,
 )
 from hitogata.fem.modes import Modes, frequencies_hz, solve_modes
-from hitogata.fem.static import StaticSolver, solve_static
 
 __all__ = [
-    "Material", "ModalStep", "Modes", "Pattern", "PoissonSweep", "StaticSolver",
-    "advance", "available_methods", "box_mesh", "boundary_faces", "check_mesh", "damping_matrix",
-    "damping_ratios", "eigenstrain_load", "exact_response", "factorize", "fibre_eigenstrain",
+    "Material", "ModalStep", "Modes", "Pattern",
+    "advance", "available_methods", "boundary_faces", "check_mesh", "damping_matrix",
+    "damping_ratios", "eigenstrain_load", "factorize", "fibre_eigenstrain",
     "frequencies_hz", "gravity_load", "integrate_modes", "lift_node_set", "lumped_masses", "mass_matrix",
-    "modal_damping", "modal_energy", "modal_loads", "modal_step", "muscle_eigenstrain", "newmark",
-    "nodal_load", "p2_mesh", "poisson_sweep", "rayleigh_coefficients", "region_materials", "solve_modes",
-    "solve_static", "sparsity", "stiffness_matrix", "superpose", "tet_geometry", "traction_load",
+    "modal_damping", "modal_energy", "modal_loads", "modal_step", "muscle_eigenstrain",
+    "nodal_load", "p2_mesh", "rayleigh_coefficients", "region_materials", "solve_modes",
+    "sparsity", "stiffness_matrix", "superpose", "tet_geometry", "traction_load",
 ]

@@ -38,11 +38,6 @@ class Modes:
         """Natural frequencies in Hz."""
         return frequencies_hz(self.eigenvalues)
 
-    @property
-    def omegas(self) -> np.ndarray:
-        """Angular frequencies in rad/s."""
-        return np.sqrt(np.maximum(self.eigenvalues, 0.0))
-
 
 def frequencies_hz(eigenvalues: np.ndarray) -> np.ndarray:
     """sqrt(lambda) / 2 pi, with round-off negatives (rigid-body modes) read as 0 Hz."""

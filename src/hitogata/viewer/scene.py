@@ -24,7 +24,6 @@ if TYPE_CHECKING:
 SKIN_COLOUR = (225, 190, 165)
 BONE_LINE_COLOUR = (30, 30, 60)
 BONE_LINE_THICKNESS = 0.006  # m
-LAYERS = ("skin", "skeleton", "tissue", "strain")
 
 
 def coloured_glb(vertices: np.ndarray, faces: np.ndarray, colours: np.ndarray) -> bytes:
