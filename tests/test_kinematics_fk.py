@@ -118,7 +118,7 @@ def test_limits_are_reported_clipped_or_refused(poser):
     assert mask.sum() == 1 and mask[k]
     with pytest.raises(HitogataError, match=r"shank_l.flexion = 152.2° clinical: allowed 0.0…135.0°"):
         forward_kinematics(sk, q, limits="raise")
-    clipped = Kinematics(sk).check_limits(q, "clip")
+    clipped = Kinematics(sk).check_limits(q, "clamp")
     assert clipped[k] == sk.upper[k]
     ignored = forward_kinematics(sk, q)  # the default poses as given
     assert not np.allclose(ignored.rotations, forward_kinematics(sk, clipped, limits="ignore").rotations)

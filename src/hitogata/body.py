@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from functools import cached_property
+from functools import cached_property, partial
 from typing import Callable
 
 import numpy as np
@@ -233,7 +233,7 @@ def _solve_build(
         masses += [lo_mass, hi_mass]
         if min(lo_mass, hi_mass) <= mass <= max(lo_mass, hi_mass):
             start = np.array([a + (b - a) * (mass - lo_mass) / (hi_mass - lo_mass), height])
-            x, h = _newton(lambda x, h, shape=shape: measure(shape, x, h), np.array([stature, mass]), start, (min(a, b), max(a, b)))
+            x, h = _newton(partial(measure, shape), np.array([stature, mass]), start, (min(a, b), max(a, b)))
             return shape.at(x, h)
     lightest, heaviest = min(masses), max(masses)
     raise HitogataError(

@@ -27,13 +27,13 @@ from hitogata.muscles.activation import (
 )
 from hitogata.muscles.geometry import MuscleSet, place_muscles
 from hitogata.muscles.spec import load_muscle_spec
+from hitogata.options import ON_LIMIT, OnLimit, Skinning
 from hitogata.skeleton.kinematics import Kinematics, Pose, limit_violations
 from hitogata.skeleton.placement import Skeleton, place_skeleton
 from hitogata.skeleton.spec import load_skeleton_spec
 from hitogata.skeleton.weights import part_weights
 from hitogata.skinning import Skin, prepare_skin, skin_vertices
 
-ON_LIMIT = ("raise", "clamp")
 
 
 @dataclass(frozen=True, eq=False)
@@ -109,7 +109,7 @@ class Poser:
         lengths: Mapping[str, float] | None = None,
         angles: Mapping[str, float] | np.ndarray | None = None,
         clinical: Mapping[str, float] | None = None,
-        on_limit: str = "raise",
+        on_limit: OnLimit = "raise",
     ) -> np.ndarray:
         """(D,) rest-relative joint angles from muscles and/or angles.
 
@@ -165,8 +165,8 @@ class Poser:
         lengths: Mapping[str, float] | None = None,
         angles: Mapping[str, float] | np.ndarray | None = None,
         clinical: Mapping[str, float] | None = None,
-        skinning: str = "lbs",
-        on_limit: str = "raise",
+        skinning: Skinning = "lbs",
+        on_limit: OnLimit = "raise",
         root: np.ndarray | None = None,
     ) -> PosedBody:
         """Muscles and/or angles → joint angles → kinematics → skinned surface."""
@@ -183,7 +183,7 @@ class Poser:
             muscle_lengths=muscle_lengths(self.muscles, q, on_limit)[0],
         )
 
-    def pose_many(self, angles: np.ndarray, skinning: str = "lbs", root: np.ndarray | None = None) -> np.ndarray:
+    def pose_many(self, angles: np.ndarray, skinning: Skinning = "lbs", root: np.ndarray | None = None) -> np.ndarray:
         """(P, V, 3) skinned surfaces for (P, D) rest-relative joint angles."""
         pose = self.kinematics.pose(np.atleast_2d(angles), root=root)
         return skin_vertices(self.skin, pose.rotations, pose.translations, skinning)
@@ -205,8 +205,8 @@ def pose_body(
     lengths: Mapping[str, float] | None = None,
     angles: Mapping[str, float] | np.ndarray | None = None,
     clinical: Mapping[str, float] | None = None,
-    skinning: str = "lbs",
-    on_limit: str = "raise",
+    skinning: Skinning = "lbs",
+    on_limit: OnLimit = "raise",
     root: np.ndarray | None = None,
 ) -> PosedBody:
     """Pose a body with the shipped skeleton and muscles.

@@ -19,6 +19,7 @@ import numpy as np
 
 from hitogata.assets import Assets
 from hitogata.errors import HitogataError
+from hitogata.options import RACES
 
 # MakeHuman's age axis: value 0.5 is 25 years ("young"), 1.0 is 90 years ("old").
 # The shipped data holds the adult targets only, so bodies younger than 25 take the
@@ -26,7 +27,6 @@ from hitogata.errors import HitogataError
 YOUNG_YEARS = 25.0
 OLD_YEARS = 90.0
 MIN_AGE_YEARS = 18.0
-RACES = ("african", "asian", "caucasian")
 
 
 @dataclass(frozen=True)

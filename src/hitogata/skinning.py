@@ -20,8 +20,8 @@ import numpy as np
 import scipy.sparse as sp
 
 from hitogata.errors import HitogataError
+from hitogata.options import Skinning, SKINNING as METHODS
 
-METHODS = ("lbs", "dqs")
 CHUNK = 64  # poses per block: bounds the (V, 8·chunk) intermediates
 
 
@@ -172,7 +172,7 @@ def dual_quaternion_blend(skin: Skin, rotations: np.ndarray, translations: np.nd
     return out
 
 
-def skin_vertices(skin: Skin, rotations: np.ndarray, translations: np.ndarray, method: str = "lbs") -> np.ndarray:
+def skin_vertices(skin: Skin, rotations: np.ndarray, translations: np.ndarray, method: Skinning = "lbs") -> np.ndarray:
     """(P, V, 3) posed surface by 'lbs' or 'dqs'."""
     if method == "lbs":
         return linear_blend(skin, rotations, translations)

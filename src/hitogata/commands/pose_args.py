@@ -17,6 +17,7 @@ from dataclasses import dataclass, field
 
 from hitogata import units
 from hitogata.errors import HitogataError
+from hitogata.options import OnLimit, Skinning
 from hitogata.pose import ON_LIMIT, Poser
 from hitogata.skinning import METHODS
 
@@ -39,8 +40,8 @@ class PoseRequest:
     contractions: dict[str, float] = field(default_factory=dict)
     lengths: dict[str, float] = field(default_factory=dict)
     clinical: dict[str, float] = field(default_factory=dict)
-    skinning: str = "lbs"
-    on_limit: str = "raise"
+    skinning: Skinning = "lbs"
+    on_limit: OnLimit = "raise"
 
 
 def add_pose_arguments(parser: argparse.ArgumentParser) -> None:

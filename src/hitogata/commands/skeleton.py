@@ -10,10 +10,10 @@ from hitogata.commands.pose_args import add_pose_arguments
 from hitogata.commands.pose_summary import pose_summary
 from hitogata.commands.posing import pose_from_args
 from hitogata.errors import HitogataError
+from hitogata.options import MUSCLE_LINES
 from hitogata.render import VIEWS, ensure_offscreen_gl, render_views, save_png, side_by_side
 from hitogata.render.figures import skeleton_items
 
-MUSCLE_LINES = ("none", "given", "all")
 GAP = 12  # pixels between the views
 
 

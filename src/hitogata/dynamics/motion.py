@@ -42,6 +42,7 @@ from hitogata.dynamics.timeline import Timeline
 from hitogata.errors import HitogataError
 from hitogata.fem import advance, lumped_masses, modal_step
 from hitogata.fem.elements import P2_EDGES
+from hitogata.options import OnLimit, Skinning
 from hitogata.pose import Poser, poser_for
 from hitogata.skinning import skin_vertices
 
@@ -73,7 +74,7 @@ class BodyDynamics:
     skin_fade: np.ndarray  # (V,) share of the elastic displacement a skin vertex takes (0 at a cut)
 
     @classmethod
-    def build(cls, body, model, skinning: str = "dqs", poser: Poser | None = None) -> BodyDynamics:
+    def build(cls, body, model, skinning: Skinning = "dqs", poser: Poser | None = None) -> BodyDynamics:
         """Prepare a body and its elastic model (`hitogata.elastic.build_elastic_model`)."""
         poser = poser or poser_for(body)
         rig = node_rig(poser, model, skinning)
@@ -204,7 +205,7 @@ class Motion:
 
 
 def simulate(dynamics: BodyDynamics, timeline: Timeline, duration: float, rate: float, substeps: int = 1,
-             gravity: bool = True, on_limit: str = "raise", iterations: int = ITERATIONS,
+             gravity: bool = True, on_limit: OnLimit = "raise", iterations: int = ITERATIONS,
              progress: Callable[[int, int], None] | None = None) -> Motion:
     """Run a timeline for `duration` seconds; outputs at `rate` frames per second, `substeps` steps per frame."""
     if not (np.isfinite(duration) and duration > 0 and np.isfinite(rate) and rate > 0):
@@ -274,7 +275,7 @@ def simulate(dynamics: BodyDynamics, timeline: Timeline, duration: float, rate: 
                    g_out, r_out, dqs_out, q[frames], s_all[frames], qd[frames])
 
 
-def _angles(poser: Poser, channels: dict[str, dict[str, np.ndarray]], n: int, on_limit: str) -> np.ndarray:
+def _angles(poser: Poser, channels: dict[str, dict[str, np.ndarray]], n: int, on_limit: OnLimit) -> np.ndarray:
     """(n, D) joint angles from the sampled channels, one pose at a time (eq. 1, 2)."""
     out = np.zeros((n, poser.skeleton.n_dofs))
     for i in range(n):

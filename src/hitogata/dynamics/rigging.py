@@ -30,6 +30,7 @@ from scipy.spatial import cKDTree
 from hitogata.dynamics.rotations import quaternion_matrices
 from hitogata.errors import HitogataError
 from hitogata.fem.elements import P2_EDGES
+from hitogata.options import Skinning
 from hitogata.pose import Poser
 from hitogata.skeleton.weights import part_weights
 from hitogata.skinning import Skin, dual_quaternions, prepare_skin, skin_vertices
@@ -43,7 +44,7 @@ class NodeRig:
     """FE nodes prepared for skinning by the skeleton's parts."""
 
     skin: Skin  # rest = the FE nodes
-    method: str  # "lbs" or "dqs"
+    method: Skinning
 
     @property
     def weights(self) -> sp.csr_matrix:
@@ -148,7 +149,7 @@ def joint_nodes(weights: sp.csr_matrix, elements: np.ndarray, fixed_nodes: np.nd
     return np.unique(mixed[rigid[mixed]])
 
 
-def node_rig(poser: Poser, model, method: str = "dqs") -> NodeRig:
+def node_rig(poser: Poser, model, method: Skinning = "dqs") -> NodeRig:
     """The elastic model's nodes prepared for skinning by the poser's skeleton ('lbs' or 'dqs')."""
     if method not in ("lbs", "dqs"):
         raise HitogataError(f"skinning = {method!r}: allowed lbs, dqs")

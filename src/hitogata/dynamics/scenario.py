@@ -19,14 +19,13 @@ from typing import Any
 from hitogata import units
 from hitogata.dynamics.timeline import INTERPOLATIONS, Keyframe, Timeline
 from hitogata.errors import HitogataError
+from hitogata.options import ON_LIMIT, OUTPUT_FILES as FILES, VIEW_NAMES as VIEWS, OnLimit, Skinning
 
 TIME_UNITS = {"s": 1.0, "ms": 1e-3, "": 1.0}
 FREQUENCY_UNITS = {"hz": 1.0}
 LENGTH_MM = {"mm": 1.0, "cm": 10.0, "m": 1000.0, "": 1.0}
 ANGLE_DEGREES = {**units.ANGLE_UNITS, "": math.pi / 180.0}
 FRACTION = {"": 1.0, "%": 0.01}
-FILES = ("glb", "pvd", "png", "gif")
-VIEWS = ("front", "side", "back", "right", "top")
 SECTIONS = {"title", "body", "model", "time", "timeline", "keyframe", "output"}
 
 
@@ -50,7 +49,7 @@ class ModelSpec:
     modes: int = 40
     damping_ratios: tuple[tuple[float, float], tuple[float, float]] | None = None
     alpha_beta: tuple[float, float] | None = None
-    skinning: str = "dqs"
+    skinning: Skinning = "dqs"
     gravity: bool = True
 
 
@@ -76,7 +75,7 @@ class Scenario:
     duration: float
     rate: float
     substeps: int
-    on_limit: str
+    on_limit: OnLimit
     timeline: Timeline
     output: OutputSpec
 
@@ -148,7 +147,7 @@ def parse_scenario(data: dict, source: str) -> Scenario:
     substeps = time.integer("substeps", 1, 1, 100)
     timeline_table = _Reader(source, "[timeline]", data.get("timeline", {}), {"interpolation", "on_limit"})
     default_how = timeline_table.choice("interpolation", INTERPOLATIONS, "smoothstep")
-    on_limit = timeline_table.choice("on_limit", ("raise", "clamp"), "raise")
+    on_limit = timeline_table.choice("on_limit", ON_LIMIT, "raise")
     keyframes = _keyframes(source, data.get("keyframe", []), default_how)
     timeline = Timeline.from_keyframes(keyframes)
     duration = time.quantity("duration", TIME_UNITS, None, 1e-3, 600.0, "a time in s, up to 600 s")

@@ -25,9 +25,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from hitogata.errors import HitogataError
+from hitogata.options import CHANNEL_KINDS as KINDS, Interpolation, INTERPOLATIONS
 
-INTERPOLATIONS = ("linear", "smoothstep")
-KINDS = ("contraction", "angle", "clinical")
 
 
 def ease(u: np.ndarray, interpolation: str) -> np.ndarray:
@@ -71,7 +70,7 @@ class Keyframe:
 
     time: float
     values: dict[tuple[str, str], float]  # (kind, name) -> value (SI)
-    interpolation: str = "smoothstep"
+    interpolation: Interpolation = "smoothstep"
 
 
 @dataclass(frozen=True)

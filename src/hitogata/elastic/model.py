@@ -38,12 +38,10 @@ from hitogata.fem import (
 from hitogata.fem.assembly import DILATATIONS
 from hitogata.fem.damping import check_rayleigh, damping_ratios as modal_damping_ratios
 from hitogata.fem.elements import MATERIAL_SAMPLES, P2_EDGES, TET_FACES, tet_geometry
+from hitogata.options import BONE_MODES, BoneMode, CUT_MODES, CutMode, Dilatation, EigenSolver, Element, ELEMENTS, Extent
 from hitogata.volume import VolumeModel, build_volume_model
 from hitogata.volume.trunk import segment_distance
 
-ELEMENTS = ("P2", "P1")
-BONE_MODES = ("rigid", "elastic")
-CUT_MODES = ("free", "attached")
 # Default lattice spacing (mm) per element type. P2 at 40 mm: the largest trunk model whose 40
 # modes solve within the 10 s budget; with the soft tissue meshed round the bone capsules its 40
 # frequencies are 1.4 % (mean; f1 5.8 %) from P2 at 20 mm (docs/elastic.md). P1 at 20 mm has
@@ -63,15 +61,15 @@ AXIS_BAND = 0.25
 class ElasticSystem:
     """The assembled FE system of a volume model: mesh, skeleton attachment, materials, K and M."""
 
-    element: str  # "P2" or "P1"
+    element: Element
     points: np.ndarray  # (N, 3) rest node positions; P2: the P1 nodes first, then edge midpoints
     elements: np.ndarray  # (T, 10) or (T, 4)
     fixed_nodes: np.ndarray  # (B,) nodes that follow the skeleton
     fixed_bone: np.ndarray  # (B,) index into volume.bone_names of the bone each follows
     materials: Materials
-    bone: str  # "rigid" or "elastic"
-    cuts: str  # "attached" or "free": the trunk's cut faces
-    dilatation: str  # "mean" or "full": how K integrates the volumetric term (`fem.stiffness_matrix`)
+    bone: BoneMode
+    cuts: CutMode  # the trunk's cut faces
+    dilatation: Dilatation  #: how K integrates the volumetric term (`fem.stiffness_matrix`)
     E: np.ndarray  # (T,) Pa, each element's mean (K and M sample the tissue inside the elements)
     nu: np.ndarray  # (T,) element mean
     rho: np.ndarray  # (T,) kg/m^3, element mean
@@ -160,11 +158,11 @@ class ElasticModel(ElasticSystem):
         return self.skin_vertex_map @ np.asarray(u, dtype=float).reshape(len(self.points), 3)
 
 
-def build_elastic_model(body, *, extent: str = "trunk", element_size: float | None = None, element: str = "P2",
-                        n_modes: int = 40, materials: str | Path | Materials | None = None, bone: str = "rigid",
-                        cuts: str = "free", dilatation: str = "mean",
+def build_elastic_model(body, *, extent: Extent = "trunk", element_size: float | None = None, element: Element = "P2",
+                        n_modes: int = 40, materials: str | Path | Materials | None = None, bone: BoneMode = "rigid",
+                        cuts: CutMode = "free", dilatation: Dilatation = "mean",
                         damping_ratios: tuple[tuple[float, float], tuple[float, float]] | None = None,
-                        alpha_beta: tuple[float, float] | None = None, solver: str = "auto",
+                        alpha_beta: tuple[float, float] | None = None, solver: EigenSolver = "auto",
                         volume: VolumeModel | None = None) -> ElasticModel:
     """The elastic model of a `hitogata.body.Body`.
 
@@ -215,8 +213,8 @@ def build_elastic_model(body, *, extent: str = "trunk", element_size: float | No
                         skin_vertex_map=skin_map, timings=MappingProxyType(timings))
 
 
-def assemble_system(volume: VolumeModel, rig, *, element: str = "P2", materials: str | Path | Materials | None = None,
-                    bone: str = "rigid", cuts: str = "free", dilatation: str = "mean") -> ElasticSystem:
+def assemble_system(volume: VolumeModel, rig, *, element: Element = "P2", materials: str | Path | Materials | None = None,
+                    bone: BoneMode = "rigid", cuts: CutMode = "free", dilatation: Dilatation = "mean") -> ElasticSystem:
     """Lift the volume model's mesh to `element`, attach bone nodes to `rig`'s bones, assemble K and M.
 
     rig: the body's rig (bone names, heads, tails). cuts: "free" (default, the

@@ -28,11 +28,11 @@ from hitogata.fem.elements import (
     tet_geometry,
 )
 from hitogata.fem.materials import check_material, lame, per_element, per_sample
+from hitogata.options import Dilatation, DILATATIONS
 
 _CHUNK_ENTRIES = 2**20  # element-matrix node pairs per vectorised batch: bounds temporary memory
 # How the volumetric term lambda (div u)(div v) is integrated: pointwise ("full", the plain
 # displacement element) or on each element's mean dilatation ("mean").
-DILATATIONS = ("full", "mean")
 
 
 @dataclass(frozen=True)
@@ -104,7 +104,7 @@ def sparsity(tets: np.ndarray, n_nodes: int) -> Pattern:
 
 
 def stiffness_matrix(points: np.ndarray, tets: np.ndarray, E: float | np.ndarray, nu: float | np.ndarray,
-                     pattern: Pattern | None = None, dilatation: str = "full") -> sp.csr_matrix:
+                     pattern: Pattern | None = None, dilatation: Dilatation = "full") -> sp.csr_matrix:
     """Stiffness K of isotropic linear elasticity.
 
     E (Pa) and nu: global, per element (T,), or per material sample point (T, Q)

@@ -24,14 +24,16 @@ from __future__ import annotations
 
 from collections.abc import Callable
 
+from typing import cast
+
 import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as sla
 
 from hitogata.errors import HitogataError
+from hitogata.options import FACTOR_METHODS as METHODS, FactorMethod
 
 Solve = Callable[[np.ndarray], np.ndarray]
-METHODS = ("auto", "superlu-nd", "pardiso", "superlu")
 
 
 def available_methods() -> tuple[str, ...]:
@@ -42,7 +44,7 @@ def available_methods() -> tuple[str, ...]:
     return tuple(methods)
 
 
-def resolve_method(method: str) -> str:
+def resolve_method(method: str) -> FactorMethod:
     """The concrete method ``method`` stands for ("auto" -> "superlu-nd")."""
     if method not in METHODS:
         raise HitogataError(f"factorization method {method!r} is unknown; allowed: {', '.join(METHODS)}")
@@ -51,10 +53,10 @@ def resolve_method(method: str) -> str:
     if method not in available_methods():
         raise HitogataError(f"factorization method {method!r} is not installed; available: "
                             f"{', '.join(available_methods())} (pardiso needs `pip install pypardiso`)")
-    return method
+    return cast(FactorMethod, method)
 
 
-def factorize(A: sp.spmatrix, method: str = "auto", node_of_dof: np.ndarray | None = None,
+def factorize(A: sp.spmatrix, method: FactorMethod = "auto", node_of_dof: np.ndarray | None = None,
               positive_definite: bool = True) -> Solve:
     """Factor a symmetric sparse matrix once; return ``solve(b)`` for b of shape (n,) or (n, m).
 

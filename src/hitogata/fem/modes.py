@@ -21,9 +21,9 @@ import scipy.sparse.linalg as sla
 
 from hitogata.errors import HitogataError
 from hitogata.fem.dofs import free_dofs
-from hitogata.fem.factor import factorize, resolve_method
+from hitogata.fem.factor import factorize
+from hitogata.options import EIGEN_SOLVERS as SOLVERS, EigenSolver
 
-SOLVERS = ("auto", "dense", "scipy", "superlu-nd", "pardiso")
 
 
 @dataclass(frozen=True)
@@ -45,7 +45,7 @@ def frequencies_hz(eigenvalues: np.ndarray) -> np.ndarray:
 
 
 def solve_modes(K: sp.spmatrix, M: sp.spmatrix, n_modes: int, fixed_nodes: np.ndarray | list[int] | None = None,
-                solver: str = "auto", sigma: float | None = None, tol: float = 1e-10,
+                solver: EigenSolver = "auto", sigma: float | None = None, tol: float = 1e-10,
                 blas_threads: int | None = 1) -> Modes:
     """The ``n_modes`` lowest modes of (K, M) with the dofs of ``fixed_nodes`` held at zero.
 
@@ -78,9 +78,6 @@ def solve_modes(K: sp.spmatrix, M: sp.spmatrix, n_modes: int, fixed_nodes: np.nd
     Mf = M[free][:, free]
     if sigma is None:
         sigma = 0.0 if n_free < K.shape[0] else -1e-6 * Kf.diagonal().mean() / Mf.diagonal().mean()
-    if solver == "auto":
-        solver = resolve_method("auto")
-
     if solver == "dense":
         lam, vec = la.eigh(Kf.toarray(), Mf.toarray(), subset_by_index=[0, n_modes - 1])
     elif solver == "scipy":

@@ -23,16 +23,15 @@ import numpy as np
 from hitogata.errors import HitogataError
 from hitogata.muscles.equations import flexion_angle, flexion_length, rotation_angle, rotation_length
 from hitogata.muscles.geometry import MuscleSet
+from hitogata.options import DRIVE_MODES as MODES, DriveMode, ON_LIMIT, OnLimit
 
-ON_LIMIT = ("raise", "clamp")
-MODES = ("contraction", "length")
 
 
 class MuscleLimitWarning(UserWarning):
     """A muscle length or a joint angle was clamped onto the edge of its domain."""
 
 
-def _check_on_limit(on_limit: str) -> None:
+def _check_on_limit(on_limit: OnLimit) -> None:
     if on_limit not in ON_LIMIT:
         raise HitogataError(f"on_limit = {on_limit!r}: allowed {', '.join(ON_LIMIT)}")
 
@@ -40,7 +39,7 @@ def _check_on_limit(on_limit: str) -> None:
 class Drive:
     """A chosen set of driving muscles, compiled once; `angles` maps their values to joint angles."""
 
-    def __init__(self, muscles: MuscleSet, names: Sequence[str], mode: str = "contraction"):
+    def __init__(self, muscles: MuscleSet, names: Sequence[str], mode: DriveMode = "contraction"):
         if mode not in MODES:
             raise HitogataError(f"mode = {mode!r}: allowed {', '.join(MODES)}")
         self.muscles, self.mode = muscles, mode
@@ -60,7 +59,7 @@ class Drive:
         self.flex, self.rot = self.idx[~rot], self.idx[rot]
         self.flex_cols, self.rot_cols = np.flatnonzero(~rot), np.flatnonzero(rot)
 
-    def muscle_angles(self, values: np.ndarray, on_limit: str = "raise") -> np.ndarray:
+    def muscle_angles(self, values: np.ndarray, on_limit: OnLimit = "raise") -> np.ndarray:
         """(P, k) muscle angles Θ (rest-relative, in the DOF's sense) from contractions or lengths."""
         _check_on_limit(on_limit)
         ms, clamp = self.muscles, on_limit == "clamp"
@@ -89,7 +88,7 @@ class Drive:
             warnings.warn(self._clamp_message("range of motion", beyond), MuscleLimitWarning, stacklevel=3)
         return np.clip(theta, low, high)
 
-    def angles(self, values: np.ndarray, base: np.ndarray | None = None, on_limit: str = "raise") -> np.ndarray:
+    def angles(self, values: np.ndarray, base: np.ndarray | None = None, on_limit: OnLimit = "raise") -> np.ndarray:
         """(P, D) joint angles: `base` (rest when None) with the driven DOFs set by the muscles."""
         ms = self.muscles
         theta = self.muscle_angles(values, on_limit)
@@ -153,7 +152,7 @@ def angles_from_muscles(
     contractions: Mapping[str, float] | None = None,
     lengths: Mapping[str, float] | None = None,
     base: np.ndarray | None = None,
-    on_limit: str = "raise",
+    on_limit: OnLimit = "raise",
 ) -> np.ndarray:
     """(D,) joint angles from a contraction (fraction) or a length (m) per named muscle."""
     given_c, given_l = dict(contractions or {}), dict(lengths or {})
@@ -176,7 +175,7 @@ def muscle_angles_of(muscles: MuscleSet, angles: np.ndarray) -> np.ndarray:
     return np.atleast_2d(np.asarray(angles, dtype=float)) @ muscles.gather.T
 
 
-def muscle_lengths(muscles: MuscleSet, angles: np.ndarray, on_limit: str = "raise") -> np.ndarray:
+def muscle_lengths(muscles: MuscleSet, angles: np.ndarray, on_limit: OnLimit = "raise") -> np.ndarray:
     """(P, M) lengths (m) of every muscle for joint angles (D,) or (P, D), by the inverse of eq. 1/2.
 
     An angle outside a muscle's reach (θ outside 0…π, φ < 0) raises, or clamps
@@ -203,6 +202,6 @@ def muscle_lengths(muscles: MuscleSet, angles: np.ndarray, on_limit: str = "rais
     return np.where(ms.rotation, rot, flex)
 
 
-def contractions_of(muscles: MuscleSet, angles: np.ndarray, on_limit: str = "raise") -> np.ndarray:
+def contractions_of(muscles: MuscleSet, angles: np.ndarray, on_limit: OnLimit = "raise") -> np.ndarray:
     """(P, M) contractions (fractions of rest length) of every muscle for joint angles."""
     return 1.0 - muscle_lengths(muscles, angles, on_limit) / muscles.rest_length

@@ -19,12 +19,11 @@ from pathlib import Path
 from typing import Any
 
 from hitogata.errors import HitogataError
+from hitogata.options import DISTRIBUTIONS, MUSCLE_KINDS as KINDS
 from hitogata.skeleton.spec import Entry, SkeletonSpec, read_toml
 
 DEFAULT_FILE = "muscles.toml"
-KINDS = ("flexion", "rotation")
 HANDEDNESS = {"right": 1, "left": -1}
-DISTRIBUTIONS = ("range", "same")
 
 
 @dataclass(frozen=True)

@@ -16,9 +16,9 @@ from functools import cached_property
 import numpy as np
 
 from hitogata.errors import HitogataError
+from hitogata.options import LIMIT_MODES, Limits
 from hitogata.skeleton.placement import Skeleton
 
-LIMIT_MODES = ("ignore", "clip", "raise")
 
 
 @dataclass(frozen=True, eq=False)
@@ -83,12 +83,12 @@ class Kinematics:
             slot[k] = slot[k - 1] + 1 if same else 0
         self.slots = [np.flatnonzero(slot == s) for s in range(int(slot.max(initial=-1)) + 1)]
 
-    def check_limits(self, angles: np.ndarray, mode: str) -> np.ndarray:
-        """Angles within limits: unchanged ('ignore'), clipped ('clip') or an error ('raise')."""
+    def check_limits(self, angles: np.ndarray, mode: Limits) -> np.ndarray:
+        """Angles within limits: unchanged ('ignore'), clamped ('clamp') or an error ('raise')."""
         sk = self.skeleton
         if mode not in LIMIT_MODES:
             raise HitogataError(f"limits = {mode!r}: allowed {', '.join(LIMIT_MODES)}")
-        if mode == "clip":
+        if mode == "clamp":
             return np.clip(angles, sk.lower, sk.upper)
         if mode == "raise":
             bad = limit_violations(sk, angles)
@@ -117,7 +117,7 @@ class Kinematics:
         local[:, n, :3, :3] = np.eye(3)
         return local
 
-    def pose(self, angles: np.ndarray, root: np.ndarray | None = None, limits: str = "ignore") -> Pose:
+    def pose(self, angles: np.ndarray, root: np.ndarray | None = None, limits: Limits = "ignore") -> Pose:
         """Skinning transforms for angles (D,) or (P, D), rest-relative radians.
 
         `root` is an optional (4, 4) or (P, 4, 4) transform of the whole body.
@@ -143,11 +143,11 @@ def limit_violations(skeleton: Skeleton, angles: np.ndarray) -> np.ndarray:
 
 
 def forward_kinematics(
-    skeleton: Skeleton, angles: np.ndarray, root: np.ndarray | None = None, limits: str = "ignore"
+    skeleton: Skeleton, angles: np.ndarray, root: np.ndarray | None = None, limits: Limits = "ignore"
 ) -> Pose:
     """Pose a skeleton: joint angles (D,) or (P, D) → world transforms of all parts.
 
-    limits: 'ignore' (poses as given), 'clip' (clamp into the ranges of motion)
+    limits: 'ignore' (poses as given), 'clamp' (into the ranges of motion)
     or 'raise' (a one-line error naming the first DOF out of range);
     `limit_violations` reports them without acting.
     """

@@ -19,11 +19,9 @@ from pathlib import Path
 from typing import Any
 
 from hitogata.errors import HitogataError
+from hitogata.options import AXES, ENDS, FRAMES
 
 DEFAULT_FILE = "skeleton.toml"
-AXES = ("x", "-x", "y", "-y", "z", "-z", "X", "-X", "Y", "-Y", "Z", "-Z", "long", "-long", "hinge", "-hinge")
-FRAMES = ("bone", "world")
-ENDS = ("head", "tail")
 
 
 @dataclass(frozen=True)

@@ -14,6 +14,7 @@ from functools import partial
 from typing import TYPE_CHECKING, Any, Protocol
 
 from hitogata.body import STATURE_RANGE
+from hitogata.options import SEXES
 from hitogata.viewer.colouring import legend
 from hitogata.viewer.groups import muscle_groups, slider_label
 from hitogata.viewer.state import SLIDER_STEP, PoseState
@@ -21,7 +22,6 @@ from hitogata.viewer.state import SLIDER_STEP, PoseState
 if TYPE_CHECKING:
     import viser
 
-SEXES = ("female", "male")
 
 
 class Actions(Protocol):

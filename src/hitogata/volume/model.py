@@ -24,6 +24,7 @@ import scipy.sparse as sp
 from hitogata.errors import HitogataError
 from hitogata.fem.elements import MATERIAL_SAMPLES, sample_points
 from hitogata.geometry.mesh_checks import enclosed_volume, is_closed
+from hitogata.options import BONE_MESHES, Extent, EXTENTS
 from hitogata.volume import anatomy as A
 from hitogata.volume.bones import PART as BONE_PART, attach_surface_nodes, held_volume, outside_capsules
 from hitogata.volume.domain import Domain, Intersection
@@ -34,11 +35,6 @@ from hitogata.volume.trunk import Landmarks, RigLike, arm_separator, body_domain
 
 DEFAULT_ELEMENT_SIZE = 20.0  # mm: ~40k tets in an adult trunk, ~2 elements across the skin+muscle wall
 ELEMENT_SIZE_RANGE = (4.0, 100.0)  # mm: finer runs out of memory on the whole body, coarser loses the trunk
-EXTENTS = ("trunk", "body")
-# How the bones enter the mesh: "conforming" meshes the soft tissue around the bone capsules
-# (their surface nodes are held, no bone tets); "labelled" meshes the whole body and labels the
-# lattice tets inside the capsules as bone (for elastic bone).
-BONE_MESHES = ("conforming", "labelled")
 # Reference volume of a cut trunk: counted on a grid 4× finer than the elements, but no
 # finer than 4 mm (there the count's own error is ~0.02% of a trunk).
 _REFERENCE_REFINEMENT = 4
@@ -138,7 +134,7 @@ def _reference_volume(domain: Domain, lo: np.ndarray, hi: np.ndarray, spacing: f
 
 
 def build_volume_model(vertices: np.ndarray, faces: np.ndarray, rig: RigLike, weights: sp.csr_matrix, *,
-                       bmi: float, sex: float, extent: str = "trunk",
+                       bmi: float, sex: float, extent: Extent = "trunk",
                        element_size: float = DEFAULT_ELEMENT_SIZE, bones: str = "conforming") -> VolumeModel:
     """Mesh and label the trunk (default, as in the paper) or the whole body.
 

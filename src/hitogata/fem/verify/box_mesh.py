@@ -15,6 +15,7 @@ import scipy.sparse as sp
 from hitogata.errors import HitogataError
 from hitogata.fem.assembly import mass_matrix, sparsity, stiffness_matrix
 from hitogata.fem.elements import lift_node_set, p2_mesh
+from hitogata.options import Dilatation
 
 
 def box_mesh(
@@ -60,7 +61,7 @@ def _parity(perm: tuple[int, ...]) -> int:
 
 def cantilever_system(
     divisions: tuple[int, int, int], order: int, E: float = 1e6, nu: float = 0.3, rho: float = 1000.0,
-    dilatation: str = "full",
+    dilatation: Dilatation = "full",
 ) -> tuple[sp.csr_matrix, sp.csr_matrix, np.ndarray]:
     """K, M and the clamped nodes of the reference cantilever 1 × 0.1 × 0.1 m, clamped at x = 0.
 

@@ -19,12 +19,13 @@ import scipy.sparse as sp
 from hitogata.errors import HitogataError
 from hitogata.fem.dofs import free_dofs
 from hitogata.fem.factor import factorize
+from hitogata.options import FactorMethod
 
 
 def newmark(M: sp.spmatrix, C: sp.spmatrix, K: sp.spmatrix, loads: np.ndarray, dt: float,
             u0: np.ndarray | None = None, v0: np.ndarray | None = None,
             fixed_nodes: np.ndarray | list[int] | None = None, beta: float = 0.25, gamma: float = 0.5,
-            method: str = "auto") -> tuple[np.ndarray, np.ndarray]:
+            method: FactorMethod = "auto") -> tuple[np.ndarray, np.ndarray]:
     """Displacements and velocities (n + 1, n_dofs) at t = 0, dt, ..., for loads (n + 1, n_dofs) at those times."""
     free, (Mf, Cf, Kf), loads = _reduce(M, C, K, loads, dt, fixed_nodes)
     n_steps = len(loads)

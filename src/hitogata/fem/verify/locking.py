@@ -19,6 +19,7 @@ import numpy as np
 from hitogata.fem.assembly import mass_matrix, sparsity, stiffness_matrix
 from hitogata.fem.elements import lift_node_set, p2_mesh
 from hitogata.fem.modes import solve_modes
+from hitogata.options import Dilatation
 
 
 @dataclass(frozen=True)
@@ -53,8 +54,9 @@ def poisson_sweep(points: np.ndarray, tets: np.ndarray, fixed_nodes: np.ndarray,
     points2, tets2 = p2_mesh(points, tets)
     fixed2 = lift_node_set(tets2, fixed_nodes)
     out = []
-    for pts, tt, fixed, dilatation in ((points, tets, fixed_nodes, "full"), (points2, tets2, fixed2, "full"),
-                                       (points2, tets2, fixed2, "mean")):
+    cases: tuple[tuple[np.ndarray, np.ndarray, np.ndarray, Dilatation], ...] = (
+        (points, tets, fixed_nodes, "full"), (points2, tets2, fixed2, "full"), (points2, tets2, fixed2, "mean"))
+    for pts, tt, fixed, dilatation in cases:
         pattern = sparsity(tt, len(pts))
         M = mass_matrix(pts, tt, rho, pattern=pattern)
         freqs = [solve_modes(stiffness_matrix(pts, tt, E, nu, pattern, dilatation), M, mode + 1,

@@ -13,13 +13,14 @@ import scipy.sparse as sp
 from hitogata.errors import HitogataError
 from hitogata.fem.dofs import constrained_dofs
 from hitogata.fem.factor import factorize
+from hitogata.options import FactorMethod
 
 
 class StaticSolver:
     """K factored on its free dofs; ``solve`` returns full displacement vectors (n_dofs,)."""
 
     def __init__(self, K: sp.spmatrix, fixed_nodes: np.ndarray | list[int] | None = None,
-                 fixed_dofs: np.ndarray | list[int] | None = None, method: str = "auto") -> None:
+                 fixed_dofs: np.ndarray | list[int] | None = None, method: FactorMethod = "auto") -> None:
         K = sp.csr_matrix(K)
         self.n_dofs = K.shape[0]
         self.fixed = constrained_dofs(self.n_dofs, fixed_nodes, fixed_dofs)
@@ -48,6 +49,6 @@ class StaticSolver:
 
 def solve_static(K: sp.spmatrix, f: np.ndarray, fixed_nodes: np.ndarray | list[int] | None = None,
                  fixed_dofs: np.ndarray | list[int] | None = None, prescribed: np.ndarray | None = None,
-                 method: str = "auto") -> np.ndarray:
+                 method: FactorMethod = "auto") -> np.ndarray:
     """One-off K u = f with the given nodes and single dofs held (at ``prescribed`` or zero)."""
     return StaticSolver(K, fixed_nodes, fixed_dofs, method).solve(f, prescribed)
