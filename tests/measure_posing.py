@@ -9,15 +9,13 @@ from __future__ import annotations
 import numpy as np
 
 from hitogata.body import Body
-from hitogata.measure import posed_rig_heads
 from hitogata.pose import pose_body
 
 
 def posture(body: Body, clinical: dict[str, float]) -> tuple[np.ndarray, np.ndarray]:
     """Vertices and rig joint centres with the given clinical angles (radians), LBS skinning."""
     posed = pose_body(body, clinical=clinical)
-    heads = posed_rig_heads(body.rig.heads, posed.skeleton.joints, posed.pose.rotations[0], posed.pose.translations[0])
-    return posed.vertices, heads
+    return posed.vertices, posed.rig_joints
 
 
 def flex_elbow(body: Body, flexion: float, side: str = "R") -> tuple[np.ndarray, np.ndarray]:

@@ -48,7 +48,7 @@ def motion(female):
 
 @needs_validator
 def test_glb_animation_is_valid_and_plays_the_frames(tmp_path, motion):
-    path = files.write_glb(tmp_path / "m.glb", motion)
+    path = files.write_motion_glb(tmp_path / "m.glb", motion)
     report, _ = validate_gltf(path)
     assert report["issues"]["numErrors"] == 0 and report["issues"]["numWarnings"] == 0
     doc = gl.GLTF2.load_binary(path)

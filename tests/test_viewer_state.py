@@ -114,7 +114,7 @@ def test_strain_colours_are_neutral_at_rest_and_red_where_stretched(state, femal
 def test_pose_glb_carries_the_posed_surface_and_rig(tmp_path, state, female):
     posed = state.set_contraction("biceps_brachii_r", 0.2)
     path = tmp_path / "pose.glb"
-    frame = posed_frame(female, posed)
+    frame = posed_frame(posed)
     path.write_bytes(pose_glb(female, frame))
     skin = read_glb_skin(path)
     np.testing.assert_allclose(skin.vertices, posed.vertices, atol=1e-5)
@@ -126,7 +126,7 @@ def test_pose_glb_carries_the_posed_surface_and_rig(tmp_path, state, female):
 def test_pose_glb_passes_the_khronos_validator(tmp_path, state, female):
     posed = state.set_contraction("iliopsoas_l", 0.1)
     path = tmp_path / "pose.glb"
-    path.write_bytes(pose_glb(female, posed_frame(female, posed)))
+    path.write_bytes(pose_glb(female, posed_frame(posed)))
     report, returncode = validate_gltf(path)
     assert report["issues"]["numErrors"] == 0, report["issues"]["messages"]
     assert returncode == 0

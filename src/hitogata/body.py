@@ -10,7 +10,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 from functools import cached_property, partial
-from typing import Callable
+from typing import TYPE_CHECKING, Callable
 
 import numpy as np
 import scipy.sparse as sp
@@ -21,6 +21,10 @@ from hitogata.errors import HitogataError
 from hitogata.geometry.mesh_checks import enclosed_volume
 from hitogata.rig import Rig, place_rig
 from hitogata.shape import BilinearShape, ShapeParameters, blend
+
+if TYPE_CHECKING:
+    from hitogata.measure.landmarks import Landmarks
+    from hitogata.pose import Poser
 
 # Whole-body density with the lungs' air inside the skin, kg/m³. Lean tissue and fat
 # give 1.03–1.07 g/cm³ once lung gas is removed (Siri 1961, Brožek et al. 1963);
@@ -126,6 +130,37 @@ class Body:
     def skin_weights(self) -> sp.csr_matrix:
         """(V, B) skinning weights of the skin vertices over the rig's bones."""
         return load_assets().skin_weights
+
+    # What is found once per body on its rest shape, kept with it (imported when first asked for:
+    # the body itself needs neither the skeleton nor the measurements).
+    @cached_property
+    def poser(self) -> Poser:
+        """The body's skeleton, muscles and skin prepared for posing, with the shipped lists."""
+        from hitogata.pose import Poser
+
+        return Poser.from_body(self)
+
+    @cached_property
+    def landmarks(self) -> Landmarks:
+        """The measurement landmarks found on the rest surface (docs/measurements.md)."""
+        from hitogata.measure.axes import JointSet
+        from hitogata.measure.landmarks import find_landmarks
+
+        return find_landmarks(self.vertices, self.faces, JointSet(self.rig.names, self.rig.heads))
+
+    @cached_property
+    def zones(self) -> dict[str, np.ndarray]:
+        """Face indices of each skin-strain zone (`hitogata.measure.zones`), found on the rest shape."""
+        from hitogata.measure.zones import find_zones
+
+        return find_zones(self)
+
+    @cached_property
+    def tape_skin(self) -> dict[str, np.ndarray]:
+        """Per girth, the (V,) mask of skin its tape may rest on (`hitogata.measure.measurements.TAPE_SKIN`)."""
+        from hitogata.measure.measurements import find_tape_skin
+
+        return find_tape_skin(self)
 
     @property
     def stature(self) -> float:

@@ -11,15 +11,16 @@ the anatomical position (the TOML's convention); names are 'part.dof'.
 from __future__ import annotations
 
 import warnings
-import weakref
 from collections.abc import Mapping
 from dataclasses import dataclass
+from functools import cached_property
 from pathlib import Path
 
 import numpy as np
 
 from hitogata.body import Body
 from hitogata.errors import HitogataError
+from hitogata.measure.rig_joints import carried_heads, carrying_parts
 from hitogata.muscles.activation import (
     MuscleLimitWarning,
     angles_from_muscles,
@@ -38,8 +39,10 @@ from hitogata.skinning import Skin, prepare_skin, skin_vertices
 
 @dataclass(frozen=True, eq=False)
 class PosedBody:
-    """One posed body: joint angles, part transforms, muscle lengths and the skinned surface."""
+    """One posed body: joint angles, part transforms, muscle lengths, the skinned surface and
+    the rig's joint centres in the posture (what `hitogata.measure.measure(posed)` needs)."""
 
+    body: Body
     skeleton: Skeleton
     muscles: MuscleSet
     angles: np.ndarray  # (D,) rest-relative, radians
@@ -47,6 +50,7 @@ class PosedBody:
     vertices: np.ndarray  # (V, 3)
     faces: np.ndarray  # (F, 3)
     muscle_lengths: np.ndarray  # (M,) metres
+    rig_joints: np.ndarray  # (B, 3) the MakeHuman rig's joint centres (body.rig.names order) carried by the parts
 
     @property
     def muscle_names(self) -> tuple[str, ...]:
@@ -93,6 +97,15 @@ class Poser:
     muscles: MuscleSet
     kinematics: Kinematics
     skin: Skin
+
+    @cached_property
+    def rig_parts(self) -> np.ndarray:
+        """(B,) the part that carries each rig joint centre (`hitogata.measure.rig_joints`)."""
+        return carrying_parts(self.body.rig.heads, self.skeleton.joints)
+
+    def rig_joints(self, rotations: np.ndarray, translations: np.ndarray) -> np.ndarray:
+        """(..., B, 3) the rig's joint centres for part rotations (..., N, 3, 3) and translations (..., N, 3)."""
+        return carried_heads(self.body.rig.heads, self.rig_parts, rotations, translations)
 
     @classmethod
     def from_body(cls, body: Body, skeleton: str | Path | None = None, muscles: str | Path | None = None) -> Poser:
@@ -174,6 +187,7 @@ class Poser:
         pose = self.kinematics.pose(q, root=root)
         verts = skin_vertices(self.skin, pose.rotations, pose.translations, skinning)[0]
         return PosedBody(
+            body=self.body,
             skeleton=self.skeleton,
             muscles=self.muscles,
             angles=q,
@@ -181,6 +195,7 @@ class Poser:
             vertices=verts,
             faces=self.body.faces,
             muscle_lengths=muscle_lengths(self.muscles, q, on_limit)[0],
+            rig_joints=self.rig_joints(pose.rotations[0], pose.translations[0]),
         )
 
     def pose_many(self, angles: np.ndarray, skinning: Skinning = "lbs", root: np.ndarray | None = None) -> np.ndarray:
@@ -189,14 +204,9 @@ class Poser:
         return skin_vertices(self.skin, pose.rotations, pose.translations, skinning)
 
 
-_DEFAULT_POSERS: weakref.WeakKeyDictionary[Body, Poser] = weakref.WeakKeyDictionary()
-
-
 def poser_for(body: Body) -> Poser:
-    """The body's Poser with the shipped lists, prepared once per body."""
-    if body not in _DEFAULT_POSERS:
-        _DEFAULT_POSERS[body] = Poser.from_body(body)
-    return _DEFAULT_POSERS[body]
+    """The body's Poser with the shipped lists, prepared once per body (`Body.poser`)."""
+    return body.poser
 
 
 def pose_body(

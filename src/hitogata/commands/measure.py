@@ -19,7 +19,7 @@ from hitogata.errors import HitogataError
 from hitogata.export.body_files import body_from_extras
 from hitogata.export.gltf import read_glb_skin
 from hitogata.dynamics.files import find_sequence, read_sequence_body
-from hitogata.measure import Measurements, measure, posed_rig_heads
+from hitogata.measure import Measurements, measure
 from hitogata.pose import pose_body
 from hitogata.measure.timeseries import measure_sequence, write_series
 from hitogata.measure.cli_support import measure_report, measurement_table
@@ -45,8 +45,7 @@ def body_from_file(path: Path) -> tuple[Body, np.ndarray | None, np.ndarray | No
         raise HitogataError(f"{path}: {len(skin.vertices)} vertices, allowed {len(body.vertices)} (the hitogata skin)")
     if "angles_rad" in extras:
         posed = pose_body(body, angles=np.asarray(extras["angles_rad"], dtype=float))
-        joints = posed_rig_heads(body.rig.heads, posed.skeleton.joints, posed.pose.rotations[0], posed.pose.translations[0])
-        return body, posed.vertices, joints
+        return body, posed.vertices, posed.rig_joints
     at_rest = np.abs(skin.vertices - body.vertices).max() < REST_TOLERANCE
     return body, (None if at_rest else skin.vertices), None
 

@@ -34,7 +34,6 @@ from hitogata.errors import HitogataError
 from hitogata.export.body_files import body_from_extras, shape_extras
 from hitogata.export.gltf import GlbBuilder
 from hitogata.fem.elements import boundary_faces
-from hitogata.measure.rig_joints import posed_rig_heads
 
 SMOOTHING = 4  # Taubin steps on the pictures' region surfaces
 MAX_TARGETS = 120  # morph targets in a GLB: frames beyond are subsampled evenly
@@ -51,7 +50,7 @@ def frame_subset(n_frames: int, most: int) -> np.ndarray:
     return np.unique(np.round(np.linspace(0, n_frames - 1, min(n_frames, most))).astype(int))
 
 
-def write_glb(path: str | os.PathLike, motion: Motion) -> Path:
+def write_motion_glb(path: str | os.PathLike, motion: Motion) -> Path:
     """The skin and the tissue regions' boundary surfaces as one morph-target animation.
 
     Each surface is a mesh with one morph target per frame (frames subsampled
@@ -259,10 +258,7 @@ def write_sequence(path: str | os.PathLike, motion: Motion) -> Path:
     """
     poser = motion.dynamics.poser
     body = poser.body
-    joints = np.stack([
-        posed_rig_heads(body.rig.heads, poser.skeleton.joints, r, t)
-        for r, t in zip(motion.rotations, motion.translations)
-    ])
+    joints = motion.rig_joints
     buffer = io.BytesIO()
     np.savez_compressed(
         buffer, times=motion.times, vertices=motion.skin.astype(np.float32), angles=motion.angles,

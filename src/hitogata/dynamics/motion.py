@@ -203,6 +203,11 @@ class Motion:
         """Natural frequencies (Hz) of the modes."""
         return self.dynamics.model.modes.frequencies
 
+    @property
+    def rig_joints(self) -> np.ndarray:
+        """(F, B, 3) the MakeHuman rig's joint centres per frame: with `skin`, what `measure` takes."""
+        return self.dynamics.poser.rig_joints(self.rotations, self.translations)
+
 
 def simulate(dynamics: BodyDynamics, timeline: Timeline, duration: float, rate: float, substeps: int = 1,
              gravity: bool = True, on_limit: OnLimit = "raise", iterations: int = ITERATIONS,

@@ -154,7 +154,7 @@ def run_scenario(scenario: Scenario, out: str | Path, progress: bool = False, bo
     o = scenario.output
     written = [files.write_sequence(out / f"{name}{files.SEQUENCE_SUFFIX}", motion)]
     if "glb" in o.files:
-        written.append(files.write_glb(out / f"{name}.glb", motion))
+        written.append(files.write_motion_glb(out / f"{name}.glb", motion))
     if "pvd" in o.files:
         written.append(files.write_pvd(out, motion, name))
     if "png" in o.files:

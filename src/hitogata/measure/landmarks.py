@@ -21,7 +21,6 @@ Limbs are measured on the right side, as ISO 8559-1 and ISO 7250-1 prescribe.
 
 from __future__ import annotations
 
-import weakref
 from dataclasses import dataclass
 from functools import cache
 
@@ -62,16 +61,9 @@ class Landmarks:
     thigh_level: float  # fraction of hip → knee where the thigh plane cuts the femur
 
 
-_BY_BODY: "weakref.WeakKeyDictionary[Body, Landmarks]" = weakref.WeakKeyDictionary()
-
-
 def body_landmarks(body: Body) -> Landmarks:
-    """The landmarks of a body, found once on its rest surface and cached."""
-    found = _BY_BODY.get(body)
-    if found is None:
-        found = find_landmarks(body.vertices, body.faces, JointSet(body.rig.names, body.rig.heads))
-        _BY_BODY[body] = found
-    return found
+    """The landmarks of a body, found once on its rest surface (`Body.landmarks`)."""
+    return body.landmarks
 
 
 def find_landmarks(vertices: np.ndarray, faces: np.ndarray, joints: JointSet) -> Landmarks:

@@ -9,9 +9,9 @@ joint centres in that posture. Girths are tape girths of planar sections
 
 from __future__ import annotations
 
-import weakref
 from collections.abc import Iterable
 from dataclasses import asdict, dataclass, fields
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -22,6 +22,9 @@ from hitogata.measure.geodesic import SurfaceGeodesics, polyline_length
 from hitogata.measure.landmarks import Landmarks, body_landmarks
 from hitogata.measure.sections import Tape, tape_girth
 from hitogata.measure.topology import topology
+
+if TYPE_CHECKING:
+    from hitogata.pose import PosedBody
 
 
 @dataclass(frozen=True)
@@ -66,15 +69,30 @@ def check_names(names: Iterable[str]) -> None:
         raise HitogataError(f"measurement {unknown[0]!r}: allowed {', '.join(MEASUREMENT_NAMES)}")
 
 
-def measure(body: Body, vertices: np.ndarray | None = None, joints: np.ndarray | None = None) -> Measurements:
-    """All measurements of `body` at rest, or in the posture given by `vertices` and `joints`.
+def measure(
+    body: Body | PosedBody, vertices: np.ndarray | None = None, joints: np.ndarray | None = None
+) -> Measurements:
+    """All measurements of `body` at rest, of a `PosedBody` in its posture, or of `body` in the
+    posture given by `vertices` and `joints`.
 
     `vertices` (V, 3) share the body's topology; `joints` (B, 3) are the rig's joint
     centres (heads, in `body.rig.names` order) in the same posture. Both default to rest.
     """
+    body, vertices, joints = posture_of(body, vertices, joints)
     vertices, posed = posture_arrays(body, vertices, joints)
     rest = JointSet(body.rig.names, body.rig.heads)
     return measure_surface(vertices, body.faces, body_landmarks(body), rest, posed, tape_skin(body))
+
+
+def posture_of(
+    body: Body | PosedBody, vertices: np.ndarray | None, joints: np.ndarray | None
+) -> tuple[Body, np.ndarray | None, np.ndarray | None]:
+    """The body and its posture's arrays, from a `Body` with optional arrays or from a `PosedBody`."""
+    if isinstance(body, Body):
+        return body, vertices, joints
+    if vertices is not None or joints is not None:
+        raise HitogataError("a posed body carries its vertices and joints: give the PosedBody alone")
+    return body.body, body.vertices, body.rig_joints
 
 
 def posture_arrays(body: Body, vertices: np.ndarray | None, joints: np.ndarray | None) -> tuple[np.ndarray, JointSet]:
@@ -112,19 +130,18 @@ TAPE_SKIN: dict[str, tuple[str, tuple[str, ...]]] = {
     "upper_arm_girth": ("only", ("upperarm01.R", "upperarm02.R")),
 }
 
-_SKIN_BY_BODY: "weakref.WeakKeyDictionary[Body, dict[str, np.ndarray]]" = weakref.WeakKeyDictionary()
-
-
 def tape_skin(body: Body) -> dict[str, np.ndarray]:
-    """Per girth, the (V,) mask of skin its tape may rest on (TAPE_SKIN), cached per body."""
-    found = _SKIN_BY_BODY.get(body)
-    if found is None:
-        found = {}
-        for name, (mode, prefixes) in TAPE_SKIN.items():
-            columns = [i for i, bone in enumerate(body.rig.names) if bone.startswith(prefixes)]
-            main = np.asarray(body.skin_weights[:, columns].sum(axis=1)).ravel() >= MAIN_WEIGHT
-            found[name] = main if mode == "only" else ~main
-        _SKIN_BY_BODY[body] = found
+    """Per girth, the (V,) mask of skin its tape may rest on (TAPE_SKIN), found once per body (`Body.tape_skin`)."""
+    return body.tape_skin
+
+
+def find_tape_skin(body: Body) -> dict[str, np.ndarray]:
+    """Per girth, the (V,) mask of skin its tape may rest on (TAPE_SKIN)."""
+    found = {}
+    for name, (mode, prefixes) in TAPE_SKIN.items():
+        columns = [i for i, bone in enumerate(body.rig.names) if bone.startswith(prefixes)]
+        main = np.asarray(body.skin_weights[:, columns].sum(axis=1)).ravel() >= MAIN_WEIGHT
+        found[name] = main if mode == "only" else ~main
     return found
 
 
@@ -203,9 +220,10 @@ def measure_surface(
 
 
 def measurement_paths(
-    body: Body, vertices: np.ndarray | None = None, joints: np.ndarray | None = None
+    body: Body | PosedBody, vertices: np.ndarray | None = None, joints: np.ndarray | None = None
 ) -> dict[str, np.ndarray]:
     """Where each tape lies, for pictures: closed hull loops of the girths, geodesic polylines."""
+    body, vertices, joints = posture_of(body, vertices, joints)
     vertices, posed = posture_arrays(body, vertices, joints)
     marks, rest = body_landmarks(body), JointSet(body.rig.names, body.rig.heads)
     girths = tapes(vertices, body.faces, marks, rest, posed, tape_skin(body))

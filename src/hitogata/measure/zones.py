@@ -10,7 +10,6 @@ belongs to a zone when its three corners do.
 
 from __future__ import annotations
 
-import weakref
 from dataclasses import dataclass
 
 import numpy as np
@@ -50,8 +49,6 @@ ZONES: dict[str, JointZone | BackZone] = {
 }
 ZONE_NAMES = tuple(ZONES)
 
-_BY_BODY: "weakref.WeakKeyDictionary[Body, dict[str, np.ndarray]]" = weakref.WeakKeyDictionary()
-
 
 @dataclass(frozen=True)
 class ZoneStrain:
@@ -65,12 +62,13 @@ class ZoneStrain:
 
 
 def body_zones(body: Body) -> dict[str, np.ndarray]:
-    """Face indices of each zone on this body, found once on its rest shape."""
-    found = _BY_BODY.get(body)
-    if found is None:
-        found = {name: _zone_faces(body, zone) for name, zone in ZONES.items()}
-        _BY_BODY[body] = found
-    return found
+    """Face indices of each zone on this body, found once on its rest shape (`Body.zones`)."""
+    return body.zones
+
+
+def find_zones(body: Body) -> dict[str, np.ndarray]:
+    """Face indices of each zone, found on the body's rest shape."""
+    return {name: _zone_faces(body, zone) for name, zone in ZONES.items()}
 
 
 def _vertex_normals(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:

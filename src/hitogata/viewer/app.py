@@ -80,7 +80,7 @@ class ViewerApp:
         server.gui.configure_theme(control_width="large", show_share_button=False)  # no tunnel off this machine
         self.lock = threading.RLock()
         self.state = PoseState(body)
-        self.frame = posed_frame(body, self.state.posed)
+        self.frame = posed_frame(self.state.posed)
         self.colouring = StrainColouring(body.vertices, body.faces)
         self.sequence: Sequence | None = None
         self.clock: Clock | None = None
@@ -150,14 +150,14 @@ class ViewerApp:
                 return  # a queued event for a value already shown
             self._stop_sequence()
             posed = self.state.set_contraction(name, percent / 100.0)
-            self.show(posed_frame(self.state.body, posed))
+            self.show(posed_frame(posed))
             self._echo_sliders(moved=name)
 
     @reported
     def reset_pose(self) -> None:
         with self.lock:
             self._stop_sequence()
-            self.show(posed_frame(self.state.body, self.state.reset()))
+            self.show(posed_frame(self.state.reset()))
             self._echo_sliders()
             self.say("pose reset to rest")
 
@@ -178,7 +178,7 @@ class ViewerApp:
                 self._update_slider_ranges()
                 self.scene.clear_tissue()
                 self._tissue_for = None
-                self.show(posed_frame(body, posed))
+                self.show(posed_frame(posed))
                 self._echo_sliders()
                 self.panels.figures.content = figures_text(body)
                 if self.scene.layers["tissue"]:
@@ -305,7 +305,7 @@ class ViewerApp:
     def back_to_muscles(self) -> None:
         with self.lock:
             self._stop_sequence()
-            self.show(posed_frame(self.state.body, self.state.posed))
+            self.show(posed_frame(self.state.posed))
 
     def _stop_sequence(self) -> None:
         """Leave the sequence (posing by muscles again); it stays loaded for scrubbing."""

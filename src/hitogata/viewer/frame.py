@@ -11,8 +11,6 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from hitogata.body import Body
-from hitogata.measure import posed_rig_heads
 from hitogata.pose import PosedBody, Poser
 from hitogata.skeleton.kinematics import Pose
 from hitogata.viewer.player import Sequence
@@ -34,14 +32,9 @@ class Frame:
         return np.stack([self.pose.joints[0], self.pose.tails[0]], axis=1)
 
 
-def rig_joints_of(body: Body, pose: Pose) -> np.ndarray:
-    """(B, 3) the rig's joint centres carried by the 65 parts (see `hitogata.measure.posed_rig_heads`)."""
-    return posed_rig_heads(body.rig.heads, pose.skeleton.joints, pose.rotations[0], pose.translations[0])
-
-
-def posed_frame(body: Body, posed: PosedBody) -> Frame:
+def posed_frame(posed: PosedBody) -> Frame:
     """The frame of a body posed by its muscles."""
-    return Frame(posed.vertices, posed.pose, rig_joints_of(body, posed.pose))
+    return Frame(posed.vertices, posed.pose, posed.rig_joints)
 
 
 def sequence_frame(poser: Poser, seq: Sequence, index: int) -> Frame:
@@ -51,7 +44,7 @@ def sequence_frame(poser: Poser, seq: Sequence, index: int) -> Frame:
     if seq.joints is not None:
         joints = seq.joints[index]
     elif pose is not None:
-        joints = rig_joints_of(poser.body, pose)
+        joints = poser.rig_joints(pose.rotations[0], pose.translations[0])
     else:
         joints = poser.body.rig.heads  # a surface deformed without moving the skeleton
     return Frame(vertices, pose, joints)

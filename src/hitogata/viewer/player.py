@@ -31,7 +31,6 @@ from hitogata.dynamics.files import find_sequence
 from hitogata.dynamics.motion import simulate
 from hitogata.dynamics.run import build_dynamics
 from hitogata.dynamics.scenario import load_scenario
-from hitogata.measure import posed_rig_heads
 from hitogata.errors import HitogataError
 from hitogata.pose import Poser
 from hitogata.skeleton.spec import Entry, read_toml
@@ -154,8 +153,7 @@ def simulate_scenario(path: Path, poser: Poser) -> Sequence:
     dynamics = build_dynamics(poser.body, scenario)
     motion = simulate(dynamics, scenario.timeline, scenario.duration, scenario.rate, scenario.substeps,
                       scenario.model.gravity, scenario.on_limit)
-    joints = np.stack([posed_rig_heads(poser.body.rig.heads, poser.skeleton.joints, r, t)
-                       for r, t in zip(motion.rotations, motion.translations)])
+    joints = motion.rig_joints
     return Sequence(str(path), motion.times, motion.skin.astype(np.float32), motion.angles, joints)
 
 
