@@ -8,9 +8,10 @@ import pytest
 from measure_posing import flex_elbow
 
 from hitogata.errors import HitogataError
-from hitogata.measure.cli_support import measure_report, measurement_table
+from hitogata.report.measurements import measure_report, measurement_table
 from hitogata.measure.measurements import MEASUREMENT_NAMES, measure
-from hitogata.measure.timeseries import measure_sequence, series_csv, write_series
+from hitogata.measure.timeseries import measure_sequence
+from hitogata.report.series import series_csv, write_series
 from hitogata.measure.zones import ZONE_NAMES
 
 PNG = b"\x89PNG\r\n\x1a\n"

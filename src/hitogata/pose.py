@@ -20,7 +20,6 @@ import numpy as np
 
 from hitogata.body import Body
 from hitogata.errors import HitogataError
-from hitogata.measure.rig_joints import carried_heads, carrying_parts
 from hitogata.muscles.activation import (
     MuscleLimitWarning,
     angles_from_muscles,
@@ -33,6 +32,7 @@ from hitogata.skeleton.kinematics import Kinematics, Pose, limit_violations
 from hitogata.skeleton.placement import Skeleton, place_skeleton
 from hitogata.skeleton.spec import load_skeleton_spec
 from hitogata.skeleton.weights import part_weights
+from hitogata.rig import carried_heads, carrying_parts
 from hitogata.skinning import Skin, prepare_skin, skin_vertices
 
 
@@ -100,7 +100,7 @@ class Poser:
 
     @cached_property
     def rig_parts(self) -> np.ndarray:
-        """(B,) the part that carries each rig joint centre (`hitogata.measure.rig_joints`)."""
+        """(B,) the part that carries each rig joint centre (`hitogata.rig.carrying_parts`)."""
         return carrying_parts(self.body.rig.heads, self.skeleton.joints)
 
     def rig_joints(self, rotations: np.ndarray, translations: np.ndarray) -> np.ndarray:

@@ -9,7 +9,7 @@ from hitogata.body import Body
 from hitogata.commands.args import add_body_arguments
 from hitogata.export.body_files import body_figures, check_body_path, write_body
 from hitogata.measure import measure
-from hitogata.measure.cli_support import measurement_table
+from hitogata.report.measurements import measurement_table
 
 
 def figures_line(label: str, body: Body) -> str:

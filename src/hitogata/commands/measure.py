@@ -21,8 +21,9 @@ from hitogata.export.gltf import read_glb_skin
 from hitogata.dynamics.files import find_sequence, read_sequence_body
 from hitogata.measure import Measurements, measure
 from hitogata.pose import pose_body
-from hitogata.measure.timeseries import measure_sequence, write_series
-from hitogata.measure.cli_support import measure_report, measurement_table
+from hitogata.measure.timeseries import measure_sequence
+from hitogata.report.measurements import measure_report, measurement_table
+from hitogata.report.series import write_series
 
 
 REST_TOLERANCE = 1e-5  # m: a GLB stores float32 positions; closer than this to rest is the rest pose

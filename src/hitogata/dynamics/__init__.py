@@ -24,13 +24,30 @@ Modules: `rigging` (skinning weights at the FE nodes), `rotations`,
 prefactored matrix), `motion` (coupling and modal dynamics), `timeline`,
 `scenario`, `quality` (inversions, volumes, distortion vs skinning),
 `files` (GLB, VTU/PVD, PNG, GIF), `run`, `demo`.
+
+`files`, `run` and `demo` write files and draw pictures: they are reporting
+over the computation, so importing this package does not load them (nor
+matplotlib, meshio, pygltflib, pyvista); `run_scenario` imports `run` on first use.
 """
+
+from typing import TYPE_CHECKING, Any
 
 from hitogata.dynamics.motion import BodyDynamics, Motion, simulate
 from hitogata.dynamics.quality import PoseQuality, compare_pose
-from hitogata.dynamics.run import run_scenario
 from hitogata.dynamics.scenario import Scenario, load_scenario, shipped_scenarios
 from hitogata.dynamics.timeline import Channel, Keyframe, Timeline
+
+if TYPE_CHECKING:
+    from hitogata.dynamics.run import run_scenario
+
+
+def __getattr__(name: str) -> Any:
+    """`run_scenario` from `hitogata.dynamics.run`, imported on first use (PEP 562)."""
+    if name == "run_scenario":
+        from hitogata.dynamics.run import run_scenario
+
+        return run_scenario
+    raise AttributeError(f"module 'hitogata.dynamics' has no attribute {name!r}")
 
 __all__ = [
     "BodyDynamics", "Channel", "Keyframe", "Motion", "PoseQuality", "Scenario", "Timeline", "compare_pose",

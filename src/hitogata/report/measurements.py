@@ -24,12 +24,12 @@ import numpy as np
 from hitogata.body import Body
 from hitogata.errors import HitogataError
 from hitogata.export.atomic import write_bytes_atomically
-from hitogata.measure.heatmap import strain_heatmap
 from hitogata.measure.landmarks import body_landmarks
 from hitogata.measure.measurements import Measurements, measure, measurement_paths, posture_arrays
-from hitogata.measure.render import render_png
 from hitogata.measure.strain import skin_strain
 from hitogata.measure.zones import ZoneStrain, zone_strains
+from hitogata.report.heatmap import strain_heatmap
+from hitogata.report.surface import render_png
 
 LABELS = {
     "stature": "stature",

@@ -5,8 +5,8 @@ from __future__ import annotations
 import numpy as np
 from matplotlib.colors import TwoSlopeNorm
 
-from hitogata.measure.render import Colouring, render_png
 from hitogata.measure.strain import SkinStrain
+from hitogata.report.surface import Colouring, render_png
 
 MIN_RANGE = 5.0  # %: the colour scale spans at least ± this, so a tiny strain does not look alarming
 STRAINED = 0.5  # %: faces strained more than this set the colour scale's reach

@@ -1,0 +1,34 @@
+"""Computation never imports plotting, rendering or file-format code; `import hitogata` loads nothing else.
+
+Each import runs in a fresh interpreter, so what another test imported cannot hide a leak.
+"""
+
+import subprocess
+import sys
+
+import pytest
+
+COMPUTATION = ["body", "shape", "rig", "skeleton", "muscles", "pose", "skinning", "volume", "fem", "elastic",
+               "dynamics", "measure", "options", "units"]
+PRESENTATION = ("matplotlib", "pyvista", "vtk", "vtkmodules", "meshio", "pygltflib", "viser", "trimesh", "PIL", "tqdm")
+
+
+def loaded_after(statement: str) -> set[str]:
+    code = f"import sys\n{statement}\nprint(' '.join(sorted(sys.modules)))"
+    result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    return set(result.stdout.split())
+
+
+@pytest.mark.parametrize("package", COMPUTATION)
+def test_computation_imports_no_presentation_or_file_format_library(package: str) -> None:
+    loaded = loaded_after(f"import hitogata.{package}")
+    leaked = sorted(name for name in PRESENTATION if name in loaded)
+    assert not leaked, f"import hitogata.{package} loads {', '.join(leaked)}"
+    assert not any(m.startswith(("hitogata.report", "hitogata.render", "hitogata.export", "hitogata.viewer",
+                                 "hitogata.commands")) for m in loaded), package
+
+
+def test_import_hitogata_loads_only_itself() -> None:
+    loaded = loaded_after("import hitogata")
+    assert sorted(m for m in loaded if m.startswith("hitogata")) == ["hitogata"]
+    assert "numpy" not in loaded
