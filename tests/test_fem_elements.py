@@ -8,7 +8,7 @@ import pytest
 from hitogata.fem.verify.box_mesh import box_mesh
 from hitogata.fem.elements import (
     P2_EDGES,
-    boundary_faces,
+    boundary_triangles,
     lift_node_set,
     p2_mesh,
     quadrature,
@@ -90,7 +90,7 @@ def test_boundary_faces_cover_the_surface_outward(order):
     points, tets = box_mesh((1.0, 0.1, 0.2), (4, 2, 3))
     if order == 2:
         points, tets = p2_mesh(points, tets)
-    faces = boundary_faces(tets)
+    faces = boundary_triangles(tets)
     assert faces.shape[1] == (3 if order == 1 else 6)
     x = points[faces[:, :3]]
     normal = 0.5 * np.cross(x[:, 1] - x[:, 0], x[:, 2] - x[:, 0])

@@ -6,7 +6,7 @@ import pytest
 from hitogata.errors import HitogataError
 from hitogata.fem.assembly import stiffness_matrix
 from hitogata.fem.verify.box_mesh import box_mesh
-from hitogata.fem.elements import MATERIAL_SAMPLES, boundary_faces, lift_node_set, p2_mesh, sample_points
+from hitogata.fem.elements import MATERIAL_SAMPLES, boundary_triangles, lift_node_set, p2_mesh, sample_points
 from hitogata.fem.loads import (
     eigenstrain_load,
     fibre_eigenstrain,
@@ -96,7 +96,7 @@ def test_gravity_total_and_cantilever_sag(order):
 @pytest.mark.parametrize("order", [1, 2])
 def test_end_traction_gives_uniform_tension(order):
     points, tets = bar(order)
-    faces = boundary_faces(tets)
+    faces = boundary_triangles(tets)
     end = faces[np.all(points[faces[:, :3], 0] > L - 1e-9, axis=1)]
     sigma = 1e4
     f = traction_load(points, end, (sigma, 0.0, 0.0))

@@ -25,7 +25,6 @@ from xml.sax.saxutils import quoteattr
 import meshio
 import numpy as np
 import pygltflib as gl
-import scipy.sparse as sp
 
 from hitogata.dynamics.motion import Motion
 from hitogata.export.atomic import write_bytes_atomically
@@ -33,7 +32,7 @@ from hitogata.body import Body
 from hitogata.errors import HitogataError
 from hitogata.export.body_files import body_from_extras, shape_extras
 from hitogata.export.gltf import GlbBuilder
-from hitogata.fem.elements import boundary_faces
+from hitogata.geometry.shells import region_boundary, taubin_smooth
 
 SMOOTHING = 4  # Taubin steps on the pictures' region surfaces
 MAX_TARGETS = 120  # morph targets in a GLB: frames beyond are subsampled evenly
@@ -141,28 +140,9 @@ def region_surfaces(motion: Motion) -> dict[str, np.ndarray]:
     """Outward boundary triangles (F, 3) of each tissue region's corner tets; for bones held outside
     the mesh, the soft tissue's boundary on them."""
     model = motion.dynamics.model
-    surfaces = {name: boundary_faces(model.elements[model.region == k, :4])
-                for k, name in enumerate(model.region_names) if np.any(model.region == k)}
-    if len(model.volume.bone_surface):
-        surfaces["bone"] = model.volume.bone_surface
-    return dict(sorted(surfaces.items(), key=lambda item: model.region_names.index(item[0])))
-
-
-def smoothed(points: np.ndarray, faces: np.ndarray, steps: int = SMOOTHING) -> np.ndarray:
-    """Taubin-smoothed vertex positions of a surface (display only: the tets' staircase interfaces)."""
-    used = np.unique(faces)
-    edges = np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]])
-    n = len(points)
-    rows, cols = np.r_[edges[:, 0], edges[:, 1]], np.r_[edges[:, 1], edges[:, 0]]
-    adjacency = sp.csr_matrix((np.ones(len(rows)), (rows, cols)), shape=(n, n))
-    adjacency.data[:] = 1.0
-    degree = np.maximum(np.asarray(adjacency.sum(axis=1)).ravel(), 1.0)
-    out = points.copy()
-    for _ in range(steps):
-        for factor in (0.5, -0.53):
-            move = (adjacency @ out) / degree[:, None] - out
-            out[used] += factor * move[used]
-    return out
+    surfaces = {name: region_boundary(model.elements, model.region, model.region_names, [name],
+                                      model.volume.bone_surface) for name in model.region_names}
+    return {name: faces for name, faces in surfaces.items() if len(faces)}
 
 
 def frame_items(motion: Motion, k: int, surfaces: dict[str, np.ndarray], bounds: np.ndarray,
@@ -186,7 +166,7 @@ def frame_items(motion: Motion, k: int, surfaces: dict[str, np.ndarray], bounds:
         for name in ("bone", "viscera", "muscle", "skin"):
             if name in surfaces:
                 color, opacity = REGION_STYLE[name]
-                items.append(Layer(smoothed(nodes, surfaces[name]), surfaces[name], color=color, opacity=opacity))
+                items.append(Layer(taubin_smooth(nodes, surfaces[name], SMOOTHING), surfaces[name], color=color, opacity=opacity))
     items.append(Points(bounds, color="white", size=1.0, opacity=0.0))
     return items
 

@@ -50,10 +50,10 @@ import scipy.sparse as sp
 
 from hitogata.dynamics.rotations import extract_rotations
 from hitogata.dynamics.untangle import Untangler
-from hitogata.fem.elements import TET_FACES, element_order, quadrature, shape_gradients, tet_geometry
+from hitogata.fem.elements import element_order, quadrature, shape_gradients, tet_geometry
+from hitogata.geometry.tets import TET_FACES, signed_volumes
 from hitogata.fem.factor import factorize
 from hitogata.fem.materials import lame, per_element
-from hitogata.volume.quality import signed_volumes
 
 MEMORY = 5  # Anderson acceleration: past steps mixed
 REPAIRS = 30  # at most so many plain steps after the last one, holding elements over the floor

@@ -26,8 +26,7 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.optimize import linprog
 
-from hitogata.fem.elements import TET_FACES
-from hitogata.volume.quality import signed_volumes
+from hitogata.geometry.tets import TET_FACES, signed_volumes
 
 STEPS = 20  # at most so many linear programmes (accepted or not)
 REACH = 0.25  # first trust radius, as a share of the mean edge length round the moved nodes

@@ -18,7 +18,7 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.spatial import cKDTree
 
-from hitogata.fem.elements import boundary_faces, element_order, shape_values, tet_geometry
+from hitogata.fem.elements import boundary_triangles, element_order, shape_values, tet_geometry
 from hitogata.volume.surface import SurfaceIndex
 
 DEFAULT_FADE = 0.05  # m: the elastic displacement fades out over 5 cm past the mesh
@@ -74,7 +74,7 @@ def _place(points: np.ndarray, nodes: np.ndarray, tets: np.ndarray) -> tuple[np.
     distance to the mesh; a point outside takes the coordinates of its closest mesh point."""
     tree = cKDTree(nodes[tets].mean(axis=1))
     tet, bary = locate(points, nodes, tets, tree)
-    surface = SurfaceIndex(nodes, boundary_faces(tets))
+    surface = SurfaceIndex(nodes, boundary_triangles(tets))
     missed = np.flatnonzero(bary.min(axis=1) < _INSIDE)
     if missed.size:  # inside after all (the k nearest centroids missed its tet)? retry wider
         inside = missed[surface.contains(points[missed])]

@@ -37,7 +37,8 @@ from hitogata.fem import (
 )
 from hitogata.fem.assembly import DILATATIONS
 from hitogata.fem.damping import check_rayleigh, damping_ratios as modal_damping_ratios
-from hitogata.fem.elements import MATERIAL_SAMPLES, P2_EDGES, TET_FACES, tet_geometry
+from hitogata.fem.elements import MATERIAL_SAMPLES, P2_EDGES, tet_geometry
+from hitogata.geometry.tets import face_neighbours
 from hitogata.options import BONE_MODES, BoneMode, CUT_MODES, CutMode, Dilatation, EigenSolver, Element, ELEMENTS, Extent
 from hitogata.volume import VolumeModel, build_volume_model
 from hitogata.volume.trunk import segment_distance
@@ -305,10 +306,7 @@ def _with_loose_pieces(volume: VolumeModel, rig, nodes: np.ndarray, bones: np.nd
     at one node or along one edge would hinge about it).
     """
     tets = volume.tets
-    faces = np.sort(tets[:, TET_FACES].reshape(-1, 3), axis=1)
-    order = np.lexsort(faces.T[::-1])
-    shared = np.flatnonzero(np.all(faces[order][1:] == faces[order][:-1], axis=1))
-    a, b = order[shared] // 4, order[shared + 1] // 4
+    a, b, _, _ = face_neighbours(tets)
     graph = sp.csr_matrix((np.ones(len(a), dtype=np.int8), (a, b)), shape=(len(tets), len(tets)))
     _, piece = connected_components(graph, directed=False)
     is_fixed = np.zeros(len(volume.nodes), dtype=bool)

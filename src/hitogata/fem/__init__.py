@@ -32,7 +32,7 @@ from hitogata.fem.damping import (
     modal_damping,
     rayleigh_coefficients,
 )
-from hitogata.fem.elements import boundary_faces, check_mesh, lift_node_set, p2_mesh, tet_geometry
+from hitogata.fem.elements import boundary_triangles, check_mesh, lift_node_set, p2_mesh, tet_geometry
 from hitogata.fem.factor import available_methods, factorize
 from hitogata.fem.loads import (
     eigenstrain_load,
@@ -56,7 +56,7 @@ from hitogata.fem.modes import Modes, frequencies_hz, solve_modes
 
 __all__ = [
     "Material", "ModalStep", "Modes", "Pattern",
-    "advance", "available_methods", "boundary_faces", "check_mesh", "damping_matrix",
+    "advance", "available_methods", "boundary_triangles", "check_mesh", "damping_matrix",
     "damping_ratios", "eigenstrain_load", "factorize", "fibre_eigenstrain",
     "frequencies_hz", "gravity_load", "integrate_modes", "lift_node_set", "lumped_masses", "mass_matrix",
     "modal_damping", "modal_energy", "modal_loads", "modal_step", "muscle_eigenstrain",

@@ -12,13 +12,10 @@ import numpy as np
 from scipy.special import roots_jacobi
 
 from hitogata.errors import HitogataError
+from hitogata.geometry.tets import TET_FACES, on_boundary, tet_faces
 
 #: Corner pairs of the six edges whose midpoints are P2 nodes 4..9.
 P2_EDGES = np.array([[0, 1], [1, 2], [0, 2], [0, 3], [1, 3], [2, 3]])
-
-#: The face opposite each corner, as corner triples seen outward-oriented
-#: (counter-clockwise from outside) for a positively oriented tet.
-TET_FACES = np.array([[1, 2, 3], [0, 3, 2], [0, 1, 3], [0, 2, 1]])
 
 
 def nodes_per_element(order: int) -> int:
@@ -176,26 +173,23 @@ def p2_mesh(points: np.ndarray, tets: np.ndarray) -> tuple[np.ndarray, np.ndarra
     return np.concatenate([points, mid]), tets2
 
 
-def boundary_faces(tets: np.ndarray) -> np.ndarray:
-    """Outward-oriented boundary triangles of a tet mesh.
+def boundary_triangles(tets: np.ndarray) -> np.ndarray:
+    """Outward-oriented boundary triangles of a P1 or P2 tet mesh (`geometry.tets.boundary_faces`).
 
     P1 tets give (F, 3) corner triples; P2 tets give (F, 6) quadratic
     triangles: 3 corners, then the midpoints of edges (0,1), (1,2), (2,0).
     """
     tets = np.asarray(tets)
     order = element_order(tets)
-    faces = tets[:, TET_FACES].reshape(-1, 3)
-    keys = np.sort(faces, axis=1)
-    _, inverse, counts = np.unique(keys, axis=0, return_inverse=True, return_counts=True)
-    on_boundary = counts[inverse.ravel()] == 1
+    faces, once = tet_faces(tets), on_boundary(tets)
     if order == 1:
-        return faces[on_boundary]
+        return faces[once]
     edge_of = {tuple(e): 4 + i for i, e in enumerate(P2_EDGES.tolist())}
     local_mid = np.array(
         [[edge_of[tuple(sorted((f[i], f[(i + 1) % 3])))] for i in range(3)] for f in TET_FACES.tolist()]
     )
     mids = tets[:, local_mid].reshape(-1, 3)
-    return np.concatenate([faces, mids], axis=1)[on_boundary]
+    return np.concatenate([faces, mids], axis=1)[once]
 
 
 def lift_node_set(tets2: np.ndarray, nodes: np.ndarray) -> np.ndarray:

@@ -18,18 +18,17 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-import scipy.sparse as sp
 from scipy.spatial import cKDTree
 
+from hitogata.geometry.shells import region_boundary, taubin_smooth
 from hitogata.skeleton.kinematics import Pose
 from hitogata.skinning import Skin, prepare_skin, skin_vertices
 from hitogata.volume import VolumeModel
-from hitogata.volume.quality import boundary_faces
 
 SHOWN_REGIONS = ("bone", "viscera", "muscle")  # from the inside out
 REGION_COLOURS = {"bone": (235, 225, 200), "viscera": (200, 110, 90), "muscle": (170, 45, 60)}
 REGION_OPACITY = {"bone": 0.9, "viscera": 0.45, "muscle": 0.25}  # inner shells more opaque, to show through
-SMOOTHING = (0.5, -0.53, 10)  # Taubin λ, μ and iterations
+SMOOTHING = 10  # Taubin λ|μ passes (`geometry.shells.taubin_smooth`)
 
 
 @dataclass(frozen=True, eq=False)
@@ -49,21 +48,6 @@ class TissueSurface:
         return skin_vertices(self.skin, pose.rotations, pose.translations)[0]
 
 
-def taubin_smooth(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
-    """(n, 3) vertices smoothed by `SMOOTHING` iterations of Taubin's filter over the mesh's edges."""
-    edges = np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]])
-    n = len(vertices)
-    adjacency = sp.csr_matrix((np.ones(len(edges)), (edges[:, 0], edges[:, 1])), shape=(n, n))
-    adjacency = ((adjacency + adjacency.T) > 0).astype(float)
-    mean = sp.diags(1.0 / np.maximum(np.asarray(adjacency.sum(axis=1)).ravel(), 1.0)) @ adjacency
-    lam, mu, iterations = SMOOTHING
-    out = vertices.copy()
-    for _ in range(iterations):
-        out = out + lam * (mean @ out - out)
-        out = out + mu * (mean @ out - out)
-    return out
-
-
 def tissue_surfaces(model: VolumeModel, body_skin: Skin) -> tuple[TissueSurface, ...]:
     """The nested shells (bone, up to viscera, up to muscle), each node weighted like its nearest skin vertex.
 
@@ -72,15 +56,14 @@ def tissue_surfaces(model: VolumeModel, body_skin: Skin) -> tuple[TissueSurface,
     nearest = cKDTree(body_skin.rest).query(model.nodes)[1]
     out = []
     for k, region in enumerate(SHOWN_REGIONS):
-        within = np.isin(model.region, [model.region_names.index(r) for r in SHOWN_REGIONS[: k + 1]])
-        faces, _ = boundary_faces(model.tets[within])
-        if region == "bone":  # bones held outside the mesh: their surface bounds the soft tissue
-            faces = np.concatenate([faces, model.bone_surface])
+        # bones held outside the mesh: the soft tissue's faces on them are the bone shell
+        faces = region_boundary(model.tets, model.region, model.region_names, SHOWN_REGIONS[: k + 1],
+                                model.bone_surface)
         if not len(faces):
             continue
         used, compact = np.unique(faces, return_inverse=True)
         compact = compact.reshape(-1, 3)
         weights = body_skin.weights[nearest[used]]
-        skin = prepare_skin(taubin_smooth(model.nodes[used], compact), weights, body_skin.parents)
+        skin = prepare_skin(taubin_smooth(model.nodes[used], compact, SMOOTHING), weights, body_skin.parents)
         out.append(TissueSurface(region, compact, skin))
     return tuple(out)

@@ -10,17 +10,12 @@ from __future__ import annotations
 
 import numpy as np
 
+from hitogata.geometry.tets import TET_FACES, boundary_faces, face_neighbours, signed_volumes
 from hitogata.volume.surface import SurfaceIndex
 
-# Outward faces of a positively oriented tet (0, 1, 2, 3), the one opposite vertex k in row k.
-TET_FACES = np.array([[1, 2, 3], [0, 3, 2], [0, 1, 3], [0, 2, 1]])
+__all__ = ["boundary_faces", "dihedral_angles", "interface_faces", "signed_volumes", "surface_distances"]
+
 _EDGE_PAIRS = [(0, 1), (0, 2), (0, 3), (1, 2), (1, 3), (2, 3)]
-
-
-def signed_volumes(nodes: np.ndarray, tets: np.ndarray) -> np.ndarray:
-    """Signed volume (T,) of each tet, positive when positively oriented."""
-    p = nodes[tets]
-    return np.einsum("ij,ij->i", p[:, 1] - p[:, 0], np.cross(p[:, 2] - p[:, 0], p[:, 3] - p[:, 0])) / 6.0
 
 
 def dihedral_angles(nodes: np.ndarray, tets: np.ndarray) -> np.ndarray:
@@ -36,32 +31,17 @@ def dihedral_angles(nodes: np.ndarray, tets: np.ndarray) -> np.ndarray:
     return np.pi - np.arccos(np.clip(cos, -1.0, 1.0))
 
 
-def boundary_faces(tets: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Faces (F, 3) used by one tet only, outward-oriented, and the tet (F,) each belongs to."""
-    faces = tets[:, TET_FACES].reshape(-1, 3)
-    keys = np.sort(faces, axis=1)
-    _, inverse, counts = np.unique(keys, axis=0, return_inverse=True, return_counts=True)
-    once = counts[inverse.ravel()] == 1
-    return faces[once], np.flatnonzero(once) // 4
-
-
 def interface_faces(tets: np.ndarray, labels: np.ndarray) -> dict[tuple[int, int], np.ndarray]:
     """Faces shared by two tets of different labels, keyed by (smaller label, larger label).
 
     Each face is oriented outward from the tet with the smaller label.
     """
-    faces = tets[:, TET_FACES].reshape(-1, 3)
-    owner = np.repeat(np.arange(len(tets)), 4)
-    keys = np.sort(faces, axis=1)
-    order = np.lexsort(keys.T[::-1])
-    keys, faces, owner = keys[order], faces[order], owner[order]
-    pair = np.flatnonzero(np.all(keys[1:] == keys[:-1], axis=1))
-    first, second = owner[pair], owner[pair + 1]
+    first, second, from_first, from_second = face_neighbours(tets)
     la, lb = labels[first], labels[second]
     differ = la != lb
-    pair, first, second, la, lb = pair[differ], first[differ], second[differ], la[differ], lb[differ]
+    from_first, from_second, la, lb = from_first[differ], from_second[differ], la[differ], lb[differ]
     # Orient from the smaller label's side: keep the face as seen from its own tet.
-    face = np.where((la < lb)[:, None], faces[pair], faces[pair + 1])
+    face = np.where((la < lb)[:, None], from_first, from_second)
     lo, hi = np.minimum(la, lb), np.maximum(la, lb)
     return {(int(a), int(b)): face[(lo == a) & (hi == b)] for a, b in sorted(set(zip(lo.tolist(), hi.tolist())))}
 
