@@ -33,7 +33,7 @@ import numpy as np
 import scipy
 
 from hitogata.body import default_body
-from hitogata.elastic import DEFAULT_ELEMENT_SIZE, build_elastic_model
+from hitogata.elastic import DEFAULT_ELEMENT_SIZES, build_elastic_model
 from hitogata.elastic.model import EIGEN_TOLERANCE, assemble_system
 from hitogata.fem import available_methods, solve_modes
 from hitogata.volume import build_volume_model
@@ -54,7 +54,7 @@ def timed(fn, *args, **kwargs):
 
 
 def part_default() -> None:
-    print(f"\n1. default trunk model end to end (P2 at {DEFAULT_ELEMENT_SIZE['P2']:g} mm, {N_MODES} modes)")
+    print(f"\n1. default trunk model end to end (P2 at {DEFAULT_ELEMENT_SIZES['P2']:g} mm, {N_MODES} modes)")
     print(f"{'body':8}{'tets':>8}{'free dof':>10}{'mesh':>7}{'assembly':>10}{'modes':>7}{'skin map':>10}"
           f"{'total':>8}{'(CPU)':>8}  goal   f1 .. f40 (Hz)")
     for sex in ("female", "male"):
@@ -117,7 +117,7 @@ def part_sizes(sizes: list[float], p1_sizes: list[float], reference: float, scip
         if "agree" in row:
             assert row["agree"] < 1e-6, f"solvers disagree by {row['agree']:.2e}"
 
-    default = next((r for r in rows if r["element"] == "P2" and r["size"] == DEFAULT_ELEMENT_SIZE["P2"]), None)
+    default = next((r for r in rows if r["element"] == "P2" and r["size"] == DEFAULT_ELEMENT_SIZES["P2"]), None)
     if default is None:
         return
     total = default["mesh"] + default["assembly"] + default["ours"]

@@ -50,3 +50,20 @@ def test_the_per_body_caches_are_the_bodys_own(female, male) -> None:
     assert female.poser is female.poser and female.poser is not male.poser
     assert female.landmarks is female.landmarks
     assert female.poser.body is female
+
+
+@pytest.mark.parametrize("sex, figures", [("female", "stature 165.0 cm, mass 62.0 kg"),
+                                          ("male", "stature 178.0 cm, mass 78.0 kg")])
+def test_the_command_lines_default_body_is_default_body(tmp_path, capsys, sex: str, figures: str) -> None:
+    from hitogata.cli import main
+
+    assert main(["body", "--sex", sex, "--out", str(tmp_path / "b.obj")]) == 0
+    assert figures in capsys.readouterr().out
+
+
+def test_a_view_name_means_one_side_in_every_picture() -> None:
+    from hitogata.render.views import VIEWS as RENDER_VIEWS
+    from hitogata.report.surface import VIEWS as REPORT_VIEWS
+
+    for name, (_, looking) in REPORT_VIEWS.items():
+        np.testing.assert_allclose(looking, RENDER_VIEWS[name].direction, err_msg=name)

@@ -183,17 +183,22 @@ class Body:
         return self.mass / self.stature**2
 
 
-def default_body(sex: float | str = "female") -> Body:
-    """The built-in default body: a 30-year-old of average survey stature and mass.
+def default_measurements(sex: float | str = "female") -> tuple[float, float]:
+    """Stature (m) and mass (kg) of the default body of a sex (0 female … 1 male, or the word).
 
     Female 165 cm / 62 kg, male 178 cm / 78 kg: near the adult means of ANSUR II
     (Gordon et al. 2014; women 162.9 cm / 68 kg, men 175.6 cm / 85 kg) and of
-    civilian surveys, which weigh less than the army sample.
+    civilian surveys, which weigh less than the army sample. The command line
+    uses the same figures for a stature or mass not given.
     """
     value = sex_value(sex)
-    stature = 1.65 + 0.13 * value
-    mass = 62.0 + 16.0 * value
-    return Body.from_measurements(value, 30.0, stature, mass)
+    return 1.65 + 0.13 * value, 62.0 + 16.0 * value
+
+
+def default_body(sex: float | str = "female") -> Body:
+    """The built-in default body: a 30-year-old of average survey stature and mass (`default_measurements`)."""
+    stature, mass = default_measurements(sex)
+    return Body.from_measurements(sex_value(sex), 30.0, stature, mass)
 
 
 def _check_positive(name: str, value: float, unit: str) -> None:

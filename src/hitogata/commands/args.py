@@ -25,8 +25,9 @@ def add_body_arguments(parser: argparse.ArgumentParser) -> None:
     """--sex --age --stature --mass --muscle-tone --proportions, as a person writes them."""
     parser.add_argument("--sex", default="female", help="female, male, or 0 (female) … 1 (male); default female")
     parser.add_argument("--age", type=years, default=30.0, help="years, 18–90; default 30")
-    parser.add_argument("--stature", default="165cm", help="e.g. 165cm, 1.65m; default 165cm")
-    parser.add_argument("--mass", default="60kg", help="e.g. 58kg; default 60kg")
+    parser.add_argument("--stature", default=None,
+                        help="e.g. 165cm, 1.65m; default the default body's: female 165cm, male 178cm")
+    parser.add_argument("--mass", default=None, help="e.g. 58kg; default the default body's: female 62kg, male 78kg")
     parser.add_argument("--muscle-tone", type=unit_fraction, default=None,
                         help="0..1, 0.5 = average; default: follows the mass (MakeHuman's build path)")
     parser.add_argument("--proportions", type=unit_fraction, default=0.5, help="0..1, 0.5 = average")

@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 
 from hitogata import units
-from hitogata.body import Body
+from hitogata.body import Body, default_measurements
 from hitogata.commands.args import add_body_arguments
 from hitogata.export.body_files import body_figures, check_body_path, write_body
 from hitogata.measure import measure
@@ -22,12 +22,14 @@ def figures_line(label: str, body: Body) -> str:
 
 
 def body_from_args(args: argparse.Namespace) -> Body:
-    """The body the --sex/--age/--stature/--mass/... arguments describe."""
+    """The body the --sex/--age/--stature/--mass/... arguments describe (stature and mass not
+    given: the default body's of that sex, `hitogata.body.default_measurements`)."""
+    stature, mass = default_measurements(args.sex) if args.stature is None or args.mass is None else (0.0, 0.0)
     return Body.from_measurements(
         sex=args.sex,
         age=args.age,
-        stature=units.length(args.stature, "--stature"),
-        mass=units.mass(args.mass, "--mass"),
+        stature=stature if args.stature is None else units.length(args.stature, "--stature"),
+        mass=mass if args.mass is None else units.mass(args.mass, "--mass"),
         muscle=args.muscle_tone,
         proportions=args.proportions,
     )

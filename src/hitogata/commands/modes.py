@@ -11,7 +11,7 @@ from pathlib import Path
 from hitogata import units
 from hitogata.commands.args import add_body_arguments
 from hitogata.commands.body import body_from_args
-from hitogata.elastic import BONE_MODES, CUT_MODES, DEFAULT_ELEMENT_SIZE, ELEMENTS, build_elastic_model, load_materials
+from hitogata.elastic import BONE_MODES, CUT_MODES, DEFAULT_ELEMENT_SIZES, ELEMENTS, build_elastic_model, load_materials
 from hitogata.elastic.files import write_frequencies, write_mode_pictures, write_vtu
 from hitogata.errors import HitogataError
 from hitogata.fem.assembly import DILATATIONS
@@ -103,7 +103,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     parser.add_argument("--element", choices=ELEMENTS, default="P2", help="P2 (quadratic, default) or P1 tets")
     parser.add_argument("--element-size", default=None,
                         help="lattice spacing, e.g. 30mm; default " +
-                             ", ".join(f"{v:g}mm for {k}" for k, v in DEFAULT_ELEMENT_SIZE.items()))
+                             ", ".join(f"{v:g}mm for {k}" for k, v in DEFAULT_ELEMENT_SIZES.items()))
     parser.add_argument("--materials", default=None, help="a materials TOML file; default the shipped presets")
     parser.add_argument("--bone", choices=BONE_MODES, default="rigid",
                         help="rigid: bone follows the skeleton (default); elastic: bone deforms too")

@@ -17,7 +17,6 @@ from __future__ import annotations
 import io
 import json
 import os
-import secrets
 import zipfile
 from pathlib import Path
 from xml.sax.saxutils import quoteattr
@@ -32,6 +31,7 @@ from hitogata.body import Body
 from hitogata.errors import HitogataError
 from hitogata.export.body_files import body_from_extras, shape_extras
 from hitogata.export.gltf import GlbBuilder
+from hitogata.export.meshio_files import write_meshio
 from hitogata.geometry.shells import region_boundary, taubin_smooth
 
 SMOOTHING = 4  # Taubin steps on the pictures' region surfaces
@@ -119,21 +119,11 @@ def write_pvd(folder: str | os.PathLike, motion: Motion, name: str = "motion") -
             cell_data={"region": [model.region.astype(np.int32)]},
         )
         file = frames / f"frame_{k:04d}.vtu"
-        _write_meshio(file, mesh)
+        write_meshio(file, mesh)
         entries.append(f'    <DataSet timestep="{t:.6f}" part="0" file={quoteattr(f"{name}/{file.name}")}/>')
     xml = ('<?xml version="1.0"?>\n<VTKFile type="Collection" version="0.1">\n  <Collection>\n'
            + "\n".join(entries) + "\n  </Collection>\n</VTKFile>\n")
     return write_bytes_atomically(folder / f"{name}.pvd", xml.encode())
-
-
-def _write_meshio(path: Path, mesh: meshio.Mesh) -> None:
-    """meshio writes to a path: write a sibling temporary file, then rename it over the target."""
-    temporary = path.with_name(f".{path.stem}.{secrets.token_hex(4)}{path.suffix}")
-    try:
-        meshio.write(temporary, mesh, binary=True)
-        os.replace(temporary, path)
-    finally:
-        temporary.unlink(missing_ok=True)
 
 
 def region_surfaces(motion: Motion) -> dict[str, np.ndarray]:

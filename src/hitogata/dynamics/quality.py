@@ -53,7 +53,7 @@ def log_stretches(rest: np.ndarray, posed: np.ndarray) -> np.ndarray:
     return np.sqrt((0.25 * np.log(np.maximum(ev, 1e-12)) ** 2).sum(axis=1))
 
 
-def measure(model, x: np.ndarray, method: str) -> PoseQuality:
+def pose_quality(model, x: np.ndarray, method: str) -> PoseQuality:
     """Figures of node positions x (N, 3) of an elastic model."""
     rest = model.points
     v0, v = corner_volumes(rest, model.elements), corner_volumes(x, model.elements)
@@ -78,9 +78,9 @@ def compare_pose(dynamics: BodyDynamics, angles: np.ndarray,
     for method in ("lbs", "dqs"):
         rig = dynamics.rig if dynamics.rig.method == method else node_rig(dynamics.poser, dynamics.model, method)
         g, R = rig.pose(pose.rotations, pose.translations)
-        out[method] = measure(dynamics.model, g[0], method)
+        out[method] = pose_quality(dynamics.model, g[0], method)
         if rig is dynamics.rig:
             dynamics.statics.quaternions[:] = (1.0, 0.0, 0.0, 0.0)  # from rest, whatever was solved before
             delta, _ = dynamics.quasi_static(g[0], R[0], None, None, iterations)
-            out["elastic"] = measure(dynamics.model, g[0] + rotate(R[0], delta), "elastic")
+            out["elastic"] = pose_quality(dynamics.model, g[0] + rotate(R[0], delta), "elastic")
     return out

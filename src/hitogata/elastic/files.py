@@ -10,7 +10,6 @@ from __future__ import annotations
 
 import io
 import os
-import tempfile
 from pathlib import Path
 
 import meshio
@@ -19,6 +18,7 @@ from matplotlib.figure import Figure
 
 from hitogata.elastic.model import ElasticModel
 from hitogata.export.atomic import write_bytes_atomically
+from hitogata.export.meshio_files import write_meshio
 from hitogata.render import Layer, render_views
 
 PICTURE_AMPLITUDE = 0.03  # m: the largest skin displacement drawn in a mode picture
@@ -61,10 +61,7 @@ def vtu_mesh(model: ElasticModel, n_shapes: int | None = None) -> meshio.Mesh:
 
 def write_vtu(path: str | os.PathLike, model: ElasticModel, n_shapes: int | None = None) -> Path:
     """Write the model as a VTU file for ParaView (see `vtu_mesh`)."""
-    with tempfile.TemporaryDirectory() as scratch:  # meshio writes to a path; the move is atomic
-        temporary = Path(scratch) / "model.vtu"
-        meshio.write(temporary, vtu_mesh(model, n_shapes), file_format="vtu")
-        return write_bytes_atomically(path, temporary.read_bytes())
+    return write_meshio(path, vtu_mesh(model, n_shapes), file_format="vtu")
 
 
 def mode_picture(model: ElasticModel, body, mode: int, size: tuple[int, int] = (360, 540)) -> bytes:

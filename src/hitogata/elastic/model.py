@@ -47,7 +47,7 @@ from hitogata.volume.trunk import segment_distance
 # modes solve within the 10 s budget; with the soft tissue meshed round the bone capsules its 40
 # frequencies are 1.4 % (mean; f1 5.8 %) from P2 at 20 mm (docs/elastic.md). P1 at 20 mm has
 # about the same number of dof.
-DEFAULT_ELEMENT_SIZE = {"P2": 40.0, "P1": 20.0}
+DEFAULT_ELEMENT_SIZES = {"P2": 40.0, "P1": 20.0}
 # Rayleigh damping: ratio 0.2 at 2 Hz and at 10 Hz (≥ 0.15 in between), within the 0.1-0.5 of
 # soft-tissue and whole-body resonances (docs/elastic.md).
 DEFAULT_DAMPING = ((2.0, 0.2), (10.0, 0.2))
@@ -168,7 +168,7 @@ def build_elastic_model(body, *, extent: Extent = "trunk", element_size: float |
     """The elastic model of a `hitogata.body.Body`.
 
     extent: "trunk" (the paper's) or "body"; element_size: lattice spacing in
-    mm (default per element type, `DEFAULT_ELEMENT_SIZE`); element: "P2"
+    mm (default per element type, `DEFAULT_ELEMENT_SIZES`); element: "P2"
     (quadratic tets, default) or "P1"; materials: a TOML path, a `Materials`,
     or None for the shipped defaults; bone: "rigid" (bone nodes follow the
     skeleton) or "elastic" (bone deforms, only its axis follows the
@@ -190,7 +190,7 @@ def build_elastic_model(body, *, extent: Extent = "trunk", element_size: float |
 
     start = time.perf_counter()
     if volume is None:
-        size = DEFAULT_ELEMENT_SIZE[element] if element_size is None else element_size
+        size = DEFAULT_ELEMENT_SIZES[element] if element_size is None else element_size
         # Rigid bone: the soft tissue meshed round the bone capsules; elastic bone needs bone tets.
         volume = build_volume_model(body.vertices, body.faces, body.rig, body.skin_weights, bmi=body.bmi,
                                     sex=body.params.sex, extent=extent, element_size=size,

@@ -6,7 +6,7 @@ existing directory, every file atomically (`export.atomic`):
 - `measurements.json`: values in metres and centimetres, the landmark vertex
   indices, and for a posture the strain figures of each zone;
 - `measurements.csv`: one row per measurement, in cm;
-- `measurements.png`: the body from the front, the side and the back with
+- `measurements.png`: the body from the front, the right side and the back with
   every tape drawn where it lies;
 - for a posture only: `strain_zones.csv` and `strain.png` (heat map of the
   largest principal strain, front and back).
@@ -97,7 +97,7 @@ def measure_report(
         "landmark_vertices": asdict(body_landmarks(body)),
     }
     paths = tuple(measurement_paths(body, v, heads).values())
-    picture = render_png(v, body.faces, ("front", "side", "back"), title=title, overlays=paths)
+    picture = render_png(v, body.faces, ("front", "right", "back"), title=title, overlays=paths)  # the tapes are on the right
     if posed:
         rest = measure(body)
         strain = skin_strain(body.vertices, v, body.faces)

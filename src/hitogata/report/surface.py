@@ -19,11 +19,14 @@ from matplotlib.collections import PolyCollection
 from matplotlib.colors import Colormap, Normalize
 from matplotlib.figure import Figure
 
-# View name → (screen-right axis, viewing direction towards the body), body frame.
+# View name → (screen-right axis, viewing direction towards the body), body frame. The names
+# mean what they mean in `hitogata.render.views`: "side" shows the body's left side (its front
+# on the picture's left), "right" its right side.
 VIEWS = {
     "front": (np.array([1.0, 0.0, 0.0]), np.array([0.0, 0.0, -1.0])),
     "back": (np.array([-1.0, 0.0, 0.0]), np.array([0.0, 0.0, 1.0])),
-    "side": (np.array([0.0, 0.0, 1.0]), np.array([1.0, 0.0, 0.0])),  # from the body's right
+    "side": (np.array([0.0, 0.0, -1.0]), np.array([-1.0, 0.0, 0.0])),  # from the body's left
+    "right": (np.array([0.0, 0.0, 1.0]), np.array([1.0, 0.0, 0.0])),  # from the body's right
 }
 
 

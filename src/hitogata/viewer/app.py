@@ -59,7 +59,7 @@ def reported(action: F) -> F:
     return run  # type: ignore[return-value]
 
 
-def measurement_table(body: Body, frame: Frame) -> str:
+def measurement_markdown(body: Body, frame: Frame) -> str:
     """Markdown table of the frame's measurements in centimetres."""
     values = measure(body, frame.vertices, frame.rig_joints).as_dict()
     rows = [f"| {name.replace('_', ' ')} | {'—' if np.isnan(v) else f'{v * 100:.1f}'} |" for name, v in values.items()]
@@ -124,7 +124,7 @@ class ViewerApp:
     def _measure(self) -> None:
         with self.lock:
             body, frame = self.state.body, self.frame
-        self.panels.measurements.content = measurement_table(body, frame)
+        self.panels.measurements.content = measurement_markdown(body, frame)
 
     def _paint_strain(self) -> None:
         with self.lock:

@@ -31,7 +31,7 @@ from hitogata.volume.domain import Domain, Intersection
 from hitogata.volume.lattice import stuff
 from hitogata.volume.quality import boundary_faces, dihedral_angles, interface_faces, signed_volumes, surface_distances
 from hitogata.volume.regions import attach_bone_nodes, muscle_regions, tissue_regions
-from hitogata.volume.trunk import Landmarks, RigLike, arm_separator, body_domain, trunk_domain
+from hitogata.volume.trunk import TrunkLandmarks, RigLike, arm_separator, body_domain, trunk_domain
 
 DEFAULT_ELEMENT_SIZE = 20.0  # mm: ~40k tets in an adult trunk, ~2 elements across the skin+muscle wall
 ELEMENT_SIZE_RANGE = (4.0, 100.0)  # mm: finer runs out of memory on the whole body, coarser loses the trunk
@@ -150,7 +150,7 @@ def build_volume_model(vertices: np.ndarray, faces: np.ndarray, rig: RigLike, we
         raise HitogataError(f"bones {bones!r}: allowed {', '.join(BONE_MESHES)}")
     vertices = np.asarray(vertices, dtype=np.float64)
     faces = np.asarray(faces, dtype=np.int64)
-    marks = Landmarks.from_rig(rig)
+    marks = TrunkLandmarks.from_rig(rig)
     if extent == "trunk":
         domain, bounds = trunk_domain(vertices, faces, rig, weights)
     else:
@@ -220,7 +220,7 @@ def build_volume_model(vertices: np.ndarray, faces: np.ndarray, rig: RigLike, we
 
 
 def _tissue_samples(nodes: np.ndarray, tets: np.ndarray, region: np.ndarray, node_depth: np.ndarray,
-                    normal: np.ndarray, marks: Landmarks, arm_side, arm_offset: np.ndarray,
+                    normal: np.ndarray, marks: TrunkLandmarks, arm_side, arm_offset: np.ndarray,
                     skin_t: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Tissue region (T, Q), named muscle (T, Q) and fibre (T, Q, 3) at each tet's material sample
     points (`fem.elements.MATERIAL_SAMPLES`).

@@ -25,7 +25,7 @@ from __future__ import annotations
 import numpy as np
 
 from hitogata.volume import anatomy as A
-from hitogata.volume.trunk import Landmarks, segment_distance
+from hitogata.volume.trunk import TrunkLandmarks, segment_distance
 
 # The rib cage's half-width as a fraction of the half-distance between the
 # shoulder joints (chest breadth ≈ 0.174 H vs shoulder joint spacing ≈ 0.2 H:
@@ -36,7 +36,7 @@ RIB_CAGE_WIDTH = 0.85
 PELVIC_FLOOR_DROP = 0.05
 
 
-def tissue_regions(centroids: np.ndarray, depth: np.ndarray, marks: Landmarks, in_trunk: np.ndarray,
+def tissue_regions(centroids: np.ndarray, depth: np.ndarray, marks: TrunkLandmarks, in_trunk: np.ndarray,
                    bone_heads: np.ndarray, bone_tails: np.ndarray, bone_radii: np.ndarray,
                    skin: float, wall: float) -> np.ndarray:
     """Region id (T,) per tet (ids index `anatomy.REGIONS`)."""
@@ -68,7 +68,7 @@ def _tangent(direction: np.ndarray, normal: np.ndarray) -> np.ndarray:
 
 
 def muscle_regions(centroids: np.ndarray, region: np.ndarray, normal: np.ndarray,
-                   marks: Landmarks, eligible: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+                   marks: TrunkLandmarks, eligible: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Muscle id (T,) per tet (-1 none; ids index `anatomy.MUSCLES`) and fibre directions (T, 3).
 
     `normal` (T, 3) is the unit vector from each centroid to its nearest skin point;

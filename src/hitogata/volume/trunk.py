@@ -45,7 +45,7 @@ def segment_distance(points: np.ndarray, heads: np.ndarray, tails: np.ndarray) -
 
 
 @dataclass(frozen=True)
-class Landmarks:
+class TrunkLandmarks:
     """Trunk landmarks of a rig at rest: the spine polyline, hip and shoulder joints, neck base."""
 
     spine: np.ndarray  # (K, 3) from the pelvis joint up to the base of the neck
@@ -55,7 +55,7 @@ class Landmarks:
     arms_dir: np.ndarray  # (2, 3) unit vectors down each upper arm
 
     @classmethod
-    def from_rig(cls, rig: RigLike) -> "Landmarks":
+    def from_rig(cls, rig: RigLike) -> "TrunkLandmarks":
         def head(n: str) -> np.ndarray:
             return np.asarray(rig.heads[rig.names.index(n)], dtype=np.float64)
 
@@ -128,7 +128,7 @@ def arm_separator(rig: RigLike, skin: np.ndarray, weights: sp.csr_matrix):
 def trunk_domain(vertices: np.ndarray, faces: np.ndarray, rig: RigLike,
                  weights: sp.csr_matrix) -> tuple[Domain, tuple[np.ndarray, np.ndarray]]:
     """The trunk as a domain (parts: skin, neck, hips, arms) and a box that holds it."""
-    marks = Landmarks.from_rig(rig)
+    marks = TrunkLandmarks.from_rig(rig)
     up = np.array([0.0, 1.0, 0.0])
     neck = HalfSpace(np.array([0.0, marks.neck_height, 0.0]), up, "neck")
     hips = HalfSpace(np.array([0.0, marks.hip_height, 0.0]), -up, "hips")
