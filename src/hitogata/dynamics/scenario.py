@@ -79,6 +79,21 @@ class Scenario:
     on_limit: str
     timeline: Timeline
     output: OutputSpec
+    entries: tuple[Entry, ...] = ()  # every keyframe value as written, for checks that blame the user's line
+
+
+@dataclass(frozen=True)
+class Entry:
+    """One keyframe value: where it is in the file, as the user wrote it, and in SI."""
+
+    keyframe: int  # 1-based, as `[[keyframe]] k` in messages
+    table: str  # contractions, angles or clinical
+    name: str
+    written: Any
+    value: float
+
+    def where(self, source: str) -> str:
+        return f"{source}: [[keyframe]] {self.keyframe}.{self.table}.{self.name} = {self.written!r}"
 
 
 class _Reader:
@@ -149,12 +164,13 @@ def parse_scenario(data: dict, source: str) -> Scenario:
     timeline_table = _Reader(source, "[timeline]", data.get("timeline", {}), {"interpolation", "on_limit"})
     default_how = timeline_table.choice("interpolation", INTERPOLATIONS, "smoothstep")
     on_limit = timeline_table.choice("on_limit", ("raise", "clamp"), "raise")
-    keyframes = _keyframes(source, data.get("keyframe", []), default_how)
+    entries: list[Entry] = []
+    keyframes = _keyframes(source, data.get("keyframe", []), default_how, entries)
     timeline = Timeline.from_keyframes(keyframes)
     duration = time.quantity("duration", TIME_UNITS, None, 1e-3, 600.0, "a time in s, up to 600 s")
     duration = duration if duration is not None else max(timeline.end + 1.0, 1.0)
     output = _output(source, data.get("output", {}), duration)
-    return Scenario(source, title, body, model, duration, rate, substeps, on_limit, timeline, output)
+    return Scenario(source, title, body, model, duration, rate, substeps, on_limit, timeline, output, tuple(entries))
 
 
 def _body(source: str, table: Any) -> BodySpec:
@@ -211,7 +227,7 @@ CHANNELS = {"contractions": ("contraction", FRACTION, "a contraction like 0.1 or
             "clinical": ("clinical", ANGLE_DEGREES, "an angle like 30deg (a bare number is degrees)")}
 
 
-def _keyframes(source: str, entries: Any, default_how: str) -> list[Keyframe]:
+def _keyframes(source: str, entries: Any, default_how: str, written: list[Entry]) -> list[Keyframe]:
     if not isinstance(entries, list) or not entries:
         raise HitogataError(f"{source}: [[keyframe]]: at least one keyframe is needed")
     out, last = [], -math.inf
@@ -225,12 +241,31 @@ def _keyframes(source: str, entries: Any, default_how: str) -> list[Keyframe]:
             raise r.fail("time", f"{entry['time']!r} is not after the previous keyframe's {last:g} s")
         last = t
         values: dict[tuple[str, str], float] = {}
-        for key, (kind, table, what) in CHANNELS.items():
-            channel = _Reader(source, f"{entry_name}.{key}", entry.get(key, {}), set(entry.get(key, {}) or {}))
+        for key, (kind, unit_table, what) in CHANNELS.items():
+            given = _dotted(entry.get(key, {}))
+            channel = _Reader(source, f"{entry_name}.{key}", given, set(given) if isinstance(given, dict) else set())
             for name, value in channel.table.items():
-                values[(kind, name)] = channel.quantity(name, table, None, -math.inf, math.inf, what)
+                number = channel.quantity(name, unit_table, None, -math.inf, math.inf, what)
+                if kind == "contraction" and not str(value).strip().endswith("%") and abs(number) >= 1.0:
+                    raise channel.fail(name, f"{value!r}: a contraction is a fraction of the rest length, "
+                                             f"allowed between -1 and 1; did you mean {value}%?")
+                values[(kind, name)] = number
+                written.append(Entry(k, key, name, value, number))
         out.append(Keyframe(t, values, r.choice("interpolation", INTERPOLATIONS, default_how)))
     return out
+
+
+def _dotted(table: Any) -> Any:
+    """{knee_r = {flexion = 30}} (TOML's reading of the unquoted `knee_r.flexion = 30`) → {"knee_r.flexion": 30}."""
+    if not isinstance(table, dict):
+        return table
+    flat: dict[str, Any] = {}
+    for name, value in table.items():
+        if isinstance(value, dict):
+            flat.update({f"{name}.{dof}": v for dof, v in value.items()})
+        else:
+            flat[name] = value
+    return flat
 
 
 def _output(source: str, table: Any, duration: float) -> OutputSpec:

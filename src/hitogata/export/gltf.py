@@ -16,6 +16,7 @@ those joint nodes) without touching the body code.
 from __future__ import annotations
 
 import os
+import struct
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Mapping, Sequence
@@ -339,8 +340,25 @@ class GlbSkin:
 
 
 def read_glb_skin(path: str | os.PathLike) -> GlbSkin:
-    """Read back the first skinned mesh node of a GLB (first primitive) for checks and round trips."""
+    """Read back the first skinned mesh node of a GLB (first primitive) for checks and round trips.
+
+    A file that is not a whole, well-formed GLB (empty, truncated, random bytes)
+    is a one-line `HitogataError`, whatever part of the reading it breaks.
+    """
     path = Path(path)
+    try:
+        return _read_glb_skin(path)
+    except HitogataError:
+        raise
+    except (OSError, ValueError, struct.error, KeyError, IndexError, TypeError, AttributeError) as err:
+        reason = str(err).splitlines()[0] if str(err) else type(err).__name__
+        raise HitogataError(f"{path}: not a readable GLB file ({reason[:120]}); allowed a .glb written by hitogata"
+                            ) from None
+
+
+def _read_glb_skin(path: Path) -> GlbSkin:
+    if path.stat().st_size < 20:
+        raise HitogataError(f"{path}: {path.stat().st_size} bytes, not a GLB file; allowed a .glb written by hitogata")
     document = gl.GLTF2.load_binary(path)
     blob = document.binary_blob()
     node = next((n for n in document.nodes if n.mesh is not None and n.skin is not None), None)
