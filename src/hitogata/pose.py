@@ -33,7 +33,7 @@ from hitogata.skeleton.spec import load_skeleton_spec
 from hitogata.skeleton.weights import part_weights
 from hitogata.skinning import Skin, prepare_skin, skin_vertices
 
-ON_LIMIT = ("raise", "clamp")
+from hitogata.options import ON_LIMIT  # noqa: E402  (owned there)
 
 
 @dataclass(frozen=True, eq=False)

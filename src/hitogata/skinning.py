@@ -21,7 +21,7 @@ import scipy.sparse as sp
 
 from hitogata.errors import HitogataError
 
-METHODS = ("lbs", "dqs")
+from hitogata.options import SKINNINGS as METHODS  # noqa: E402  (owned there)
 CHUNK = 64  # poses per block: bounds the (V, 8·chunk) intermediates
 
 

@@ -15,7 +15,7 @@ import dataclasses
 import numpy as np
 
 from hitogata.body import Body
-from hitogata.dynamics.scenario import Entry, Scenario
+from hitogata.dynamics.scenario import KeyframeValue, Scenario
 from hitogata.dynamics.timeline import Timeline
 from hitogata.errors import HitogataError
 from hitogata.names import resolve_dofs, resolve_muscles
@@ -55,7 +55,7 @@ def checked_scenario(scenario: Scenario) -> tuple[Scenario, Body]:
     return dataclasses.replace(scenario, timeline=Timeline(channels)), body
 
 
-def _resolve(poser: Poser, entry: Entry, source: str) -> list[str]:
+def _resolve(poser: Poser, entry: KeyframeValue, source: str) -> list[str]:
     where = entry.where(source)
     if entry.table != "contractions":
         return resolve_dofs(entry.name, poser.skeleton.dof_names, where)
@@ -68,7 +68,7 @@ def _resolve(poser: Poser, entry: Entry, source: str) -> list[str]:
     return names[:1] + [n for n in names[1:] if not first & set(ms.dofs(ms.index(n)).tolist())]
 
 
-def _check_value(poser: Poser, entry: Entry, names: list[str], source: str) -> None:
+def _check_value(poser: Poser, entry: KeyframeValue, names: list[str], source: str) -> None:
     sk = poser.skeleton
     if entry.table == "contractions":
         for name in names:

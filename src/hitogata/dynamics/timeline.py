@@ -26,7 +26,7 @@ import numpy as np
 
 from hitogata.errors import HitogataError
 
-INTERPOLATIONS = ("linear", "smoothstep")
+from hitogata.options import INTERPOLATIONS  # noqa: E402  (owned there)
 KINDS = ("contraction", "angle", "clinical")
 
 

@@ -41,9 +41,7 @@ from hitogata.fem.elements import MATERIAL_SAMPLES, P2_EDGES, TET_FACES, tet_geo
 from hitogata.volume import VolumeModel, build_volume_model
 from hitogata.volume.trunk import segment_distance
 
-ELEMENTS = ("P2", "P1")
-BONE_MODES = ("rigid", "elastic")
-CUT_MODES = ("free", "attached")
+from hitogata.options import BONE_MODES, CUT_MODES, ELEMENTS  # noqa: E402  (owned there)
 # Default lattice spacing (mm) per element type. P2 at 40 mm: the largest trunk model whose 40
 # modes solve within the 10 s budget; with the soft tissue meshed round the bone capsules its 40
 # frequencies are 1.4 % (mean; f1 5.8 %) from P2 at 20 mm (docs/elastic.md). P1 at 20 mm has

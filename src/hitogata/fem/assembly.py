@@ -32,7 +32,7 @@ from hitogata.fem.materials import check_material, lame, per_element, per_sample
 _CHUNK_ENTRIES = 2**20  # element-matrix node pairs per vectorised batch: bounds temporary memory
 # How the volumetric term lambda (div u)(div v) is integrated: pointwise ("full", the plain
 # displacement element) or on each element's mean dilatation ("mean").
-DILATATIONS = ("full", "mean")
+from hitogata.options import DILATATIONS  # noqa: E402  (owned there)
 
 
 @dataclass(frozen=True)

@@ -24,7 +24,7 @@ from hitogata.errors import HitogataError
 from hitogata.muscles.equations import flexion_angle, flexion_length, rotation_angle, rotation_length
 from hitogata.muscles.geometry import MuscleSet
 
-ON_LIMIT = ("raise", "clamp")
+from hitogata.options import ON_LIMIT  # noqa: E402  (owned there)
 MODES = ("contraction", "length")
 
 

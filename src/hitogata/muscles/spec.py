@@ -19,7 +19,8 @@ from pathlib import Path
 from typing import Any
 
 from hitogata.errors import HitogataError
-from hitogata.skeleton.spec import Entry, SkeletonSpec, read_toml
+from hitogata.config import Entry, read_toml
+from hitogata.skeleton.spec import SkeletonSpec
 
 DEFAULT_FILE = "muscles.toml"
 KINDS = ("flexion", "rotation")

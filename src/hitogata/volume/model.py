@@ -34,7 +34,7 @@ from hitogata.volume.trunk import Landmarks, RigLike, arm_separator, body_domain
 
 DEFAULT_ELEMENT_SIZE = 20.0  # mm: ~40k tets in an adult trunk, ~2 elements across the skin+muscle wall
 ELEMENT_SIZE_RANGE = (4.0, 100.0)  # mm: finer runs out of memory on the whole body, coarser loses the trunk
-EXTENTS = ("trunk", "body")
+from hitogata.options import EXTENTS  # noqa: E402  (owned there)
 # How the bones enter the mesh: "conforming" meshes the soft tissue around the bone capsules
 # (their surface nodes are held, no bone tets); "labelled" meshes the whole body and labels the
 # lattice tets inside the capsules as bone (for elastic bone).
