@@ -128,7 +128,7 @@ def _bar(label: str, enabled: bool) -> Callable[[int, int], None] | None:
     state: dict = {}
 
     def update(done: int, total: int) -> None:
-        bar = state.setdefault("bar", tqdm(total=total, desc=label, unit="step", leave=False))
+        bar = state.setdefault("bar", tqdm(total=total, desc=label, unit="step", leave=False, disable=None))  # None: off unless a terminal
         bar.update(done - bar.n)
         if done >= total:
             bar.close()
