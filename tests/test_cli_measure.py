@@ -32,7 +32,7 @@ def test_body_measure_prints_table(tmp_path: Path, capsys) -> None:
 
 @pytest.mark.parametrize("name,content,message", [
     ("missing.glb", None, "no such file"),
-    ("body.obj", b"v 0 0 0\n", "allowed a .glb written by `hitogata body`"),
+    ("body.obj", b"v 0 0 0\n", "unknown file suffix '.obj'; allowed a file (.glb, .npz) or a folder"),
 ])
 def test_measure_bad_input(tmp_path: Path, capsys, name: str, content: bytes | None, message: str) -> None:
     path = tmp_path / name

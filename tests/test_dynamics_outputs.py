@@ -1,6 +1,8 @@
 """What a motion is written as: GLB animation (Khronos validator), VTU series, pictures, GIF, the CLI."""
 
+
 import json
+import re
 import xml.etree.ElementTree as ET
 
 import meshio
@@ -62,11 +64,17 @@ def test_glb_animation_is_valid_and_plays_the_frames(tmp_path, motion):
     assert np.allclose(np.maximum(np.abs(last.min), np.abs(last.max)), moved, atol=1e-6)
     # the tissue regions' surfaces, translucent, morph with the same keys
     model = motion.dynamics.model
-    regions = [m for m in doc.meshes if m.name.startswith("region: ")]
-    assert sorted(m.name[8:] for m in regions) == ["bone", "muscle", "skin", "viscera"]  # bone: the held capsules
+    regions = [m for m in doc.meshes if m.name.startswith("region_")]
+    assert sorted(m.name[7:] for m in regions) == ["bone", "muscle", "skin", "viscera"]  # bone: the held capsules
     assert len(doc.animations[0].channels) == 1 + len(regions)
-    viscera = next(m for m in regions if m.name == "region: viscera").primitives[0]
+    viscera = next(m for m in regions if m.name == "region_viscera").primitives[0]
     assert doc.materials[viscera.material].alphaMode == "BLEND"
+    # each mesh drawn as its name says, smooth, and found by name in three.js (no '.', ':' or spaces)
+    for mesh in doc.meshes:
+        primitive = mesh.primitives[0]
+        assert doc.materials[primitive.material].name == mesh.name and primitive.attributes.NORMAL is not None
+    assert doc.materials[doc.meshes[0].primitives[0].material].alphaMode == "BLEND"  # the skin shows the tissue
+    assert all(re.fullmatch(r"[A-Za-z0-9_-]+", node.name) for node in doc.nodes)
     used = np.unique(files.region_surfaces(motion)["viscera"])
     assert doc.accessors[viscera.attributes.POSITION].count == len(used)
     last = doc.accessors[viscera.targets[-1]["POSITION"]]
@@ -84,6 +92,8 @@ def test_vtu_series_reads_back(tmp_path, motion):
     assert np.allclose(frame.points, motion.nodes[-1], atol=1e-6)
     assert np.array_equal(frame.cell_data["region"][0], model.region)
     assert np.allclose(frame.point_data["displacement"], motion.nodes[-1] - model.points, atol=1e-6)
+    assert frame.field_data["time_s"][0] == pytest.approx(motion.times[-1])
+    assert frame.field_data["region 1: viscera"].tolist() == [1]  # the names behind the region labels
 
 
 def not_blank(path) -> bool:

@@ -5,6 +5,7 @@ import json
 
 import meshio
 import numpy as np
+import pytest
 
 from hitogata.cli import main
 
@@ -44,6 +45,14 @@ def test_modes_command_writes_csv_png_vtu(tmp_path, capsys):
     fixed = mesh.point_data["fixed"].astype(bool)
     assert fixed.any() and np.all(shape[fixed] == 0)
     assert np.allclose(summary["frequencies_hz"], f, rtol=1e-5)
+    # the VTU explains itself to ParaView: frequencies, the names behind the labels, a shape scaled to 3 cm
+    assert np.allclose(mesh.field_data["frequencies_hz"], summary["frequencies_hz"])
+    assert [k for k in mesh.field_data if k.startswith("region ")] == [
+        "region 0: bone", "region 1: viscera", "region 2: muscle", "region 3: skin"]
+    assert mesh.field_data["region 2: muscle"].tolist() == [2]
+    assert sum(k.startswith("muscle ") for k in mesh.field_data) == len(summary["muscle_names"])
+    assert np.linalg.norm(shape, axis=1).max() == pytest.approx(0.03)
+    assert mesh.field_data["warp_scale_factor"].tolist() == [1.0]
 
 
 def test_modes_command_mistakes_are_one_line_and_write_nothing(tmp_path, capsys):

@@ -185,16 +185,18 @@ def test_random_pairs_match_edge_crossing_reference():
         assert ((2 * k, 2 * k + 1) in found) == expected
 
 
-def test_large_mesh_is_fast():
-    import time
-
+def test_a_large_closed_mesh_has_no_self_intersections_and_contains_its_inside():
+    """Correctness on a ~27k-face mesh; its speed is benchmarks/bench_mesh_checks.py's."""
     m = trimesh.creation.capsule(height=1.0, radius=0.2, count=[116, 116])
     assert 25_000 < len(m.faces) < 30_000
     points = np.random.default_rng(0).uniform(-0.3, 0.8, size=(300, 3))
-    start = time.perf_counter()
     assert len(mc.self_intersections(m.vertices, m.faces)) == 0
-    mc.contains(m.vertices, m.faces, points)
-    assert time.perf_counter() - start < 3.0  # ~0.3 s measured; generous for shared CI cores
+    inside = mc.contains(m.vertices, m.faces, points)
+    # the capsule: within 0.2 m of the segment from z=-0.5 to z=0.5 (trimesh's axis)
+    t = np.clip(points[:, 2], -0.5, 0.5)
+    distance = np.linalg.norm(points - np.c_[np.zeros((len(points), 2)), t], axis=1)
+    clear = np.abs(distance - 0.2) > 0.005  # away from the faceted surface
+    np.testing.assert_array_equal(inside[clear], distance[clear] < 0.2)
 
 
 def test_broad_phase_finds_exactly_the_overlapping_boxes():

@@ -82,7 +82,7 @@ def test_bad_entries_give_one_line_naming_file_and_entry(tmp_path, edit, message
 def test_broken_toml_and_missing_file(tmp_path):
     with pytest.raises(HitogataError, match=r"s.toml: not valid TOML"):
         load_scenario(write(tmp_path, "[body\n"))
-    with pytest.raises(HitogataError, match="no such scenario file"):
+    with pytest.raises(HitogataError, match="no such file"):
         load_scenario(tmp_path / "none.toml")
     with pytest.raises(HitogataError, match=r"\[\[keyframe\]\]: at least one keyframe"):
         parse_scenario({}, "x.toml")

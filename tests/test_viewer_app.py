@@ -14,7 +14,7 @@ pytest.importorskip("viser", reason="the viewer needs viser (pip install viser)"
 from hitogata.errors import HitogataError  # noqa: E402
 from hitogata.viewer import serve  # noqa: E402
 from hitogata.viewer.player import RESULT_FILE  # noqa: E402
-from waiting import wait_for  # noqa: E402
+from waiting import PATIENCE, wait_for  # noqa: E402
 
 
 @pytest.fixture(scope="module")
@@ -53,10 +53,10 @@ def test_a_muscle_move_poses_the_skin_and_echoes_the_antagonist(app, female):
 
 
 def test_measurements_follow_the_pose(app):
-    assert app.wait_idle()
+    assert app.wait_idle(PATIENCE)
     rest = app.panels.measurements.content
     app.move_muscle("rectus_abdominis_l", 40.0)
-    assert app.wait_idle()
+    assert app.wait_idle(PATIENCE)
     bent = app.panels.measurements.content
     assert bent != rest and "stature" in bent and "waist girth" in bent
     stature = float(re.search(r"\| stature \| ([\d.]+) \|", bent).group(1))
@@ -91,7 +91,7 @@ def test_player_loads_plays_scrubs_and_returns_to_muscles(app, tmp_path):
     assert app.showing_sequence and "10 frames" in app.panels.sequence_info.content
     assert app.panels.time.disabled is False and app.panels.time.max == pytest.approx(0.3)
     app.play()
-    assert app.wait_playback(timeout=10.0) and not app.clock.playing
+    assert app.wait_playback(timeout=PATIENCE) and not app.clock.playing
     assert app.clock.time == pytest.approx(0.3)
     np.testing.assert_allclose(app.scene.skin.vertices, poser.pose_many(q[-1:])[0], atol=1e-5)
     app.scrub(0.0)
@@ -104,12 +104,12 @@ def test_player_loads_plays_scrubs_and_returns_to_muscles(app, tmp_path):
 def test_strain_and_tissue_layers(app):
     app.move_muscle("iliopsoas_r", 30.0)
     app.set_layer("strain", True)
-    assert app.wait_idle() and app.scene.strain is not None and app.scene.strain.visible
+    assert app.wait_idle(PATIENCE) and app.scene.strain is not None and app.scene.strain.visible
     assert not app.scene.skin.visible
     app.set_layer("strain", False)
     assert app.scene.skin.visible and not app.scene.strain.visible
     app.set_layer("tissue", True)
-    assert wait_for(lambda: "tissue regions ready" in app.panels.message.content, timeout=60.0)
+    assert wait_for(lambda: "tissue regions ready" in app.panels.message.content)
     regions = [surface.region for surface, _ in app.scene.tissue]
     assert regions == ["bone", "viscera", "muscle"]  # bone: the held capsules' surface
     surface, handle = app.scene.tissue[0]
@@ -151,7 +151,7 @@ def test_the_command_prints_its_url_and_rejects_a_bad_port():
                             stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True)
     try:
         line = ""
-        end = time.monotonic() + 60
+        end = time.monotonic() + PATIENCE
         while "hitogata viewer:" not in line and time.monotonic() < end:
             line = proc.stdout.readline()
         assert f"hitogata viewer: http://127.0.0.1:{port}" in line

@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 
 from gltf_validator import needs_validator, validate_gltf
+from waiting import PATIENCE
 from hitogata.errors import HitogataError
 from hitogata.export.gltf import read_glb_skin
 from hitogata.viewer.colouring import LIMIT_PERCENT, StrainColouring
@@ -90,12 +91,14 @@ def test_a_new_body_keeps_the_joint_angles(state, male):
     assert state.drivers["biceps_brachii_l"] == pytest.approx(state.contractions()[state.muscles.index("biceps_brachii_l")])
 
 
-def test_a_slider_move_poses_and_skins_within_the_frame_budget(state):
+def test_successive_slider_moves_each_pose_and_skin(state):
+    """Each move re-poses and re-skins; its time per move is benchmarks/bench_viewer.py's figure."""
     state.set_contraction("biceps_brachii_r", 0.0)
-    start = time.perf_counter()
-    for k in range(20):
-        state.set_contraction("biceps_brachii_r", 0.01 * k)
-    assert (time.perf_counter() - start) / 20 < 0.030
+    elbow = []
+    for k in range(5):
+        state.set_contraction("biceps_brachii_r", 0.05 * k)
+        elbow.append(state.posed.angle("forearm_r.flexion"))
+    assert np.all(np.diff(elbow) > 0)  # each step bends the elbow further
 
 
 def test_strain_colours_are_neutral_at_rest_and_red_where_stretched(state, female):
@@ -145,11 +148,11 @@ def test_worker_coalesces_requests_and_survives_a_failing_run():
     try:
         for _ in range(10):
             worker.request()
-        assert worker.wait_idle(5.0)
+        assert worker.wait_idle(PATIENCE)
         assert 1 <= len(runs) <= 3
         assert errors == ["test: boom"]
         worker.request()
-        assert worker.wait_idle(5.0) and len(runs) >= 2
+        assert worker.wait_idle(PATIENCE) and len(runs) >= 2
     finally:
         worker.stop()
 

@@ -1,37 +1,101 @@
 """The `hitogata` command: thin shells over the library calls (one module per command).
 
-A user's mistake prints one line (`hitogata: error: …`) and exits with status 2;
-nothing is written.
+Every mistake ends the same way, whatever the command: one line on stderr
+(`hitogata: error: …` naming the file, entry, value and what is
+allowed), exit status 2, nothing written. The output a command declares
+(`commands.paths.add_output`) is checked before any work and a folder is
+written through a staging folder, so Ctrl-C (exit 130) leaves nothing behind.
+
+Start-up is lazy: `hitogata --help` imports no command module; a command's
+module (and the library under it) is imported only when that command runs.
 """
 
 from __future__ import annotations
 
 import argparse
+import importlib
 import os
+import re
 import sys
-from typing import Sequence
+from collections.abc import Sequence
+from typing import NoReturn
 
-from hitogata.commands import body, demo, measure, modes, pose, simulate, skeleton, view
 from hitogata.errors import HitogataError
 
-COMMANDS = (body, demo, measure, modes, pose, simulate, skeleton, view)
+# name → (module, one-line help); the module's `register(subparsers)` adds the full parser.
+COMMANDS = {
+    "body": ("hitogata.commands.body", "build a body from sex, age, stature and mass, and write it"),
+    "demo": ("hitogata.commands.demo", "run the main job on the built-in default bodies"),
+    "measure": ("hitogata.commands.measure", "apparel measurements of a body (a hitogata .glb or the body options)"),
+    "modes": ("hitogata.commands.modes", "the elastic body's lowest vibration modes: CSV, VTU (ParaView), pictures"),
+    "pose": ("hitogata.commands.pose", "pose a body by muscle contractions or joint angles and write it"),
+    "simulate": ("hitogata.commands.simulate", "run a scenario (TOML) of muscle contractions and joint angles"),
+    "skeleton": ("hitogata.commands.skeleton", "draw the posed 65-part skeleton, front and side, optionally in its skin"),
+    "view": ("hitogata.commands.view", "open the interactive web viewer: pose the body by its muscles"),
+}
+NEGATIVE_VALUE = re.compile(r"^-\.?\d")  # '-5kg', '-.5': a value, not an option
 
 
-def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(prog="hitogata", description="A posable human body model for apparel design.")
-    sub = parser.add_subparsers(dest="command", required=True)
-    for command in COMMANDS:
-        command.register(sub)
+class OneLineParser(argparse.ArgumentParser):
+    """argparse, but a mistake is one line (no usage block) and exit status 2."""
+
+    def error(self, message: str) -> NoReturn:
+        self.exit(2, f"hitogata: error: {message}\n")
+
+
+def version() -> str:
+    from importlib.metadata import PackageNotFoundError
+    from importlib.metadata import version as installed
+
+    try:
+        return installed("hitogata")
+    except PackageNotFoundError:
+        return "unknown (not installed)"
+
+
+def build_parser(command: str | None = None) -> argparse.ArgumentParser:
+    """The parser; only `command`'s module is imported (the others are listed by name and help)."""
+    parser = OneLineParser(prog="hitogata", description="A posable human body model for apparel design.")
+    parser.add_argument("--version", action="version", version=f"hitogata {version()}")
+    sub = parser.add_subparsers(dest="command", required=True, metavar="{" + ",".join(COMMANDS) + "}")
+    for name, (module, help) in COMMANDS.items():
+        if name == command:
+            importlib.import_module(module).register(sub)
+        else:
+            sub.add_parser(name, help=help, add_help=False)
     return parser
 
 
+def joined_negative_values(argv: list[str]) -> list[str]:
+    """`--mass -5kg` → `--mass=-5kg`, so argparse takes a negative value for a value, not an option."""
+    out: list[str] = []
+    for token in argv:
+        if out and NEGATIVE_VALUE.match(token) and out[-1].startswith("--") and "=" not in out[-1]:
+            out[-1] = f"{out[-1]}={token}"
+        else:
+            out.append(token)
+    return out
+
+
 def main(argv: Sequence[str] | None = None) -> int:
-    args = build_parser().parse_args(argv)
+    argv = joined_negative_values(list(sys.argv[1:] if argv is None else argv))
+    command = next((a for a in argv if not a.startswith("-")), None)
+    command = command if command in COMMANDS else None
+    from hitogata.commands.paths import prepared_output
+
     try:
-        args.run(args)
+        try:
+            args = build_parser(command).parse_args(argv)
+        except SystemExit as done:  # --help, --version, or argparse's one-line error (OneLineParser)
+            return int(done.code or 0)
+        with prepared_output(args):
+            args.run(args)
     except HitogataError as err:
         print(f"hitogata: error: {err}", file=sys.stderr)
         return 2
+    except KeyboardInterrupt:
+        print("hitogata: interrupted; nothing written", file=sys.stderr)
+        return 130
     except BrokenPipeError:  # output piped into `head` and the like: not an error
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
     return 0

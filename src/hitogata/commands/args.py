@@ -4,6 +4,18 @@ from __future__ import annotations
 
 import argparse
 
+from hitogata.errors import HitogataError
+
+# option → (attribute, default): the body options, their defaults owned here once
+BODY_DEFAULTS = {
+    "--sex": ("sex", "female"),
+    "--age": ("age", 30.0),
+    "--stature": ("stature", None),  # None: the default body's of that sex (`hitogata.body.default_measurements`)
+    "--mass": ("mass", None),
+    "--muscle-tone": ("muscle_tone", None),
+    "--proportions": ("proportions", 0.5),
+}
+
 
 def years(text: str) -> float:
     """An age in years."""
@@ -23,11 +35,21 @@ def unit_fraction(text: str) -> float:
 
 def add_body_arguments(parser: argparse.ArgumentParser) -> None:
     """--sex --age --stature --mass --muscle-tone --proportions, as a person writes them."""
-    parser.add_argument("--sex", default="female", help="female, male, or 0 (female) … 1 (male); default female")
-    parser.add_argument("--age", type=years, default=30.0, help="years, 18–90; default 30")
-    parser.add_argument("--stature", default=None,
+    d = {option: default for option, (_, default) in BODY_DEFAULTS.items()}
+    parser.add_argument("--sex", default=d["--sex"], help="female, male, or 0 (female) … 1 (male); default female")
+    parser.add_argument("--age", type=years, default=d["--age"], help="years, 18–90; default 30")
+    parser.add_argument("--stature", default=d["--stature"],
                         help="e.g. 165cm, 1.65m; default the default body's: female 165cm, male 178cm")
-    parser.add_argument("--mass", default=None, help="e.g. 58kg; default the default body's: female 62kg, male 78kg")
-    parser.add_argument("--muscle-tone", type=unit_fraction, default=None,
+    parser.add_argument("--mass", default=d["--mass"], help="e.g. 58kg; default the default body's: female 62kg, male 78kg")
+    parser.add_argument("--muscle-tone", type=unit_fraction, default=d["--muscle-tone"],
                         help="0..1, 0.5 = average; default: follows the mass (MakeHuman's build path)")
-    parser.add_argument("--proportions", type=unit_fraction, default=0.5, help="0..1, 0.5 = average")
+    parser.add_argument("--proportions", type=unit_fraction, default=d["--proportions"],
+                        help="0..1, 0.5 = average")
+
+
+def refuse_body_options(args: argparse.Namespace, why: str) -> None:
+    """A one-line error if a body option was given where it does not apply (it would be silently ignored)."""
+    given = [option for option, (name, default) in BODY_DEFAULTS.items() if getattr(args, name) != default]
+    if given:
+        value = getattr(args, BODY_DEFAULTS[given[0]][0])
+        raise HitogataError(f"{given[0]} {value}: does not apply here ({why}); leave out {', '.join(given)}")

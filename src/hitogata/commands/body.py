@@ -3,13 +3,17 @@
 from __future__ import annotations
 
 import argparse
+from typing import TYPE_CHECKING
 
 from hitogata import units
-from hitogata.body import Body, default_measurements
 from hitogata.commands.args import add_body_arguments
-from hitogata.export.body_files import body_figures, check_body_path, write_body
-from hitogata.measure import measure
-from hitogata.report.measurements import measurement_table
+from hitogata.commands.paths import add_output
+from hitogata.errors import HitogataError
+from hitogata.export.body_files import body_figures, write_body
+from hitogata.export.meshfiles import MESH_SUFFIXES
+
+if TYPE_CHECKING:
+    from hitogata.body import Body
 
 
 def figures_line(label: str, body: Body) -> str:
@@ -24,29 +28,40 @@ def figures_line(label: str, body: Body) -> str:
 def body_from_args(args: argparse.Namespace) -> Body:
     """The body the --sex/--age/--stature/--mass/... arguments describe (stature and mass not
     given: the default body's of that sex, `hitogata.body.default_measurements`)."""
+    from hitogata.body import Body, default_measurements
+
     stature, mass = default_measurements(args.sex) if args.stature is None or args.mass is None else (0.0, 0.0)
+    given = (("--stature", args.stature, units.length, "165cm"), ("--mass", args.mass, units.mass, "58kg"))
+    values = []
+    for (option, text, parse, example), default in zip(given, (stature, mass)):
+        value = default if text is None else parse(text, option)
+        if value <= 0:
+            raise HitogataError(f"{option} {text}: allowed a positive {option[2:]}, e.g. {example}")
+        values.append(value)
     return Body.from_measurements(
         sex=args.sex,
         age=args.age,
-        stature=stature if args.stature is None else units.length(args.stature, "--stature"),
-        mass=mass if args.mass is None else units.mass(args.mass, "--mass"),
+        stature=values[0],
+        mass=values[1],
         muscle=args.muscle_tone,
         proportions=args.proportions,
     )
 
 
 def run(args: argparse.Namespace) -> None:
-    check_body_path(args.out)
     body = body_from_args(args)
     path = write_body(args.out, body)
     print(figures_line(str(path), body))
     if args.measure:
+        from hitogata.measure import measure
+        from hitogata.report.measurements import measurement_table
+
         print(measurement_table(measure(body)))
 
 
 def register(sub: argparse._SubParsersAction) -> None:
     parser = sub.add_parser("body", help="build a body from sex, age, stature and mass, and write it")
     add_body_arguments(parser)
-    parser.add_argument("--out", required=True, help="output file: .glb (skinned, with rig), .obj or .ply")
+    add_output(parser, "file", "output file: .glb (skinned, with rig), .obj or .ply", MESH_SUFFIXES)
     parser.add_argument("--measure", action="store_true", help="also print the ISO 8559-1 measurements (cm)")
     parser.set_defaults(run=run)

@@ -13,8 +13,9 @@ from pathlib import Path
 import numpy as np
 
 from hitogata.body import Body
-from hitogata.commands.args import add_body_arguments
+from hitogata.commands.args import add_body_arguments, refuse_body_options
 from hitogata.commands.body import body_from_args
+from hitogata.commands.paths import add_output, input_path
 from hitogata.errors import HitogataError
 from hitogata.export.body_files import body_from_extras
 from hitogata.export.gltf import read_glb_skin
@@ -35,10 +36,6 @@ def body_from_file(path: Path) -> tuple[Body, np.ndarray | None, np.ndarray | No
     A `hitogata pose` file holds the rest skin with the pose as joint rotations and
     the pose's angles in its extras: the posture is rebuilt from those.
     """
-    if path.suffix.lower() != ".glb":
-        raise HitogataError(f"{path}: allowed a .glb written by `hitogata body` or `hitogata pose` (OBJ/PLY carry no shape)")
-    if not path.is_file():
-        raise HitogataError(f"{path}: no such file")
     skin = read_glb_skin(path)
     extras = skin.extras or {}
     body = body_from_extras(path, extras)
@@ -51,28 +48,28 @@ def body_from_file(path: Path) -> tuple[Body, np.ndarray | None, np.ndarray | No
     return body, (None if at_rest else skin.vertices), None
 
 
-def measure_results(path: Path, out: Path) -> None:
+def measure_results(path: Path, out: Path, workdir: Path) -> None:
     """Measurements and zone strains over time of a simulated motion: CSV and plot."""
     body, arrays = read_sequence_body(find_sequence(path) if path.is_dir() else path)
     series = measure_sequence(body, arrays["times"], arrays["vertices"], arrays["joints"])
-    out.mkdir(parents=True, exist_ok=True)
-    written = write_series(series, out, title=str(path))
+    written = write_series(series, workdir, title=str(path))
     last = {name: series.values[-1, k] for k, name in enumerate(series.names)}
     print(measurement_table(Measurements(**last), reference=measure(body)))
     print(f"{len(series.times)} frames; wrote {', '.join(p.name for p in written.values())} in {out}/")
 
 
 def run(args: argparse.Namespace) -> None:
-    out = Path(args.out)
-    if args.input is not None and (Path(args.input).is_dir() or args.input.endswith(".npz")):
-        measure_results(Path(args.input), out)
+    out, workdir, given = Path(args.out), args.workdir, args.input
+    if given is not None:
+        refuse_body_options(args, f"the body comes from {given}")
+    if given is not None and (given.is_dir() or given.suffix.lower() == ".npz"):
+        measure_results(given, out, workdir)
         return
-    if args.input is not None:
-        body, vertices, joints = body_from_file(Path(args.input))
+    if given is not None:
+        body, vertices, joints = body_from_file(given)
     else:
         body, vertices, joints = body_from_args(args), None, None
-    out.mkdir(parents=True, exist_ok=True)
-    written = measure_report(body, out, vertices=vertices, joints=joints, title=args.input or "")
+    written = measure_report(body, workdir, vertices=vertices, joints=joints, title=str(given or ""))
     posture = measure(body, vertices=vertices, joints=joints)
     print(measurement_table(posture, reference=None if vertices is None else measure(body)))
     print(f"wrote {', '.join(p.name for p in written.values())} in {out}/")
@@ -81,7 +78,8 @@ def run(args: argparse.Namespace) -> None:
 def register(sub: argparse._SubParsersAction) -> None:
     parser = sub.add_parser("measure", help="apparel measurements of a body (a hitogata .glb or the body options)")
     parser.add_argument("input", nargs="?", default=None,
+                        type=input_path("file", "folder", suffixes=(".glb", ".npz")),
                         help="a .glb written by `hitogata body`, or a results folder / *_sequence.npz of `hitogata simulate`")
     add_body_arguments(parser)
-    parser.add_argument("--out", required=True, help="report folder: measurements.json/.csv/.png")
+    add_output(parser, "folder", "report folder: measurements.json/.csv/.png (created; a new or empty folder)")
     parser.set_defaults(run=run)

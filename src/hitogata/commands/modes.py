@@ -11,6 +11,7 @@ from pathlib import Path
 from hitogata import units
 from hitogata.commands.args import add_body_arguments
 from hitogata.commands.body import body_from_args
+from hitogata.commands.paths import add_output, input_path
 from hitogata.elastic import BONE_MODES, CUT_MODES, DEFAULT_ELEMENT_SIZES, ELEMENTS, build_elastic_model, load_materials
 from hitogata.elastic.files import write_frequencies, write_mode_pictures, write_vtu
 from hitogata.errors import HitogataError
@@ -55,7 +56,7 @@ def run(args: argparse.Namespace) -> None:
         raise HitogataError(f"--count {args.count}: allowed a whole number >= 1")
     if args.pictures < 0:
         raise HitogataError(f"--pictures {args.pictures}: allowed a whole number >= 0")
-    materials = load_materials(args.materials)
+    materials = load_materials(None if args.materials is None else str(args.materials))
     if args.pictures:  # a missing renderer is reported before the work, not after
         if importlib.util.find_spec("pyvista") is None:
             raise HitogataError("mode pictures need pyvista: pip install pyvista, or pass --pictures 0")
@@ -67,12 +68,11 @@ def run(args: argparse.Namespace) -> None:
                                 dilatation=args.dilatation)
     built = time.perf_counter() - start
 
-    out = Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
-    write_frequencies(out / "frequencies.csv", model)
-    write_vtu(out / "model.vtu", model)
-    pictures = write_mode_pictures(out, model, body, args.pictures)
-    write_bytes_atomically(out / "summary.json", json.dumps(summary(model), indent=2).encode())
+    out, work = Path(args.out), args.workdir
+    write_frequencies(work / "frequencies.csv", model)
+    write_vtu(work / "model.vtu", model)
+    pictures = write_mode_pictures(work, model, body, args.pictures)
+    write_bytes_atomically(work / "summary.json", json.dumps(summary(model), indent=2).encode())
 
     q = model.volume.quality
     f = model.frequencies
@@ -104,7 +104,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     parser.add_argument("--element-size", default=None,
                         help="lattice spacing, e.g. 30mm; default " +
                              ", ".join(f"{v:g}mm for {k}" for k, v in DEFAULT_ELEMENT_SIZES.items()))
-    parser.add_argument("--materials", default=None, help="a materials TOML file; default the shipped presets")
+    parser.add_argument("--materials", default=None, type=input_path("file", suffixes=(".toml",)), help="a materials TOML file; default the shipped presets")
     parser.add_argument("--bone", choices=BONE_MODES, default="rigid",
                         help="rigid: bone follows the skeleton (default); elastic: bone deforms too")
     parser.add_argument("--cuts", choices=CUT_MODES, default="free",
@@ -114,5 +114,5 @@ def register(sub: argparse._SubParsersAction) -> None:
                         help="mean: the volumetric term on each element's mean dilatation, free of locking in "
                              "nearly incompressible tissue (default); full: the plain displacement element")
     parser.add_argument("--pictures", type=whole_number, default=6, help="mode pictures to draw; default 6")
-    parser.add_argument("--out", required=True, help="output folder (created if missing)")
+    add_output(parser, "folder", "output folder (created; a new or empty folder)")
     parser.set_defaults(run=run)

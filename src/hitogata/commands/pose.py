@@ -8,11 +8,13 @@ import numpy as np
 
 from hitogata.commands.args import add_body_arguments
 from hitogata.commands.body import body_from_args
+from hitogata.commands.paths import add_output
 from hitogata.commands.pose_args import add_pose_arguments
 from hitogata.commands.pose_summary import moved_count, pose_summary
 from hitogata.commands.posing import pose_from_args
 from hitogata.errors import HitogataError
 from hitogata.export.body_files import body_figures, shape_extras
+from hitogata.export.meshfiles import MESH_SUFFIXES
 from hitogata.export.pose_files import check_posed_path, write_posed
 from hitogata.pose import Poser
 
@@ -68,5 +70,6 @@ def register(sub: argparse._SubParsersAction) -> None:
     add_body_arguments(parser)
     add_pose_arguments(parser)
     parser.add_argument("--list", action="store_true", help="print the muscles and degrees of freedom, and exit")
-    parser.add_argument("--out", help="output file: .glb (skinned, posed, re-posable), .obj or .ply")
+    add_output(parser, "file", "output file: .glb (skinned, posed, re-posable), .obj or .ply", MESH_SUFFIXES,
+               required=False)
     parser.set_defaults(run=run)

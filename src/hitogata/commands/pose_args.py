@@ -110,9 +110,13 @@ def muscle_value(text: str, where: str) -> tuple[str, float]:
     """('contraction', fraction) from '0.25' or '25%', or ('length', m) from '28cm'."""
     for kind, table in (("contraction", units.FRACTION_UNITS), ("length", units.LENGTH_UNITS)):
         try:
-            return kind, units.parse_quantity(text, table, where)
+            value = units.parse_quantity(text, table, where)
         except HitogataError:
             continue
+        if kind == "contraction" and abs(value) >= 1.0 and not text.strip().endswith("%"):
+            raise HitogataError(f"{where} {text!r}: a contraction is a fraction of the rest length, "
+                                f"allowed between -1 and 1; did you mean {text.strip()}%?")
+        return kind, value
     raise HitogataError(
         f"{where} {text!r}: write a contraction (0.25 or 25%; negative = stretched) or a length (28cm, 0.28m)"
     )

@@ -6,6 +6,7 @@ import argparse
 from pathlib import Path
 
 from hitogata.commands.args import add_body_arguments
+from hitogata.commands.paths import add_output
 from hitogata.commands.pose_args import add_pose_arguments
 from hitogata.commands.pose_summary import pose_summary
 from hitogata.commands.posing import pose_from_args
@@ -35,8 +36,6 @@ def view_names(text: str) -> list[str]:
 
 def run(args: argparse.Namespace) -> None:
     out = Path(args.out)
-    if out.suffix.lower() != ".png":
-        raise HitogataError(f"{out}: unknown file suffix {out.suffix!r}; allowed: .png")
     height, views = pixels(args.height), view_names(args.views)
     ensure_offscreen_gl()  # before the body is built: a missing library fails fast
     _, request, posed = pose_from_args(args)
@@ -67,5 +66,5 @@ def register(sub: argparse._SubParsersAction) -> None:
         "--views", default="front,side", help=f"comma-separated, of {', '.join(VIEWS)}; default front,side"
     )
     parser.add_argument("--height", default="900", help="picture height in pixels; each view is as wide as it needs")
-    parser.add_argument("--out", required=True, help="output picture, .png")
+    add_output(parser, "file", "output picture, .png", (".png",))
     parser.set_defaults(run=run)

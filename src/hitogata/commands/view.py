@@ -8,6 +8,7 @@ import time
 
 from hitogata.commands.args import add_body_arguments
 from hitogata.commands.body import body_from_args
+from hitogata.commands.paths import input_path
 
 
 def port_number(text: str) -> int:
@@ -38,7 +39,11 @@ def run(args: argparse.Namespace) -> None:
     body = body_from_args(args)
     app = serve(body, host=args.host, port=args.port)
     if args.play:
-        app.load_sequence(args.play)
+        try:
+            app.open_sequence(str(args.play))  # a broken file ends the command: nothing is served
+        except BaseException:
+            app.stop()
+            raise
     print(f"hitogata viewer: {app.url}  (Ctrl-C to stop)", flush=True)
     if not is_loopback(args.host):
         print(f"hitogata viewer: listening on {args.host}: other machines can reach it", flush=True)
@@ -56,5 +61,6 @@ def register(sub: argparse._SubParsersAction) -> None:
     add_body_arguments(parser)
     parser.add_argument("--host", default="127.0.0.1", help="address to listen on; default 127.0.0.1 (this machine only)")
     parser.add_argument("--port", type=port_number, default=8080, help="port; default 8080 (the next free one if taken)")
-    parser.add_argument("--play", default=None, help="a sequence (.npz), pose keyframes (.toml) or a results folder to load")
+    parser.add_argument("--play", default=None, type=input_path("file", "folder", suffixes=(".npz", ".toml")),
+                        help="a sequence (.npz), pose keyframes (.toml) or a results folder to load")
     parser.set_defaults(run=run)

@@ -30,11 +30,12 @@ from hitogata.export.atomic import write_bytes_atomically
 from hitogata.body import Body
 from hitogata.errors import HitogataError
 from hitogata.export.body_files import body_from_extras, shape_extras
-from hitogata.export.gltf import GlbBuilder
-from hitogata.export.meshio_files import write_meshio
+from hitogata.export.gltf import GlbBuilder, add_material, named_node, vertex_normals
+from hitogata.export.vtu import label_arrays, write_vtu
 from hitogata.geometry.shells import region_boundary, taubin_smooth
 
 SMOOTHING = 4  # Taubin steps on the pictures' region surfaces
+SKIN_OPACITY = 0.35  # the skin over the regions in the motion GLB: see-through, so the tissue shows
 MAX_TARGETS = 120  # morph targets in a GLB: frames beyond are subsampled evenly
 REGION_STYLE = {  # colour, opacity: translucent nested surfaces as in the paper's figure
     "skin": ("#e3b899", 0.22),
@@ -54,26 +55,24 @@ def write_motion_glb(path: str | os.PathLike, motion: Motion) -> Path:
 
     Each surface is a mesh with one morph target per frame (frames subsampled
     to `MAX_TARGETS`); one set of one-hot weight keys drives them all. The
-    skin is the whole body's, opaque; the regions (the elastic model's
-    corner mesh) are translucent in the colours of the pictures, nested inside
-    it: hide the skin in Blender or three.js to see them move.
+    skin is the whole body's, translucent (material "skin"); the regions (the
+    elastic model's corner mesh, nodes and materials "region_<name>") are
+    translucent in the colours of the pictures, nested inside it. Each mesh
+    has smooth vertex normals at rest; node names are safe for three.js.
     """
     pick = frame_subset(len(motion.times), MAX_TARGETS)
     body = motion.dynamics.poser.body
     builder = GlbBuilder()
     names = [f"t={motion.times[k]:.3f}s" for k in pick]
-    nodes = [_add_morphing_mesh(builder, "skin", body.faces, body.vertices, motion.skin[pick], names)]
+    skin = add_material(builder, "skin", (*_rgb(REGION_STYLE["skin"][0]), SKIN_OPACITY))
+    nodes = [_add_morphing_mesh(builder, "skin", body.faces, body.vertices, motion.skin[pick], names, skin)]
     points = motion.dynamics.model.points
     for name, faces in region_surfaces(motion).items():
         used, local = np.unique(faces, return_inverse=True)
         colour, opacity = REGION_STYLE[name]
-        rgb = [int(colour[i:i + 2], 16) / 255.0 for i in (1, 3, 5)]
-        builder.gltf.materials.append(gl.Material(
-            name=name, alphaMode="BLEND", doubleSided=True,
-            pbrMetallicRoughness=gl.PbrMetallicRoughness(baseColorFactor=[*rgb, opacity], metallicFactor=0.0)))
-        nodes.append(_add_morphing_mesh(builder, f"region: {name}", local.reshape(faces.shape), points[used],
-                                        motion.nodes[np.ix_(pick, used)], names,
-                                        material=len(builder.gltf.materials) - 1))
+        material = add_material(builder, f"region_{name}", (*_rgb(colour), opacity))
+        nodes.append(_add_morphing_mesh(builder, f"region_{name}", local.reshape(faces.shape), points[used],
+                                        motion.nodes[np.ix_(pick, used)], names, material=material))
     times = builder.add_accessor(motion.times[pick].astype(np.float32), gl.SCALAR, with_bounds=True)
     weights = builder.add_accessor(np.eye(len(pick), dtype=np.float32).reshape(-1), gl.SCALAR)
     builder.gltf.animations.append(gl.Animation(
@@ -85,20 +84,27 @@ def write_motion_glb(path: str | os.PathLike, motion: Motion) -> Path:
     return write_bytes_atomically(path, builder.to_bytes())
 
 
+def _rgb(colour: str) -> tuple[float, float, float]:
+    return tuple(int(colour[i:i + 2], 16) / 255.0 for i in (1, 3, 5))  # type: ignore[return-value]
+
+
 def _add_morphing_mesh(builder: GlbBuilder, name: str, faces: np.ndarray, rest: np.ndarray, frames: np.ndarray,
                        target_names: list[str], material: int | None = None) -> int:
-    """A root node with a mesh of `faces` at `rest` (V, 3) and a morph target per frame (F, V, 3)."""
+    """A root node with a mesh of `faces` at `rest` (V, 3), its rest normals, and a morph target per frame."""
+    normals = vertex_normals(rest.astype(np.float64), np.asarray(faces, dtype=np.int64)).astype(np.float32)
     rest = rest.astype(np.float32)
     position = builder.add_accessor(rest, gl.VEC3, target=gl.ARRAY_BUFFER, with_bounds=True)
+    normal = builder.add_accessor(normals, gl.VEC3, target=gl.ARRAY_BUFFER)
     indices = builder.add_accessor(np.asarray(faces, dtype=np.uint32).reshape(-1), gl.SCALAR,
                                    target=gl.ELEMENT_ARRAY_BUFFER)
     targets = [{"POSITION": builder.add_accessor((frame - rest).astype(np.float32), gl.VEC3,
                                                  target=gl.ARRAY_BUFFER, with_bounds=True)} for frame in frames]
-    primitive = gl.Primitive(attributes=gl.Attributes(POSITION=position), indices=indices, targets=targets,
+    primitive = gl.Primitive(attributes=gl.Attributes(POSITION=position, NORMAL=normal), indices=indices,
+                             targets=targets,
                              material=material)
     builder.gltf.meshes.append(gl.Mesh(name=name, primitives=[primitive], weights=[0.0] * len(frames),
                                        extras={"targetNames": target_names}))
-    return builder.add_node(gl.Node(name=name, mesh=len(builder.gltf.meshes) - 1), root=True)
+    return builder.add_node(named_node(name, mesh=len(builder.gltf.meshes) - 1), root=True)
 
 
 def write_pvd(folder: str | os.PathLike, motion: Motion, name: str = "motion") -> Path:
@@ -119,7 +125,7 @@ def write_pvd(folder: str | os.PathLike, motion: Motion, name: str = "motion") -
             cell_data={"region": [model.region.astype(np.int32)]},
         )
         file = frames / f"frame_{k:04d}.vtu"
-        write_meshio(file, mesh)
+        write_vtu(file, mesh, {"time_s": np.array([t]), **label_arrays("region", model.region_names)})
         entries.append(f'    <DataSet timestep="{t:.6f}" part="0" file={quoteattr(f"{name}/{file.name}")}/>')
     xml = ('<?xml version="1.0"?>\n<VTKFile type="Collection" version="0.1">\n  <Collection>\n'
            + "\n".join(entries) + "\n  </Collection>\n</VTKFile>\n")

@@ -128,7 +128,7 @@ def _bar(label: str, enabled: bool) -> Callable[[int, int], None] | None:
     state: dict = {}
 
     def update(done: int, total: int) -> None:
-        bar = state.setdefault("bar", tqdm(total=total, desc=label, unit="step", leave=False))
+        bar = state.setdefault("bar", tqdm(total=total, desc=label, unit="step", leave=False, disable=None))  # None: off unless a terminal
         bar.update(done - bar.n)
         if done >= total:
             bar.close()
@@ -166,7 +166,7 @@ def run_scenario(scenario: Scenario, out: str | Path, progress: bool = False, bo
     clock["files"] = time.perf_counter() - start
     figs = figures(motion, scenario)
     figs["seconds"] = clock
-    summary = Summary(scenario.title, figs, [str(p) for p in written])
+    summary = Summary(scenario.title, figs, [str(Path(p).relative_to(out)) for p in written])  # relative: the folder may move
     write_bytes_atomically(out / f"{name}_summary.txt", summary.text().encode())
     document = {"title": summary.title, **figs, "files": summary.files}
     write_bytes_atomically(out / f"{name}_summary.json", json.dumps(document, indent=2).encode())

@@ -10,16 +10,16 @@ here, once.
 from __future__ import annotations
 
 import math
-import tomllib
 from dataclasses import dataclass
 from importlib import resources
 from pathlib import Path
 from typing import Any
 
 from hitogata import units
-from hitogata.dynamics.timeline import INTERPOLATIONS, Keyframe, Timeline
+from hitogata.config import Entry, read_toml
+from hitogata.dynamics.timeline import Keyframe, Timeline
 from hitogata.errors import HitogataError
-from hitogata.options import ON_LIMIT, OUTPUT_FILES as FILES, VIEW_NAMES as VIEWS, OnLimit, Skinning
+from hitogata.options import ELEMENTS, EXTENTS, INTERPOLATIONS, ON_LIMIT, OUTPUT_FILES as FILES, SKINNING, VIEW_NAMES as VIEWS, OnLimit, Skinning
 
 TIME_UNITS = {"s": 1.0, "ms": 1e-3, "": 1.0}
 FREQUENCY_UNITS = {"hz": 1.0}
@@ -78,130 +78,97 @@ class Scenario:
     on_limit: OnLimit
     timeline: Timeline
     output: OutputSpec
+    entries: tuple[KeyframeValue, ...] = ()  # every keyframe value as written, for checks that blame the user's line
 
 
-class _Reader:
-    """Typed access to one table of the file, with errors that name file and entry."""
+@dataclass(frozen=True)
+class KeyframeValue:
+    """One keyframe value: where it is in the file, as the user wrote it, and in SI."""
 
-    def __init__(self, source: str, entry: str, table: Any, allowed: set[str]) -> None:
-        if not isinstance(table, dict):
-            raise HitogataError(f"{source}: {entry}: expected a table")
-        unknown = sorted(set(table) - allowed)
-        if unknown:
-            raise HitogataError(f"{source}: {entry}: unknown key {unknown[0]!r}; allowed: {', '.join(sorted(allowed))}")
-        self.source, self.entry, self.table = source, entry, table
+    keyframe: int  # 1-based, as `[[keyframe]] k` in messages
+    table: str  # contractions, angles or clinical
+    name: str
+    written: Any
+    value: float
 
-    def fail(self, key: str, message: str) -> HitogataError:
-        return HitogataError(f"{self.source}: {self.entry}.{key}: {message}")
-
-    def quantity(self, key: str, table: dict[str, float], default: float | None, low: float = -math.inf,
-                 high: float = math.inf, what: str = "a number") -> float | None:
-        if key not in self.table:
-            return default
-        value = self.table[key]
-        if isinstance(value, bool):
-            raise self.fail(key, f"{value!r} is not {what}")
-        try:
-            number = units.parse_quantity(value, table, what)
-        except HitogataError:
-            raise self.fail(key, f"{value!r} is not {what}") from None
-        if not low <= number <= high:
-            raise self.fail(key, f"{value!r} is out of range; allowed {what}")
-        return number
-
-    def choice(self, key: str, options: tuple[str, ...], default: str) -> str:
-        value = self.table.get(key, default)
-        if value not in options:
-            raise self.fail(key, f"{value!r}; allowed {', '.join(options)}")
-        return value
-
-    def integer(self, key: str, default: int, low: int, high: int) -> int:
-        value = self.table.get(key, default)
-        if isinstance(value, bool) or not isinstance(value, int) or not low <= value <= high:
-            raise self.fail(key, f"{value!r}; allowed a whole number {low}..{high}")
-        return value
+    def where(self, source: str) -> str:
+        return f"{source}: [[keyframe]] {self.keyframe}.{self.table}.{self.name} = {self.written!r}"
 
 
 def load_scenario(path: str | Path) -> Scenario:
     """Read and check a scenario file."""
-    path = Path(path)
-    try:
-        data = tomllib.loads(path.read_text(encoding="utf-8"))
-    except FileNotFoundError:
-        raise HitogataError(f"{path}: no such scenario file") from None
-    except (tomllib.TOMLDecodeError, UnicodeDecodeError) as err:
-        raise HitogataError(f"{path}: not valid TOML ({err})") from None
-    return parse_scenario(data, str(path))
+    source, data = read_toml(path)
+    return parse_scenario(data, source)
 
 
 def parse_scenario(data: dict, source: str) -> Scenario:
     """Check a parsed TOML document (see docs/scenarios.md)."""
-    top = _Reader(source, "file", data, SECTIONS)
+    top = Entry(source, "file", data, SECTIONS)
     title = data.get("title", Path(source).stem)
     if not isinstance(title, str):
-        raise top.fail("title", "expected a string")
+        raise top.error("expected a string", "title")
     body = _body(source, data.get("body", {}))
     model = _model(source, data.get("model", {}))
-    time = _Reader(source, "[time]", data.get("time", {}), {"duration", "rate", "substeps"})
+    time = Entry(source, "[time]", data.get("time", {}), {"duration", "rate", "substeps"})
     rate = time.quantity("rate", {"": 1.0, "/s": 1.0, "hz": 1.0}, 30.0, 1.0, 240.0, "frames per second, 1..240")
     substeps = time.integer("substeps", 1, 1, 100)
-    timeline_table = _Reader(source, "[timeline]", data.get("timeline", {}), {"interpolation", "on_limit"})
+    timeline_table = Entry(source, "[timeline]", data.get("timeline", {}), {"interpolation", "on_limit"})
     default_how = timeline_table.choice("interpolation", INTERPOLATIONS, "smoothstep")
     on_limit = timeline_table.choice("on_limit", ON_LIMIT, "raise")
-    keyframes = _keyframes(source, data.get("keyframe", []), default_how)
+    entries: list[KeyframeValue] = []
+    keyframes = _keyframes(source, data.get("keyframe", []), default_how, entries)
     timeline = Timeline.from_keyframes(keyframes)
     duration = time.quantity("duration", TIME_UNITS, None, 1e-3, 600.0, "a time in s, up to 600 s")
     duration = duration if duration is not None else max(timeline.end + 1.0, 1.0)
     output = _output(source, data.get("output", {}), duration)
-    return Scenario(source, title, body, model, duration, rate, substeps, on_limit, timeline, output)
+    return Scenario(source, title, body, model, duration, rate, substeps, on_limit, timeline, output, tuple(entries))
 
 
 def _body(source: str, table: Any) -> BodySpec:
-    r = _Reader(source, "[body]", table, {"sex", "age", "stature", "mass"})
+    r = Entry(source, "[body]", table, {"sex", "age", "stature", "mass"})
     sex = table.get("sex", "female")
     number = isinstance(sex, (int, float)) and not isinstance(sex, bool)
     if not (sex in ("female", "male") or (number and 0 <= sex <= 1)):
-        raise r.fail("sex", f"{sex!r}; allowed female, male or a number 0 (female) … 1 (male)")
+        raise r.error(f"{sex!r}; allowed female, male or a number 0 (female) … 1 (male)", "sex")
     age = r.quantity("age", {"": 1.0, "years": 1.0, "y": 1.0}, 30.0, 18.0, 90.0, "years, 18..90")
     stature = r.quantity("stature", units.LENGTH_UNITS, None, 0.5, 2.5, "a length like 165cm")
     mass = r.quantity("mass", units.MASS_UNITS, None, 20.0, 250.0, "a mass like 62kg")
     if (stature is None) != (mass is None):
-        raise r.fail("stature" if stature is None else "mass",
-                     "give stature and mass together (or neither: the default body)")
+        raise r.error("give stature and mass together (or neither: the default body)", "stature" if stature is None else "mass")
     return BodySpec(sex, age, stature, mass)
 
 
 def _model(source: str, table: Any) -> ModelSpec:
-    r = _Reader(source, "[model]", table, {"extent", "element_size", "element", "modes", "damping", "rayleigh",
+    r = Entry(source, "[model]", table, {"extent", "element_size", "element", "modes", "damping", "rayleigh",
                                            "skinning", "gravity"})
     size = r.quantity("element_size", LENGTH_MM, None, 4.0, 100.0, "a length like 40mm (4..100 mm)")
     ratios = alpha_beta = None
     if "damping" in table and "rayleigh" in table:
-        raise r.fail("damping", "give damping or rayleigh, not both")
+        raise r.error("give damping or rayleigh, not both", "damping")
     if "damping" in table:
         pairs = table["damping"]
         if not (isinstance(pairs, list) and len(pairs) == 2):
-            raise r.fail("damping", "expected two entries like { frequency = \"2Hz\", ratio = 0.2 }")
+            raise r.error("expected two entries like { frequency = \"2Hz\", ratio = 0.2 }", "damping")
         parsed = []
         for k, pair in enumerate(pairs):
-            p = _Reader(source, f"[model].damping[{k}]", pair, {"frequency", "ratio"})
+            p = Entry(source, f"[model].damping[{k}]", pair, {"frequency", "ratio"})
             f = p.quantity("frequency", FREQUENCY_UNITS, None, 1e-3, 1e4, "a frequency like 2Hz")
             z = p.quantity("ratio", FRACTION, None, 0.0, 10.0, "a damping ratio like 0.2 or 20%")
             if f is None or z is None:
-                raise p.fail("frequency" if f is None else "ratio", "missing")
+                raise p.error("missing", "frequency" if f is None else "ratio")
             parsed.append((f, z))
         if parsed[0][0] == parsed[1][0]:
-            raise r.fail("damping", "the two frequencies must differ")
+            raise r.error("the two frequencies must differ", "damping")
         ratios = (parsed[0], parsed[1])
     if "rayleigh" in table:
-        p = _Reader(source, "[model].rayleigh", table["rayleigh"], {"alpha", "beta"})
+        p = Entry(source, "[model].rayleigh", table["rayleigh"], {"alpha", "beta"})
         alpha_beta = (p.quantity("alpha", {"": 1.0, "/s": 1.0}, 0.0, 0.0, 1e4, "alpha in 1/s, >= 0"),
                       p.quantity("beta", TIME_UNITS, 0.0, 0.0, 10.0, "beta in s, >= 0"))
     gravity = table.get("gravity", True)
     if not isinstance(gravity, bool):
-        raise r.fail("gravity", f"{gravity!r}; allowed true or false")
-    return ModelSpec(r.choice("extent", ("trunk", "body"), "trunk"), size, r.choice("element", ("P2", "P1"), "P2"),
-                     r.integer("modes", 40, 1, 400), ratios, alpha_beta, r.choice("skinning", ("dqs", "lbs"), "dqs"),
+        raise r.error(f"{gravity!r}; allowed true or false", "gravity")
+    return ModelSpec(r.choice("extent", EXTENTS, "trunk"), size, r.choice("element", ELEMENTS, "P2"),
+                     r.integer("modes", 40, 1, 400), ratios, alpha_beta, r.choice("skinning", SKINNING, "dqs"),
                      gravity)
 
 
@@ -210,46 +177,65 @@ CHANNELS = {"contractions": ("contraction", FRACTION, "a contraction like 0.1 or
             "clinical": ("clinical", ANGLE_DEGREES, "an angle like 30deg (a bare number is degrees)")}
 
 
-def _keyframes(source: str, entries: Any, default_how: str) -> list[Keyframe]:
+def _keyframes(source: str, entries: Any, default_how: str, written: list[KeyframeValue]) -> list[Keyframe]:
     if not isinstance(entries, list) or not entries:
         raise HitogataError(f"{source}: [[keyframe]]: at least one keyframe is needed")
     out, last = [], -math.inf
     for k, entry in enumerate(entries, start=1):
         entry_name = f"[[keyframe]] {k}"
-        r = _Reader(source, entry_name, entry, {"time", "interpolation", *CHANNELS})
+        r = Entry(source, entry_name, entry, {"time", "interpolation", *CHANNELS})
         t = r.quantity("time", TIME_UNITS, None, 0.0, 600.0, "a time like 0.8s")
         if t is None:
-            raise r.fail("time", "missing")
+            raise r.error("missing", "time")
         if t <= last:
-            raise r.fail("time", f"{entry['time']!r} is not after the previous keyframe's {last:g} s")
+            raise r.error(f"{entry['time']!r} is not after the previous keyframe's {last:g} s", "time")
         last = t
         values: dict[tuple[str, str], float] = {}
-        for key, (kind, table, what) in CHANNELS.items():
-            channel = _Reader(source, f"{entry_name}.{key}", entry.get(key, {}), set(entry.get(key, {}) or {}))
+        for key, (kind, unit_table, what) in CHANNELS.items():
+            given = _dotted(entry.get(key, {}))
+            channel = Entry(source, f"{entry_name}.{key}", given, set(given) if isinstance(given, dict) else set())
             for name, value in channel.table.items():
-                values[(kind, name)] = channel.quantity(name, table, None, -math.inf, math.inf, what)
+                number = channel.quantity(name, unit_table, None, -math.inf, math.inf, what)
+                if kind == "contraction" and not str(value).strip().endswith("%") and abs(number) >= 1.0:
+                    raise channel.error(f"{value!r}: a contraction is a fraction of the rest length, "
+                                             f"allowed between -1 and 1; did you mean {value}%?", name)
+                values[(kind, name)] = number
+                written.append(KeyframeValue(k, key, name, value, number))
         out.append(Keyframe(t, values, r.choice("interpolation", INTERPOLATIONS, default_how)))
     return out
 
 
+def _dotted(table: Any) -> Any:
+    """{knee_r = {flexion = 30}} (TOML's reading of the unquoted `knee_r.flexion = 30`) → {"knee_r.flexion": 30}."""
+    if not isinstance(table, dict):
+        return table
+    flat: dict[str, Any] = {}
+    for name, value in table.items():
+        if isinstance(value, dict):
+            flat.update({f"{name}.{dof}": v for dof, v in value.items()})
+        else:
+            flat[name] = value
+    return flat
+
+
 def _output(source: str, table: Any, duration: float) -> OutputSpec:
-    r = _Reader(source, "[output]", table, {"files", "views", "size", "snapshots", "gif_rate"})
+    r = Entry(source, "[output]", table, {"files", "views", "size", "snapshots", "gif_rate"})
     files = table.get("files", list(FILES))
     if not isinstance(files, list) or any(f not in FILES for f in files):
-        raise r.fail("files", f"{files!r}; allowed a list of {', '.join(FILES)}")
+        raise r.error(f"{files!r}; allowed a list of {', '.join(FILES)}", "files")
     views = table.get("views", ["front", "side"])
     if not isinstance(views, list) or not views or any(v not in VIEWS for v in views):
-        raise r.fail("views", f"{views!r}; allowed a list of {', '.join(VIEWS)}")
+        raise r.error(f"{views!r}; allowed a list of {', '.join(VIEWS)}", "views")
     size = table.get("size", [360, 540])
     if not (isinstance(size, list) and len(size) == 2 and all(isinstance(s, int) and 64 <= s <= 4096 for s in size)):
-        raise r.fail("size", f"{size!r}; allowed [width, height] in pixels, 64..4096")
+        raise r.error(f"{size!r}; allowed [width, height] in pixels, 64..4096", "size")
     snapshots = None
     if "snapshots" in table:
         raw = table["snapshots"]
         if not isinstance(raw, list):
-            raise r.fail("snapshots", "expected a list of times like [\"0.8s\", \"2s\"]")
+            raise r.error("expected a list of times like [\"0.8s\", \"2s\"]", "snapshots")
         listed = {str(i): v for i, v in enumerate(raw)}
-        shot = _Reader(source, "[output].snapshots", listed, set(listed))
+        shot = Entry(source, "[output].snapshots", listed, set(listed))
         snapshots = tuple(shot.quantity(str(i), TIME_UNITS, None, 0.0, duration, f"a time within 0..{duration:g} s")
                           for i in range(len(raw)))
     gif_rate = r.quantity("gif_rate", {"": 1.0, "/s": 1.0, "hz": 1.0}, 15.0, 1.0, 60.0, "frames per second, 1..60")

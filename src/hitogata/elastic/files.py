@@ -18,7 +18,8 @@ from matplotlib.figure import Figure
 
 from hitogata.elastic.model import ElasticModel
 from hitogata.export.atomic import write_bytes_atomically
-from hitogata.export.meshio_files import write_meshio
+from hitogata.export.vtu import label_arrays
+from hitogata.export.vtu import write_vtu as write_mesh_vtu
 from hitogata.render import Layer, render_views
 
 PICTURE_AMPLITUDE = 0.03  # m: the largest skin displacement drawn in a mode picture
@@ -41,8 +42,10 @@ def vtu_mesh(model: ElasticModel, n_shapes: int | None = None) -> meshio.Mesh:
     """The FE mesh with labels (cell data: region, muscle; the element means of the sampled tissue:
     youngs_modulus in Pa, density in kg/m³) and the first mode shapes (point data).
 
-    Point data: `mode_01`... (N, 3) mass-normalised shapes, `fixed` (1 on
-    nodes that follow the skeleton), `bone` (the rig bone they follow, -1).
+    Point data: `mode_01`... (N, 3) shapes scaled so that each one's largest
+    displacement is `PICTURE_AMPLITUDE` (3 cm: ParaView's Warp By Vector at its
+    default scale factor 1 shows a visible, not exploded, shape), `fixed` (1
+    on nodes that follow the skeleton), `bone` (the rig bone they follow, -1).
     """
     n_shapes = model.modes.vectors.shape[1] if n_shapes is None else min(n_shapes, model.modes.vectors.shape[1])
     cell_type = "tetra10" if model.elements.shape[1] == 10 else "tetra"
@@ -53,15 +56,34 @@ def vtu_mesh(model: ElasticModel, n_shapes: int | None = None) -> meshio.Mesh:
     bone[model.fixed_nodes] = model.fixed_bone
     point_data = {"fixed": fixed, "bone": bone}
     for k in range(n_shapes):
-        point_data[f"mode_{k + 1:02d}"] = model.modes.vectors[:, k].reshape(n, 3)
+        point_data[f"mode_{k + 1:02d}"] = model.modes.vectors[:, k].reshape(n, 3) * mode_scales(model)[k]
     cell_data = {"region": [model.region.astype(np.int32)], "muscle": [model.volume.muscle.astype(np.int32)],
                  "youngs_modulus": [model.E], "density": [model.rho]}  # element means of the sampled tissue
     return meshio.Mesh(model.points, [(cell_type, model.elements)], point_data=point_data, cell_data=cell_data)
 
 
+def mode_scales(model: ElasticModel) -> np.ndarray:
+    """(M,) the factor from each mass-normalised mode shape to one whose largest node displacement is 3 cm."""
+    n = len(model.points)
+    largest = np.linalg.norm(model.modes.vectors.T.reshape(-1, n, 3), axis=2).max(axis=1)
+    return PICTURE_AMPLITUDE / np.maximum(largest, 1e-300)
+
+
+def vtu_field_data(model: ElasticModel) -> dict[str, np.ndarray]:
+    """What the VTU says about itself: frequencies, the mode scaling and warp hint, the label names."""
+    return {
+        "frequencies_hz": np.asarray(model.frequencies, dtype=float),
+        "mode_largest_displacement_m": np.array([PICTURE_AMPLITUDE]),
+        "mode_to_mass_normalised": 1.0 / mode_scales(model),  # multiply a mode_NN by this: mass-normalised
+        "warp_scale_factor": np.array([1.0]),  # Warp By Vector on mode_NN at 1: its largest displacement is 3 cm
+        **label_arrays("region", model.region_names),
+        **label_arrays("muscle", model.muscle_names),
+    }
+
+
 def write_vtu(path: str | os.PathLike, model: ElasticModel, n_shapes: int | None = None) -> Path:
-    """Write the model as a VTU file for ParaView (see `vtu_mesh`)."""
-    return write_meshio(path, vtu_mesh(model, n_shapes), file_format="vtu")
+    """Write the model as a VTU file for ParaView (see `vtu_mesh`, `vtu_field_data`)."""
+    return write_mesh_vtu(path, vtu_mesh(model, n_shapes), vtu_field_data(model))
 
 
 def mode_picture(model: ElasticModel, body, mode: int, size: tuple[int, int] = (360, 540)) -> bytes:

@@ -18,7 +18,7 @@ from typing import Any, Mapping
 from hitogata import units
 from hitogata.errors import HitogataError
 from hitogata.fem import Material
-from hitogata.skeleton.spec import Entry, read_toml
+from hitogata.config import Entry, read_toml
 from hitogata.volume import REGIONS
 
 DEFAULT_FILE = "materials.toml"

@@ -16,6 +16,8 @@ those joint nodes) without touching the body code.
 from __future__ import annotations
 
 import os
+import re
+import struct
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Mapping, Sequence
@@ -28,6 +30,29 @@ from hitogata.errors import HitogataError
 from hitogata.export.atomic import write_bytes_atomically
 
 MAX_INFLUENCES = 4  # joints per vertex in JOINTS_0 / WEIGHTS_0
+SKIN_RGBA = (0.89, 0.72, 0.60, 1.0)  # the body's material: a plain skin tone, matte
+_UNSAFE = re.compile(r"[^A-Za-z0-9_-]")
+
+
+def safe_name(name: str) -> str:
+    """A node name three.js's loader keeps as is (it rewrites '.', ':', '/', '[', ']' and spaces)."""
+    return _UNSAFE.sub("_", name)
+
+
+def named_node(name: str, **fields: Any) -> gl.Node:
+    """A node under its safe name; the name as given (e.g. MakeHuman's 'upperarm01.L') kept in extras."""
+    safe = safe_name(name)
+    return gl.Node(name=safe, extras={"name": name} if safe != name else {}, **fields)
+
+
+def add_material(builder: GlbBuilder, name: str, rgba: Sequence[float], roughness: float = 0.8) -> int:
+    """A matte PBR material (translucent when alpha < 1, both sides then); return its index."""
+    translucent = rgba[3] < 1.0
+    builder.gltf.materials.append(gl.Material(
+        name=name, alphaMode="BLEND" if translucent else "OPAQUE", doubleSided=translucent,
+        pbrMetallicRoughness=gl.PbrMetallicRoughness(baseColorFactor=[float(c) for c in rgba], metallicFactor=0.0,
+                                                     roughnessFactor=roughness)))
+    return len(builder.gltf.materials) - 1
 
 _COMPONENT_TYPES = {
     np.dtype("<f4"): gl.FLOAT,
@@ -134,13 +159,13 @@ def add_skinned_mesh(
     parents = _parent_array(joint_parents, len(names))
     positions = _finite_array("joint_positions", joint_positions, (len(names), 3))
     joints, weights = limit_influences(skin_weights, (n_vertices, len(names)))
-    normals = _area_weighted_normals(vertices, faces) if normals is None else _unit_normals(normals, n_vertices)
+    normals = vertex_normals(vertices, faces) if normals is None else _unit_normals(normals, n_vertices)
 
     first = len(builder.gltf.nodes)  # joint j becomes node first + j
     for j, joint in enumerate(names):
         offset = positions[j] - positions[parents[j]] if parents[j] >= 0 else positions[j]
         children = [first + int(c) for c in np.flatnonzero(parents == j)]
-        builder.add_node(gl.Node(name=joint, translation=[float(x) for x in offset], children=children))
+        builder.add_node(named_node(joint, translation=[float(x) for x in offset], children=children))
     joint_nodes = list(range(first, first + len(names)))
     roots = [first + int(j) for j in np.flatnonzero(parents < 0)]
     armature = builder.add_node(gl.Node(name="armature", children=roots), root=True)
@@ -159,12 +184,12 @@ def add_skinned_mesh(
         WEIGHTS_0=builder.add_accessor(weights, gl.VEC4, target=gl.ARRAY_BUFFER),
     )
     indices = builder.add_accessor(faces.astype(np.uint32).reshape(-1), gl.SCALAR, target=gl.ELEMENT_ARRAY_BUFFER)
-    builder.gltf.meshes.append(
-        gl.Mesh(name=name, primitives=[gl.Primitive(attributes=attributes, indices=indices, mode=gl.TRIANGLES)])
-    )
-    mesh_node = gl.Node(name=name, mesh=len(builder.gltf.meshes) - 1, skin=len(builder.gltf.skins) - 1)
+    material = add_material(builder, "skin", SKIN_RGBA)
+    builder.gltf.meshes.append(gl.Mesh(name=safe_name(name), primitives=[
+        gl.Primitive(attributes=attributes, indices=indices, mode=gl.TRIANGLES, material=material)]))
+    mesh_node = named_node(name, mesh=len(builder.gltf.meshes) - 1, skin=len(builder.gltf.skins) - 1)
     if extras:
-        mesh_node.extras = dict(extras)
+        mesh_node.extras = {**mesh_node.extras, **dict(extras)}
     mesh = builder.add_node(mesh_node, root=True)
     return SkinnedMeshNodes(joints=tuple(joint_nodes), armature=armature, mesh=mesh)
 
@@ -303,7 +328,7 @@ def _unit_normals(normals: Any, n_vertices: int) -> np.ndarray:
     return normals / length[:, None]
 
 
-def _area_weighted_normals(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
+def vertex_normals(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
     """Unit vertex normals: the sum of adjacent face normals weighted by face area.
 
     A vertex in no face (or only in degenerate ones) gets +Y so the file stays valid.
@@ -339,8 +364,25 @@ class GlbSkin:
 
 
 def read_glb_skin(path: str | os.PathLike) -> GlbSkin:
-    """Read back the first skinned mesh node of a GLB (first primitive) for checks and round trips."""
+    """Read back the first skinned mesh node of a GLB (first primitive) for checks and round trips.
+
+    A file that is not a whole, well-formed GLB (empty, truncated, random bytes)
+    is a one-line `HitogataError`, whatever part of the reading it breaks.
+    """
     path = Path(path)
+    try:
+        return _read_glb_skin(path)
+    except HitogataError:
+        raise
+    except (OSError, ValueError, struct.error, KeyError, IndexError, TypeError, AttributeError) as err:
+        reason = str(err).splitlines()[0] if str(err) else type(err).__name__
+        raise HitogataError(f"{path}: not a readable GLB file ({reason[:120]}); allowed a .glb written by hitogata"
+                            ) from None
+
+
+def _read_glb_skin(path: Path) -> GlbSkin:
+    if path.stat().st_size < 20:
+        raise HitogataError(f"{path}: {path.stat().st_size} bytes, not a GLB file; allowed a .glb written by hitogata")
     document = gl.GLTF2.load_binary(path)
     blob = document.binary_blob()
     node = next((n for n in document.nodes if n.mesh is not None and n.skin is not None), None)
@@ -374,11 +416,11 @@ def read_glb_skin(path: str | os.PathLike) -> GlbSkin:
         vertices=read(attributes.POSITION).astype(np.float64),
         faces=read(primitive.indices).astype(np.int64).reshape(-1, 3),
         normals=None if normals is None else normals.astype(np.float64),
-        joint_names=tuple(document.nodes[n].name for n in skin.joints),
+        joint_names=tuple((document.nodes[n].extras or {}).get("name", document.nodes[n].name) for n in skin.joints),
         joint_parents=parents,
         joint_positions=positions,
         skin_weights=skin_weights,
-        extras=dict(node.extras or {}),
+        extras={k: v for k, v in (node.extras or {}).items() if k != "name"},  # "name": the node's own
     )
 
 

@@ -9,7 +9,6 @@ import os
 from pathlib import Path
 
 import numpy as np
-import trimesh
 
 from hitogata.errors import HitogataError
 from hitogata.export.atomic import write_bytes_atomically
@@ -29,6 +28,8 @@ def write_mesh(path: str | os.PathLike, vertices: np.ndarray, faces: np.ndarray)
         raise HitogataError(
             f"{path}: unknown mesh file suffix {path.suffix!r}; allowed: {', '.join(MESH_SUFFIXES)}"
         )
+    import trimesh  # only when a mesh file is written
+
     mesh = trimesh.Trimesh(
         vertices=np.asarray(vertices, dtype=np.float64),
         faces=np.asarray(faces, dtype=np.int64),

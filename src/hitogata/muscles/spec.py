@@ -19,8 +19,9 @@ from pathlib import Path
 from typing import Any
 
 from hitogata.errors import HitogataError
+from hitogata.config import Entry, read_toml
 from hitogata.options import DISTRIBUTIONS, MUSCLE_KINDS as KINDS
-from hitogata.skeleton.spec import Entry, SkeletonSpec, read_toml
+from hitogata.skeleton.spec import SkeletonSpec
 
 DEFAULT_FILE = "muscles.toml"
 HANDEDNESS = {"right": 1, "left": -1}

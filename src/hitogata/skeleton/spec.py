@@ -12,12 +12,12 @@ one-line `HitogataError` naming the file and the entry.
 from __future__ import annotations
 
 import math
-import tomllib
 from dataclasses import dataclass
 from importlib import resources
 from pathlib import Path
 from typing import Any
 
+from hitogata.config import Entry, read_toml
 from hitogata.errors import HitogataError
 from hitogata.options import AXES, ENDS, FRAMES
 
@@ -105,68 +105,6 @@ class SkeletonSpec:
 def default_skeleton_path() -> Path:
     """The skeleton list shipped with the package."""
     return Path(str(resources.files("hitogata").joinpath("data", DEFAULT_FILE)))
-
-
-def read_toml(path: str | Path) -> tuple[str, dict[str, Any]]:
-    """Parse a TOML file; a missing or malformed file is a one-line error."""
-    source = str(path)
-    try:
-        with open(path, "rb") as fh:
-            return source, tomllib.load(fh)
-    except FileNotFoundError:
-        raise HitogataError(f"{source}: no such file") from None
-    except tomllib.TOMLDecodeError as exc:
-        raise HitogataError(f"{source}: not valid TOML: {exc}") from None
-
-
-class Entry:
-    """Typed access to one TOML table, with errors that name the file and entry."""
-
-    def __init__(self, source: str, where: str, table: Any, allowed: tuple[str, ...]):
-        self.source, self.where = source, where
-        if not isinstance(table, dict):
-            self.fail(f"expected a table, got {table!r}")
-        unknown = sorted(set(table) - set(allowed))
-        if unknown:
-            self.fail(f"unknown key {unknown[0]!r}; allowed: {', '.join(allowed)}")
-        self.table = table
-
-    def fail(self, message: str) -> None:
-        raise HitogataError(f"{self.source}: {self.where}: {message}")
-
-    def has(self, key: str) -> bool:
-        return key in self.table
-
-    def get(self, key: str, kind: type | tuple[type, ...], default: Any = ...) -> Any:
-        if key not in self.table:
-            if default is ...:
-                self.fail(f"missing key {key!r}")
-            return default
-        value = self.table[key]
-        kinds = kind if isinstance(kind, tuple) else (kind,)
-        if float in kinds and isinstance(value, int) and not isinstance(value, bool):
-            value = float(value)
-        if not isinstance(value, kinds) or isinstance(value, bool) and bool not in kinds:
-            self.fail(f"{key} = {value!r}: expected {_kind_name(kind)}")
-        return value
-
-    def names(self, key: str, default: Any = ...) -> tuple[str, ...]:
-        value = self.get(key, list, default)
-        if not all(isinstance(v, str) and v for v in value):
-            self.fail(f"{key} = {value!r}: expected a list of names")
-        return tuple(value)
-
-    def number(self, key: str, default: Any = ...) -> float:
-        value = self.get(key, float, default)
-        if not math.isfinite(value):
-            self.fail(f"{key} = {value!r}: expected a finite number")
-        return value
-
-
-def _kind_name(kind: type | tuple[type, ...]) -> str:
-    kinds = kind if isinstance(kind, tuple) else (kind,)
-    words = {str: "a string", float: "a number", list: "a list", dict: "a table", bool: "true or false"}
-    return " or ".join(words.get(k, k.__name__) for k in kinds)
 
 
 def parse_anchor(entry: Entry, key: str, value: Any) -> Anchor:

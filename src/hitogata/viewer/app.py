@@ -229,8 +229,8 @@ class ViewerApp:
 
         threading.Thread(target=build, args=(self,), name="tissue", daemon=True).start()
 
-    @reported
-    def load_sequence(self, path: str) -> None:
+    def open_sequence(self, path: str) -> None:
+        """Load a sequence for the player; a `HitogataError` if it cannot be (the page's action reports it)."""
         if not path.strip():
             raise HitogataError("sequence path: empty; allowed a .npz or .toml file or a results folder")
         with self.lock:
@@ -250,6 +250,8 @@ class ViewerApp:
             )
             self._show_time(seq.start)
             self.say(f"loaded {seq.source}")
+
+    load_sequence = reported(open_sequence)
 
     def _show_time(self, t: float) -> None:
         seq = self.sequence

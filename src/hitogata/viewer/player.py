@@ -33,7 +33,7 @@ from hitogata.dynamics.run import build_dynamics
 from hitogata.dynamics.scenario import load_scenario
 from hitogata.errors import HitogataError
 from hitogata.pose import Poser
-from hitogata.skeleton.spec import Entry, read_toml
+from hitogata.config import Entry, read_toml
 
 RESULT_FILE = "sequence.npz"
 SCENARIO_TABLES = {"body", "model", "time", "timeline", "output"}  # a dynamics scenario, not pose keyframes
