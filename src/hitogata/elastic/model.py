@@ -17,7 +17,6 @@ from types import MappingProxyType
 
 import numpy as np
 import scipy.sparse as sp
-from scipy.sparse.csgraph import connected_components
 
 from hitogata.elastic.mapping import DEFAULT_FADE, skin_vertex_map
 from hitogata.elastic.materials import Materials, load_materials
@@ -38,9 +37,9 @@ from hitogata.fem import (
 from hitogata.fem.assembly import DILATATIONS
 from hitogata.fem.damping import check_rayleigh, damping_ratios as modal_damping_ratios
 from hitogata.fem.elements import MATERIAL_SAMPLES, P2_EDGES, tet_geometry
-from hitogata.geometry.tets import face_neighbours
 from hitogata.options import BONE_MODES, BoneMode, CUT_MODES, CutMode, Dilatation, EigenSolver, Element, ELEMENTS, Extent
 from hitogata.volume import VolumeModel, build_volume_model
+from hitogata.volume.integrity import MIN_HOLD_WIDTH, face_pieces, hold_width
 from hitogata.volume.trunk import segment_distance
 
 # Default lattice spacing (mm) per element type. P2 at 40 mm: the largest trunk model whose 40
@@ -302,13 +301,13 @@ def _with_loose_pieces(volume: VolumeModel, rig, nodes: np.ndarray, bones: np.nd
     Pieces are the tets connected through shared faces: a lattice island or a few
     tets hanging on by an edge or a corner (a fingertip at a coarse size) would
     float free or hinge, i.e. have zero-frequency modes. A piece is held if its
-    nodes in the set do not all lie on one line (a piece touching a bone capsule
-    at one node or along one edge would hinge about it).
+    nodes in the set span a triangle at least `volume.integrity.MIN_HOLD_WIDTH`
+    high (a piece touching a bone capsule at one node or along a line hinges
+    about it). The whole body's mesh is repaired so that none is left
+    (`hitogata.volume.repair`); the trunk's may keep a few.
     """
     tets = volume.tets
-    a, b, _, _ = face_neighbours(tets)
-    graph = sp.csr_matrix((np.ones(len(a), dtype=np.int8), (a, b)), shape=(len(tets), len(tets)))
-    _, piece = connected_components(graph, directed=False)
+    piece = face_pieces(tets)
     is_fixed = np.zeros(len(volume.nodes), dtype=bool)
     is_fixed[nodes] = True
     corner_piece, corner_node = np.repeat(piece, 4), tets.ravel()
@@ -316,21 +315,13 @@ def _with_loose_pieces(volume: VolumeModel, rig, nodes: np.ndarray, bones: np.nd
     starts = np.flatnonzero(np.r_[True, np.diff(touching[:, 0]) > 0])
     held = np.zeros(piece.max() + 1, dtype=bool)
     for k, members in zip(touching[starts, 0], np.split(touching[:, 1], starts[1:])):
-        held[k] = _spans_a_plane(volume.nodes[members])
+        held[k] = hold_width(volume.nodes[members]) >= MIN_HOLD_WIDTH
     loose = np.setdiff1d(np.unique(tets[~held[piece]]), nodes)
     if loose.size == 0:
         return nodes, bones
     nearest = segment_distance(volume.nodes[loose], *_bone_segments(volume, rig)).argmin(axis=1)
     order = np.argsort(np.concatenate([nodes, loose]))
     return np.concatenate([nodes, loose])[order], np.concatenate([bones, nearest])[order]
-
-
-def _spans_a_plane(points: np.ndarray) -> bool:
-    """True if the points (P, 3) do not all lie on one line (nor are fewer than three)."""
-    if len(points) < 3:
-        return False
-    spread = np.linalg.svd(points - points.mean(axis=0), compute_uv=False)
-    return bool(spread[1] > 1e-6 * spread[0])
 
 
 def _axis_nodes(volume: VolumeModel, rig) -> tuple[np.ndarray, np.ndarray]:

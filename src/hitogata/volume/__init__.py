@@ -1,10 +1,13 @@
 """Volumetric body model: tetrahedral meshes of the trunk or the whole body with tissue regions.
 
 `build_trunk_model(body)` is the paper's trunk; `build_body_model(body)` the
-whole body. The mesher (`lattice.stuff`) and its queries work on plain arrays.
+whole body. The mesher (`lattice.stuff`) and its queries work on plain arrays;
+`repair` makes the whole body's stuffed mesh whole and `mesh_integrity` says
+whether a mesh is (pieces, pinches, manifold boundary, hold, angles).
 """
 
 from hitogata.volume.anatomy import MUSCLES, REGIONS
+from hitogata.volume.integrity import MeshIntegrity, mesh_integrity
 from hitogata.volume.lattice import TetMesh, stuff
 from hitogata.volume.model import (
     DEFAULT_ELEMENT_SIZE,
@@ -17,6 +20,7 @@ from hitogata.volume.model import (
 
 __all__ = [
     "DEFAULT_ELEMENT_SIZE",
+    "MeshIntegrity",
     "MUSCLES",
     "REGIONS",
     "TetMesh",
@@ -25,5 +29,6 @@ __all__ = [
     "build_body_model",
     "build_trunk_model",
     "build_volume_model",
+    "mesh_integrity",
     "stuff",
 ]

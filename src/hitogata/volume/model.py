@@ -26,11 +26,13 @@ from hitogata.fem.elements import MATERIAL_SAMPLES, sample_points
 from hitogata.geometry.mesh_checks import enclosed_volume, is_closed
 from hitogata.options import BONE_MESHES, Extent, EXTENTS
 from hitogata.volume import anatomy as A
-from hitogata.volume.bones import PART as BONE_PART, attach_surface_nodes, held_volume, outside_capsules
+from hitogata.volume.bones import PART as BONE_PART, attach_surface_nodes, capsule_gap, held_volume, outside_capsules
 from hitogata.volume.domain import Domain, Intersection
+from hitogata.volume.integrity import MeshIntegrity, mesh_integrity
 from hitogata.volume.lattice import stuff
 from hitogata.volume.quality import boundary_faces, dihedral_angles, interface_faces, signed_volumes, surface_distances
 from hitogata.volume.regions import attach_bone_nodes, muscle_regions, tissue_regions
+from hitogata.volume.repair import Repair, repair
 from hitogata.volume.trunk import TrunkLandmarks, RigLike, arm_separator, body_domain, trunk_domain
 
 DEFAULT_ELEMENT_SIZE = 20.0  # mm: ~40k tets in an adult trunk, ~2 elements across the skin+muscle wall
@@ -58,6 +60,8 @@ class VolumeQuality:
     closed: bool  # the boundary is a closed 2-manifold
     held_volume: float  # the bone capsules left out of the mesh (conforming bones; counted in "bone"), else 0
     region_volumes: Mapping[str, float] = field(default_factory=dict)
+    integrity: MeshIntegrity | None = None  # pieces, pinches, manifold boundary, hold (`volume.integrity`)
+    repaired: Repair | None = None  # whole body: what `volume.repair` split and removed of the stuffed mesh
 
     def summary(self) -> str:
         regions = ", ".join(f"{k} {v * 1e3:.2f} L" for k, v in self.region_volumes.items())
@@ -66,6 +70,9 @@ class VolumeQuality:
             f"{self.inverted} inverted; volume {self.volume * 1e3:.2f} L ({self.volume_error * 100:+.2f}% vs skin); "
             f"surface distance mean {self.surface_distance_mean * 1e3:.2f} mm, max {self.surface_distance_max * 1e3:.1f} mm; "
             f"boundary {'closed' if self.closed else 'not closed'}; {regions}"
+            + (f"; {self.integrity.summary()}" if self.integrity else "")
+            + (f"; repair: {self.repaired.split} nodes split, {self.repaired.pinched + self.repaired.unheld} tets "
+               f"({self.repaired.removed_volume * 1e3:.2f} L) removed" if self.repaired else "")
         )
 
 
@@ -166,6 +173,14 @@ def build_volume_model(vertices: np.ndarray, faces: np.ndarray, rig: RigLike, we
         domain = Intersection(domain, outside_capsules(heads, tails, radii))
         bone_part = domain.parts.index(BONE_PART)
     mesh = stuff(domain, h, bounds)
+    mended = None
+    if extent == "body":  # the trunk keeps the paper's model as stuffed (docs/elastic.md)
+        if bones == "conforming":
+            anchored = np.flatnonzero(mesh.node_part == bone_part)
+        else:  # the corners of the lattice tets labelled bone below (centroid in a capsule)
+            inside = capsule_gap(mesh.nodes[mesh.tets].mean(axis=1), heads, tails, radii).min(axis=1) < 0
+            anchored = np.unique(mesh.tets[inside])
+        mesh, mended = repair(mesh, anchored)
     nodes, tets = mesh.nodes, mesh.tets
 
     centroids = nodes[tets].mean(axis=1)
@@ -206,7 +221,8 @@ def build_volume_model(vertices: np.ndarray, faces: np.ndarray, rig: RigLike, we
         reference = enclosed_volume(vertices, faces)
         skin_points = vertices
     held = held_volume(whole, heads, tails, radii, spacing) if bones == "conforming" else 0.0
-    quality = _quality(nodes, tets, region_samples, bfaces[on_skin], skin_index, skin_points, reference, held, bfaces)
+    quality = _quality(nodes, tets, region_samples, bfaces[on_skin], skin_index, skin_points, reference, held, bfaces,
+                       mesh_integrity(nodes, tets, bone_nodes), mended)
     return VolumeModel(
         nodes=nodes, tets=tets, region=region, region_samples=region_samples, region_names=A.REGIONS,
         muscle=muscle, muscle_samples=muscle_samples, muscle_names=A.MUSCLES,
@@ -260,7 +276,7 @@ def _fractions(samples: np.ndarray, n_regions: int) -> np.ndarray:
 
 
 def _quality(nodes, tets, region_samples, skin_faces, skin_index, skin_points, reference, held,
-             all_faces) -> VolumeQuality:
+             all_faces, integrity, mended) -> VolumeQuality:
     angles = np.degrees(dihedral_angles(nodes, tets))
     volumes = signed_volumes(nodes, tets)
     # Skin → mesh uses the whole boundary, so skin next to a cut is not penalised for
@@ -279,6 +295,7 @@ def _quality(nodes, tets, region_samples, skin_faces, skin_index, skin_points, r
         surface_distance_max=float(max(forward.max(), backward.max(initial=0.0))),
         closed=is_closed(all_faces), held_volume=float(held),
         region_volumes=MappingProxyType(region_volumes),
+        integrity=integrity, repaired=mended,
     )
 
 
