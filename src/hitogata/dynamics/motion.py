@@ -19,7 +19,7 @@ At every time step: muscle contractions and joint angles → joint angles
    skeleton stops, q → s and δ → δ_qs at the rates the modal damping ratios
    give; at rest with no load every term is zero: the rest shape exactly.
 4. the posed body: nodes x = g + R δ; skin vertices = their own skinning +
-   the nodes' elastic displacement x − g interpolated (`skin_vertex_map`),
+   the nodes' elastic displacement x − g interpolated (`NodeRig.skin_map`),
    faded out towards the cut faces of a trunk model (neck, hips, arms),
    beyond which the body moves by skinning alone.
 
@@ -125,7 +125,7 @@ class BodyDynamics:
         local = delta_qs.astype(np.float32) + (self.vectors32 @ dynamic.astype(np.float32)).reshape(-1, 3)
         elastic = rotate(node_rotations.astype(np.float32), local)
         plain = skin_vertices(self.poser.skin, rotations[None], translations[None], self.rig.method)[0]
-        skin = plain + self.skin_fade[:, None] * (self.model.skin_vertex_map @ elastic)
+        skin = plain + self.skin_fade[:, None] * (self.rig.skin_map @ elastic)
         return elastic, skin.astype(np.float32), plain.astype(np.float32)
 
     def loads(self, node_rotations: np.ndarray, contractions: dict[str, float], gravity: bool) -> np.ndarray:

@@ -19,7 +19,7 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.csgraph import connected_components
 
-from hitogata.elastic.mapping import DEFAULT_FADE, skin_vertex_map
+from hitogata.elastic.mapping import DEFAULT_FADE, skin_reach, skin_vertex_map
 from hitogata.elastic.materials import Materials, load_materials
 from hitogata.errors import HitogataError
 from hitogata.fem import (
@@ -208,8 +208,8 @@ def build_elastic_model(body, *, extent: str = "trunk", element_size: float | No
     timings["modes"] = time.perf_counter() - start
 
     start = time.perf_counter()
-    skin_map = skin_vertex_map(body.vertices, system.points, system.elements, volume.quality.surface_distance_max,
-                               DEFAULT_FADE)
+    skin_map = skin_vertex_map(body.vertices, system.points, system.elements,
+                               skin_reach(volume.quality.surface_distance_max, volume.element_size), DEFAULT_FADE)
     timings["skin_map"] = time.perf_counter() - start
     return ElasticModel(volume=volume, **vars(system), modes=modes, alpha=alpha, beta=beta,
                         skin_vertex_map=skin_map, timings=MappingProxyType(timings))
