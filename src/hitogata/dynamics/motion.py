@@ -29,6 +29,7 @@ centrifugal) are left out: δ is millimetres against metres of gross motion.
 
 from __future__ import annotations
 
+import os
 from collections.abc import Callable
 from dataclasses import dataclass
 
@@ -74,6 +75,8 @@ class BodyDynamics:
         poser = poser or poser_for(body)
         rig = node_rig(poser, model, skinning)
         held = np.setdiff1d(model.fixed_nodes, joint_nodes(rig.weights, model.elements, model.fixed_nodes))
+        if os.environ.get("HOLD_CUTS"):
+            held = np.union1d(held, np.unique(model.volume.cut_faces))
         soft = tuple(model.region_names.index(r) for r in SOFT_REGIONS if r in model.region_names)
         soft = tuple(r for r in soft if np.any(model.region == r))
         corners = len(model.volume.nodes)

@@ -44,7 +44,7 @@ class BodySpec:
 class ModelSpec:
     """The elastic model: extent, element size (mm or None), element, modes, damping, skinning, gravity."""
 
-    extent: str = "trunk"
+    extent: str = "body"
     element_size: float | None = None
     element: str = "P2"
     modes: int = 40
@@ -201,7 +201,7 @@ def _model(source: str, table: Any) -> ModelSpec:
     gravity = table.get("gravity", True)
     if not isinstance(gravity, bool):
         raise r.fail("gravity", f"{gravity!r}; allowed true or false")
-    return ModelSpec(r.choice("extent", ("trunk", "body"), "trunk"), size, r.choice("element", ("P2", "P1"), "P2"),
+    return ModelSpec(r.choice("extent", ("trunk", "body"), ModelSpec.extent), size, r.choice("element", ("P2", "P1"), "P2"),
                      r.integer("modes", 40, 1, 400), ratios, alpha_beta, r.choice("skinning", ("dqs", "lbs"), "dqs"),
                      gravity)
 
