@@ -29,7 +29,6 @@ centrifugal) are left out: δ is millimetres against metres of gross motion.
 
 from __future__ import annotations
 
-import os
 from collections.abc import Callable
 from dataclasses import dataclass
 
@@ -46,6 +45,7 @@ from hitogata.pose import Poser, poser_for
 from hitogata.skinning import skin_vertices
 
 CARTILAGE = 10.0
+CUT_FADE = 4.0  # elements: the skin's elastic displacement fades in over this distance from a trunk's cuts
 MIN_FREQUENCY = 0.05  # Hz: modes below are rigid-body motions of loose mesh pieces, not vibrations
 GRAVITY = np.array([0.0, -9.81, 0.0])
 SOFT_REGIONS = ("viscera", "muscle", "skin")
@@ -75,8 +75,6 @@ class BodyDynamics:
         poser = poser or poser_for(body)
         rig = node_rig(poser, model, skinning)
         held = np.setdiff1d(model.fixed_nodes, joint_nodes(rig.weights, model.elements, model.fixed_nodes))
-        if os.environ.get("HOLD_CUTS"):
-            held = np.union1d(held, np.unique(model.volume.cut_faces))
         soft = tuple(model.region_names.index(r) for r in SOFT_REGIONS if r in model.region_names)
         soft = tuple(r for r in soft if np.any(model.region == r))
         corners = len(model.volume.nodes)
@@ -166,16 +164,19 @@ class BodyDynamics:
 
 
 def cut_fade(vertices: np.ndarray, model) -> np.ndarray:
-    """(V,) 0 → 1 over one element from the model's cut faces (neck, hips, arms of a trunk), else 1.
+    """(V,) 0 → 1 over CUT_FADE elements from the model's cut faces (neck, hips, arms of a trunk), else 1.
 
     Beyond a cut the skin moves by skinning alone; fading the elastic
-    displacement in over an element keeps the skin surface whole there.
+    displacement in over four elements keeps the skin surface whole there: at
+    a free arm cut the trunk's elasticity pulls the arm's tissue back (132 mm
+    at the armpit with the arms raised); faded over one element that folded
+    128 neighbouring triangle pairs at the shoulders, over four 6 (docs/scenarios.md).
     """
     cut = np.unique(model.volume.cut_faces)
     if not len(cut):
         return np.ones(len(vertices))
     distance, _ = cKDTree(model.points[cut]).query(vertices)
-    u = np.clip(distance / model.volume.element_size, 0.0, 1.0)
+    u = np.clip(distance / (CUT_FADE * model.volume.element_size), 0.0, 1.0)
     return u * u * (3.0 - 2.0 * u)
 
 
