@@ -1,8 +1,8 @@
 """`hitogata demo`: the main job on the built-in default bodies.
 
 The default female and male bodies with their figures, then the paper's
-experiment on the female one (`dynamics.demo.run_demo`): the rectus abdominis
-stretched and released, and trunk flexion with the arms raised.
+experiment on the whole female body (`dynamics.demo.run_demo`): the rectus
+abdominis stretched and released, and trunk flexion with the arms raised forward.
 """
 
 from __future__ import annotations

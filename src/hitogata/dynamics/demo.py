@@ -1,7 +1,8 @@
 """The paper's experiment as the demo: (a) the rectus abdominis stretched and released,
-(b) a larger motion — trunk flexion with the arms raised — on the default female body.
+(b) a garment-relevant motion — trunk flexion with the arms raised forward — on the whole
+default female body.
 
-Both run on one elastic trunk model (built once) from the shipped scenarios,
+Both run on one whole-body elastic model (built once) from the shipped scenarios,
 and write the pictures (front and side, region surfaces translucent, the
 skeleton inside: the paper's Fig. 3(b)), the animations (GIF, GLB) and a
 short text summary. `run_demo(out_dir)` is what `hitogata demo` calls.
@@ -26,7 +27,8 @@ DEMO_OUTPUT = OutputSpec(files=("glb", "png", "gif"), views=("front", "side"), s
 
 
 def run_demo(out_dir: str | Path, progress: bool = False) -> str:
-    """Run both experiments into out_dir/dynamics/; return the text summary (also written there)."""
+    """Run both experiments on the whole default female body into out_dir/dynamics/; return the
+    text summary (also written there)."""
     out = Path(out_dir) / "dynamics"
     out.mkdir(parents=True, exist_ok=True)
     start = time.perf_counter()
@@ -35,7 +37,7 @@ def run_demo(out_dir: str | Path, progress: bool = False) -> str:
     scenarios = {name: dataclasses.replace(load_scenario(shipped[file]), output=DEMO_OUTPUT, rate=DEMO_RATE)
                  for name, file in EXPERIMENTS}
     dynamics = build_dynamics(body, next(iter(scenarios.values())))
-    parts = ["hitogata dynamics demo: the paper's §4 on the default female body\n"]
+    parts = ["hitogata dynamics demo: the paper's §4 on the whole default female body\n"]
     for name, scenario in scenarios.items():
         summary = run_scenario(scenario, out, progress=progress, dynamics=dynamics, name=name)
         parts.append(f"({name[0]}) " + summary.text())

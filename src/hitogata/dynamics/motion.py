@@ -19,7 +19,7 @@ At every time step: muscle contractions and joint angles → joint angles
    skeleton stops, q → s and δ → δ_qs at the rates the modal damping ratios
    give; at rest with no load every term is zero: the rest shape exactly.
 4. the posed body: nodes x = g + R δ; skin vertices = their own skinning +
-   the nodes' elastic displacement x − g interpolated (`skin_vertex_map`),
+   the nodes' elastic displacement x − g interpolated (`NodeRig.skin_map`),
    faded out towards the cut faces of a trunk model (neck, hips, arms),
    beyond which the body moves by skinning alone.
 
@@ -50,6 +50,7 @@ if TYPE_CHECKING:
     from hitogata.elastic import ElasticModel
 
 CARTILAGE = 10.0
+CUT_FADE = 4.0  # elements: the skin's elastic displacement fades in over this distance from a trunk's cuts
 MIN_FREQUENCY = 0.05  # Hz: modes below are rigid-body motions of loose mesh pieces, not vibrations
 GRAVITY = np.array([0.0, -9.81, 0.0])
 SOFT_REGIONS = ("viscera", "muscle", "skin")
@@ -130,7 +131,7 @@ class BodyDynamics:
         local = delta_qs.astype(np.float32) + (self.vectors32 @ dynamic.astype(np.float32)).reshape(-1, 3)
         elastic = rotate(node_rotations.astype(np.float32), local)
         plain = skin_vertices(self.poser.skin, rotations[None], translations[None], self.rig.method)[0]
-        skin = plain + self.skin_fade[:, None] * (self.model.skin_vertex_map @ elastic)
+        skin = plain + self.skin_fade[:, None] * (self.rig.skin_map @ elastic)
         return elastic, skin.astype(np.float32), plain.astype(np.float32)
 
     def loads(self, node_rotations: np.ndarray, contractions: dict[str, float], gravity: bool) -> np.ndarray:
@@ -168,16 +169,19 @@ class BodyDynamics:
 
 
 def cut_fade(vertices: np.ndarray, model) -> np.ndarray:
-    """(V,) 0 → 1 over one element from the model's cut faces (neck, hips, arms of a trunk), else 1.
+    """(V,) 0 → 1 over CUT_FADE elements from the model's cut faces (neck, hips, arms of a trunk), else 1.
 
     Beyond a cut the skin moves by skinning alone; fading the elastic
-    displacement in over an element keeps the skin surface whole there.
+    displacement in over four elements keeps the skin surface whole there: at
+    a free arm cut the trunk's elasticity pulls the arm's tissue back (132 mm
+    at the armpit with the arms raised); faded over one element that folded
+    128 neighbouring triangle pairs at the shoulders, over four 6 (docs/scenarios.md).
     """
     cut = np.unique(model.volume.cut_faces)
     if not len(cut):
         return np.ones(len(vertices))
     distance, _ = cKDTree(model.points[cut]).query(vertices)
-    u = np.clip(distance / model.volume.element_size, 0.0, 1.0)
+    u = np.clip(distance / (CUT_FADE * model.volume.element_size), 0.0, 1.0)
     return u * u * (3.0 - 2.0 * u)
 
 

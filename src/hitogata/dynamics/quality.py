@@ -76,7 +76,7 @@ def compare_pose(dynamics: BodyDynamics, angles: np.ndarray,
     pose = dynamics.poser.kinematics.pose(angles)
     out = {}
     for method in ("lbs", "dqs"):
-        rig = dynamics.rig if dynamics.rig.method == method else node_rig(dynamics.poser, dynamics.model, method)
+        rig = dynamics.rig if dynamics.rig.method == method else node_rig(dynamics.poser, dynamics.model, method, bind_skin=False)
         g, R = rig.pose(pose.rotations, pose.translations)
         out[method] = pose_quality(dynamics.model, g[0], method)
         if rig is dynamics.rig:

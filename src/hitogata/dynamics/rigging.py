@@ -13,6 +13,11 @@ weights must live there too:
   through the depth of the tissue;
 - quadratic (P2) mid-edge nodes take the mean of their edge's ends.
 
+The body's skin is bound to the nodes with those same part weights
+(`NodeRig.skin_map`): each skin vertex only to tets of the mesh's body piece
+whose corners move with the vertex's own parts (`elastic.mapping`), never to
+a loose piece or to another limb across a gap.
+
 Per pose, `NodeRig.pose` gives the skinned node positions and a rotation per
 node (the normalised blend of the parts' quaternions, the rotation DQS
 uses): the local frame in which the elastic correction is computed.
@@ -28,6 +33,7 @@ import scipy.sparse.linalg as sla
 from scipy.spatial import cKDTree
 
 from hitogata.dynamics.rotations import quaternion_matrices
+from hitogata.elastic.mapping import DEFAULT_FADE, skin_reach, skin_vertex_map
 from hitogata.errors import HitogataError
 from hitogata.fem.elements import P2_EDGES
 from hitogata.options import Skinning
@@ -36,6 +42,9 @@ from hitogata.skeleton.weights import part_weights
 from hitogata.skinning import Skin, dual_quaternions, prepare_skin, skin_vertices
 
 SKIN_NEIGHBOURS = 4
+# For binding the skin, the vertebrae within this many places along the spine chain count as
+# one part: the skin's weights are shared among them by height, and neighbours move alike.
+CHAIN_WINDOW = 3
 RIGID = 0.99  # a bone node whose largest part weight reaches this moves with that part alone
 
 
@@ -45,6 +54,7 @@ class NodeRig:
 
     skin: Skin  # rest = the FE nodes
     method: Skinning
+    skin_map: sp.csr_matrix | None = None  # (V, N): the body's skin vertices bound to the nodes (see module note)
 
     @property
     def weights(self) -> sp.csr_matrix:
@@ -149,9 +159,36 @@ def joint_nodes(weights: sp.csr_matrix, elements: np.ndarray, fixed_nodes: np.nd
     return np.unique(mixed[rigid[mixed]])
 
 
-def node_rig(poser: Poser, model, method: Skinning = "dqs") -> NodeRig:
-    """The elastic model's nodes prepared for skinning by the poser's skeleton ('lbs' or 'dqs')."""
+def node_rig(poser: Poser, model, method: Skinning = "dqs", bind_skin: bool = True) -> NodeRig:
+    """The elastic model's nodes prepared for skinning by the poser's skeleton ('lbs' or 'dqs');
+    bind_skin: also bind the body's skin to the nodes that move with its parts (`skin_map`)."""
     if method not in ("lbs", "dqs"):
         raise HitogataError(f"skinning = {method!r}: allowed lbs, dqs")
     w = node_weights(poser, model.volume, model.points, model.elements, model.fixed_nodes, model.fixed_bone)
-    return NodeRig(prepare_skin(model.points, w, poser.skeleton.parents), method)
+    skin_map = None
+    if bind_skin:
+        volume = model.volume
+        reach = skin_reach(volume.quality.surface_distance_max, volume.element_size)
+        blur = chain_blur(poser.skeleton)
+        skin_map = skin_vertex_map(poser.body.vertices, model.points, model.elements, reach, DEFAULT_FADE,
+                                   poser.skin.weights @ blur, w @ blur)
+    return NodeRig(prepare_skin(model.points, w, poser.skeleton.parents), method, skin_map)
+
+
+def chain_blur(skeleton) -> sp.csr_matrix:
+    """(parts, parts) row-stochastic: each part of a shared chain (the spine) spread evenly over the
+    chain's parts within CHAIN_WINDOW places of it; every other part stays itself.
+
+    Weights multiplied by it compare by what moves alike: a neck vertex weighted to C4 and a
+    node on C2's capsule agree, a thigh and the other thigh do not."""
+    n = len(skeleton.names)
+    rows, cols = list(range(n)), list(range(n))
+    for shared in skeleton.spec.shared:
+        chain = [skeleton.names.index(p) for p in shared.parts]
+        for i, a in enumerate(chain):
+            for b in chain[max(0, i - CHAIN_WINDOW):i + CHAIN_WINDOW + 1]:
+                if b != a:
+                    rows.append(a)
+                    cols.append(b)
+    blur = sp.csr_matrix((np.ones(len(rows)), (rows, cols)), shape=(n, n))
+    return sp.diags(1.0 / np.asarray(blur.sum(axis=1)).ravel()) @ blur

@@ -43,7 +43,7 @@ class BodySpec:
 class ModelSpec:
     """The elastic model: extent, element size (mm or None), element, modes, damping, skinning, gravity."""
 
-    extent: str = "trunk"
+    extent: str = "body"
     element_size: float | None = None
     element: str = "P2"
     modes: int = 40
@@ -167,7 +167,7 @@ def _model(source: str, table: Any) -> ModelSpec:
     gravity = table.get("gravity", True)
     if not isinstance(gravity, bool):
         raise r.error(f"{gravity!r}; allowed true or false", "gravity")
-    return ModelSpec(r.choice("extent", EXTENTS, "trunk"), size, r.choice("element", ELEMENTS, "P2"),
+    return ModelSpec(r.choice("extent", EXTENTS, ModelSpec.extent), size, r.choice("element", ELEMENTS, "P2"),
                      r.integer("modes", 40, 1, 400), ratios, alpha_beta, r.choice("skinning", SKINNING, "dqs"),
                      gravity)
 

@@ -18,7 +18,7 @@ from types import MappingProxyType
 import numpy as np
 import scipy.sparse as sp
 
-from hitogata.elastic.mapping import DEFAULT_FADE, skin_vertex_map
+from hitogata.elastic.mapping import DEFAULT_FADE, skin_reach, skin_vertex_map
 from hitogata.elastic.materials import Materials, load_materials
 from hitogata.errors import HitogataError
 from hitogata.fem import (
@@ -206,8 +206,8 @@ def build_elastic_model(body, *, extent: Extent = "trunk", element_size: float |
     timings["modes"] = time.perf_counter() - start
 
     start = time.perf_counter()
-    skin_map = skin_vertex_map(body.vertices, system.points, system.elements, volume.quality.surface_distance_max,
-                               DEFAULT_FADE)
+    skin_map = skin_vertex_map(body.vertices, system.points, system.elements,
+                               skin_reach(volume.quality.surface_distance_max, volume.element_size), DEFAULT_FADE)
     timings["skin_map"] = time.perf_counter() - start
     return ElasticModel(volume=volume, **vars(system), modes=modes, alpha=alpha, beta=beta,
                         skin_vertex_map=skin_map, timings=MappingProxyType(timings))

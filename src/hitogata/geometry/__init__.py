@@ -1,5 +1,7 @@
 """Geometry utilities over plain vertex/face arrays."""
 
+from hitogata.geometry.integrity import SurfaceIntegrity, surface_integrity
+
 from hitogata.geometry.mesh_checks import (
     boundary_edges,
     connected_component_count,
@@ -14,6 +16,7 @@ from hitogata.geometry.mesh_checks import (
 )
 
 __all__ = [
+    "SurfaceIntegrity",
     "boundary_edges",
     "connected_component_count",
     "contains",
@@ -23,5 +26,6 @@ __all__ = [
     "is_closed",
     "is_consistently_oriented",
     "self_intersections",
+    "surface_integrity",
     "winding_number",
 ]

@@ -1,0 +1,83 @@
+"""surface_integrity: folds, crossings, speed, floor and jumps of a moving surface, on shapes with known answers."""
+
+import numpy as np
+import pytest
+
+from hitogata.geometry import self_intersections, surface_integrity
+from hitogata.geometry.integrity import box_pairs
+from hitogata.geometry.mesh_checks import _overlapping_boxes
+
+
+def grid(n: int = 6, size: float = 0.1) -> tuple[np.ndarray, np.ndarray]:
+    """A flat n x n vertex sheet in the xz plane at height 0.5 m, two triangles per square."""
+    u = np.linspace(0.0, size, n)
+    x, z = np.meshgrid(u, u, indexing="ij")
+    vertices = np.stack([x.ravel(), np.full(n * n, 0.5), z.ravel()], axis=1)
+    faces = []
+    for i in range(n - 1):
+        for j in range(n - 1):
+            a, b, c, d = i * n + j, (i + 1) * n + j, (i + 1) * n + j + 1, i * n + j + 1
+            faces += [(a, b, c), (a, c, d)]
+    return vertices, np.array(faces)
+
+
+def test_a_still_surface_is_whole():
+    v, f = grid()
+    r = surface_integrity(v, f, np.stack([v, v, v]), np.array([0.0, 0.1, 0.2]), np.stack([v, v, v]))
+    w = r.worst()
+    assert w["new_folds"] == w["new_self_intersections"] == w["below_floor"] == 0
+    assert w["largest_speed_m_s"] == w["largest_elastic_m"] == w["largest_elastic_jump_m"] == 0.0
+
+
+def test_a_vertex_pulled_through_the_sheet_folds_it_and_jumps():
+    v, f = grid()
+    moved = v.copy()
+    inner = 2 * 6 + 2  # an interior vertex: its 6 triangles turn over when it goes far past its neighbours
+    moved[inner] += [0.05, 0.0, 0.05]  # dragged across its neighbours, in the sheet's plane
+    r = surface_integrity(v, f, np.stack([v, moved]), np.array([0.0, 0.04]), np.stack([v, v]))
+    assert r.new_folds[0] == 0 and r.new_folds[1] > 0
+    assert r.folds_beyond_reference[1] == r.new_folds[1]
+    assert r.speed[1] == pytest.approx(np.hypot(0.05, 0.05) / 0.04)
+    assert r.jump[1] == pytest.approx(np.hypot(0.05, 0.05)) and r.displacement[1] == pytest.approx(np.hypot(0.05, 0.05))
+    # the same frames as the reference: nothing beyond it
+    same = surface_integrity(v, f, np.stack([v, moved]), np.array([0.0, 0.04]), np.stack([v, moved]))
+    assert same.folds_beyond_reference[1] == 0 and same.intersections_beyond_reference[1] == 0
+    assert same.new_folds[1] == r.new_folds[1] and same.jump.max() == 0.0
+
+
+def test_two_sheets_pushed_through_each_other_cross():
+    v, f = grid()
+    top = v + [0.02, 0.03, 0.02]
+    vertices = np.concatenate([v, top])
+    faces = np.concatenate([f, f + len(v)])
+    through = vertices.copy()
+    through[len(v):, 1] = 0.5 + 0.03 * np.sin(np.linspace(0, 9, len(v)))  # wavy, through the lower sheet
+    r = surface_integrity(vertices, faces, np.stack([vertices, through]), np.array([0.0, 1.0]))
+    expected = len(self_intersections(through, faces))
+    assert expected > 0 and r.new_intersections[1] == expected and r.new_intersections[0] == 0
+    # with the reference crossing the same way, none is beyond it
+    ref = surface_integrity(vertices, faces, np.stack([vertices, through]), np.array([0.0, 1.0]),
+                            np.stack([vertices, through]))
+    assert ref.intersections_beyond_reference[1] == 0
+
+
+def test_below_the_floor_counts_vertices_lower_than_a_millimetre():
+    v, f = grid()
+    low = v.copy()
+    low[:, 1] = 0.0
+    low[:3, 1] = -0.002
+    low[3, 1] = -0.0005  # within the tolerance
+    r = surface_integrity(v, f, np.stack([v, low]))
+    assert list(r.below_floor) == [0, 3] and r.lowest[1] == pytest.approx(-0.002)
+
+
+def test_broad_phase_finds_every_overlapping_box_pair_of_the_body(female):
+    tri = female.vertices[female.faces]
+    lo, hi = tri.min(axis=1), tri.max(axis=1)
+    i, j = box_pairs(lo, hi)
+    a, b = _overlapping_boxes(lo, hi)
+    assert set(zip(i.tolist(), j.tolist())) == set(zip(a.tolist(), b.tolist()))
+    active = female.vertices[female.faces][:, :, 1].mean(axis=1) > 1.0
+    i, j = box_pairs(lo, hi, active)
+    expected = {(p, q) for p, q in zip(a.tolist(), b.tolist()) if active[p] or active[q]}
+    assert set(zip(i.tolist(), j.tolist())) == expected
