@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import json
 import os
+import secrets
 import time
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass
@@ -120,7 +121,8 @@ def run_on_client(spec: StudySpec, out: str | os.PathLike, client, progress: Pro
     if not todo:
         return summary
     client.register_plugin(WarmWorker(), name="hitogata-study-warm")
-    by_key = {f"hitogata-study-{t.key}": t for t in todo}
+    run = secrets.token_hex(3)  # keys unique to this run: a cancelled earlier run's keys may linger
+    by_key = {f"study-{t.key}-{run}": t for t in todo}
     start = time.perf_counter()
     futures = client.map(execute, todo, key=list(by_key), pure=False)
     try:

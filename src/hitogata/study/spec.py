@@ -194,8 +194,10 @@ def _bodies(t: _Table, folder: Path, seed: int) -> tuple[tuple[BodyDef, ...], st
 
 def _joint(t: _Table, sex: str) -> Joint:
     key = "women" if sex == "female" else "men"
-    s = _Table(t.source, f"[bodies.{key}]", t.required(key), {
-        "stature_mean", "stature_sd", "mass_mean", "mass_sd", "correlation", "source"})
+    keys = {"stature_mean", "stature_sd", "mass_mean", "mass_sd", "correlation", "source"}
+    if key not in t.table:
+        raise HitogataError(f"{t.source}: [bodies.{key}]: missing; allowed a table of {', '.join(sorted(keys))}")
+    s = _Table(t.source, f"[bodies.{key}]", t.table[key], keys)
     lo, hi = STATURE_RANGE
     stature = "a length like 163cm"
     joint = Joint(
