@@ -128,3 +128,12 @@ def test_cli_bad_study_exits_2_with_one_line(tmp_path, capsys):
     err = capsys.readouterr().err.strip()
     assert err == f"hitogata: error: {path}: [bodies.women].correlation = 2: allowed a number -0.99..0.99"
     assert not (tmp_path / "out").exists()
+
+
+def test_cli_bad_scheduler_address_exits_2(tmp_path, capsys):
+    (tmp_path / "x.csv").write_text("size,sex,stature_cm,mass_kg\nM,female,165,62\n", encoding="utf-8")
+    path = _study(tmp_path, 'chart = "x.csv"')
+    assert main(["study", str(path), "--out", str(tmp_path / "out"), "--scheduler", "http://x:1"]) == 2
+    assert capsys.readouterr().err.strip() == (
+        "hitogata: error: --scheduler 'http://x:1': allowed an address like tcp://host:8786")
+    assert not (tmp_path / "out").exists()
