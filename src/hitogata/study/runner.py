@@ -86,7 +86,8 @@ class RunSummary:
     done: int = 0
     failed: int = 0
     wall_seconds: float = 0.0
-    task_seconds: float = 0.0  # summed compute time inside the tasks
+    task_seconds: float = 0.0  # summed wall time inside the tasks
+    task_cpu_seconds: float = 0.0  # summed CPU time inside the tasks (below the wall time on a busy machine)
 
     @property
     def rate_per_minute(self) -> float:
@@ -144,6 +145,7 @@ def _count(summary: RunSummary, out: Path, task: Task, outcome: Outcome, start: 
            progress: Progress | None) -> None:
     record(out, task, outcome)
     summary.task_seconds += outcome.seconds
+    summary.task_cpu_seconds += outcome.cpu_seconds
     if outcome.error is None:
         summary.done += 1
     else:

@@ -69,12 +69,13 @@ class Task:
 
 @dataclass(frozen=True)
 class Outcome:
-    """What a task gives back: its rows (column → values) or its one-line error; compute time (s)."""
+    """What a task gives back: its rows (column → values) or its one-line error; its wall and CPU time (s)."""
 
     key: str
     rows: dict[str, list] | None
     error: str | None
     seconds: float
+    cpu_seconds: float = 0.0
 
 
 def execute(task: Task) -> Outcome:
@@ -83,14 +84,16 @@ def execute(task: Task) -> Outcome:
     BLAS runs on one thread, as on a Dask worker (its nanny sets OMP_NUM_THREADS=1): the
     same task then gives the same bits in a plain loop and on a cluster.
     """
-    start = time.perf_counter()
+    start, cpu = time.perf_counter(), time.process_time()
     try:
         with threadpool_limits(1):
             rows = task_rows(task)
     except Exception as err:  # recorded for the user; the study goes on with the other tasks
         message = " ".join(str(err).split()) or "no message"
-        return Outcome(task.key, None, f"{type(err).__name__}: {message}", time.perf_counter() - start)
-    return Outcome(task.key, rows, None, time.perf_counter() - start)
+        rows, error = None, f"{type(err).__name__}: {message}"
+    else:
+        error = None
+    return Outcome(task.key, rows, error, time.perf_counter() - start, time.process_time() - cpu)
 
 
 @cache
