@@ -31,6 +31,7 @@ COMMANDS = {
     "pose": ("hitogata.commands.pose", "pose a body by muscle contractions or joint angles and write it"),
     "simulate": ("hitogata.commands.simulate", "run a scenario (TOML) of muscle contractions and joint angles"),
     "skeleton": ("hitogata.commands.skeleton", "draw the posed 65-part skeleton, front and side, optionally in its skin"),
+    "study": ("hitogata.commands.study", "run a population study (bodies x motions) on dask.distributed"),
     "view": ("hitogata.commands.view", "open the interactive web viewer: pose the body by its muscles"),
 }
 NEGATIVE_VALUE = re.compile(r"^-\.?\d")  # '-5kg', '-.5': a value, not an option

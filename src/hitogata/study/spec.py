@@ -1,0 +1,308 @@
+"""Study files (TOML): a population of bodies, the motions, the outputs, the model settings.
+
+Read and checked before any work starts, with one-line errors naming the
+file, the entry, the value and what is allowed (docs/study.md has the
+format). The bodies come out as plain definitions (`BodyDef`) and the
+motions as their scenario text (`MotionDef`), so a task can be sent to any
+worker of a cluster without a shared file system.
+"""
+
+from __future__ import annotations
+
+import csv
+import math
+import tomllib
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from hitogata import units
+from hitogata.body import STATURE_RANGE, WHOLE_BODY_DENSITY
+from hitogata.dynamics.scenario import load_scenario, shipped_scenarios
+from hitogata.errors import HitogataError
+from hitogata.study.sampling import SEXES, Joint, clusters, sample_stature_mass, sex_counts
+
+OUTPUTS = ("measurements", "dynamic_ease", "zone_stretch")
+POSINGS = ("skinning", "elastic")
+SKINNINGS = ("dqs", "lbs")
+MASS_RANGE = (30.0, 200.0)  # kg accepted in a file; the shape solver says per body what it can build
+AGE_RANGE = (18.0, 90.0)
+CHART_COLUMNS = {"stature": units.LENGTH_UNITS, "mass": units.MASS_UNITS, "age": {"years": 1.0}}
+
+
+@dataclass(frozen=True)
+class BodyDef:
+    """One body of the population: by stature and mass, or by MakeHuman shape parameters (a file)."""
+
+    id: str
+    group: str  # the size, or the body cluster it belongs to
+    sex: str
+    age: float = 30.0
+    stature: float | None = None  # m
+    mass: float | None = None  # kg
+    shape: tuple[tuple[str, Any], ...] | None = None  # ShapeParameters fields, for a body file
+    density: float = WHOLE_BODY_DENSITY
+
+
+@dataclass(frozen=True)
+class MotionDef:
+    """A motion by name, with its scenario file's text (parsed again where it runs)."""
+
+    name: str
+    text: str
+
+
+@dataclass(frozen=True)
+class ModelSettings:
+    """How each body is moved: posing by skinning (cheap) or the elastic body; frames per motion."""
+
+    posing: str = "skinning"
+    skinning: str = "dqs"
+    frames: int = 9
+
+
+@dataclass(frozen=True)
+class StudySpec:
+    """A checked study: bodies, motions, outputs and model settings, SI units."""
+
+    source: str
+    title: str
+    seed: int
+    bodies: tuple[BodyDef, ...]
+    motions: tuple[MotionDef, ...]
+    outputs: tuple[str, ...]
+    model: ModelSettings
+    population: str  # one line: where the bodies come from (source of the statistics, chart or folder)
+
+
+class _Table:
+    """Typed access to one table of the file; errors name file, entry, value and what is allowed."""
+
+    def __init__(self, source: str, entry: str, table: Any, allowed: set[str]) -> None:
+        if not isinstance(table, dict):
+            raise HitogataError(f"{source}: {entry}: {table!r}; allowed a table")
+        unknown = sorted(set(table) - allowed)
+        if unknown:
+            raise HitogataError(f"{source}: {entry}: unknown key {unknown[0]!r}; allowed {', '.join(sorted(allowed))}")
+        self.source, self.entry, self.table = source, entry, table
+
+    def fail(self, key: str, value: Any, allowed: str) -> HitogataError:
+        return HitogataError(f"{self.source}: {self.entry}.{key} = {value!r}: allowed {allowed}")
+
+    def required(self, key: str) -> Any:
+        if key not in self.table:
+            raise HitogataError(f"{self.source}: {self.entry}.{key}: missing")
+        return self.table[key]
+
+    def quantity(self, key: str, table: dict[str, float], low: float, high: float, allowed: str,
+                 default: float | None = None) -> float:
+        value = self.table[key] if key in self.table or default is None else default
+        if key not in self.table and default is None:
+            self.required(key)
+        if isinstance(value, bool):
+            raise self.fail(key, value, allowed)
+        try:
+            number = units.parse_quantity(value, table, key)
+        except HitogataError:
+            raise self.fail(key, value, allowed) from None
+        if not low <= number <= high:
+            raise self.fail(key, value, allowed)
+        return number
+
+    def integer(self, key: str, default: int | None, low: int, high: int) -> int:
+        value = self.table[key] if key in self.table or default is None else default
+        if key not in self.table and default is None:
+            self.required(key)
+        if isinstance(value, bool) or not isinstance(value, int) or not low <= value <= high:
+            raise self.fail(key, value, f"a whole number {low}..{high}")
+        return value
+
+    def choice(self, key: str, options: tuple[str, ...], default: str) -> str:
+        value = self.table.get(key, default)
+        if value not in options:
+            raise self.fail(key, value, ", ".join(options))
+        return value
+
+
+def load_study(path: str | Path) -> StudySpec:
+    """Read and check a study file; bodies, charts and motions named in it are read too."""
+    path = Path(path)
+    try:
+        data = tomllib.loads(path.read_text(encoding="utf-8"))
+    except (FileNotFoundError, IsADirectoryError):
+        raise HitogataError(f"{path}: no such study file") from None
+    except (tomllib.TOMLDecodeError, UnicodeDecodeError) as err:
+        raise HitogataError(f"{path}: not valid TOML ({err})") from None
+    return parse_study(data, path)
+
+
+def parse_study(data: dict, path: Path) -> StudySpec:
+    """Check a parsed study document; relative paths in it are relative to the file's folder."""
+    source = str(path)
+    top = _Table(source, "file", data, {"title", "seed", "motions", "outputs", "bodies", "model"})
+    title = data.get("title", path.stem)
+    if not isinstance(title, str):
+        raise top.fail("title", title, "a string")
+    seed = top.integer("seed", 0, 0, 2**63 - 1)
+    motions = _motions(top, path.parent)
+    outputs = data.get("outputs", list(OUTPUTS))
+    if not (isinstance(outputs, list) and outputs and all(o in OUTPUTS for o in outputs)) or len(set(outputs)) < len(
+        outputs
+    ):
+        raise top.fail("outputs", outputs, f"a list of {', '.join(OUTPUTS)}, each once")
+    model = _model(_Table(source, "[model]", data.get("model", {}), {"posing", "skinning", "frames"}))
+    bodies, population = _bodies(_Table(source, "[bodies]", top.required("bodies"), {
+        "sampled", "female", "age", "clusters", "chart", "folder", "women", "men"}), path.parent, seed)
+    return StudySpec(source, title, seed, bodies, motions, tuple(o for o in OUTPUTS if o in outputs), model,
+                     population)
+
+
+def _model(t: _Table) -> ModelSettings:
+    return ModelSettings(t.choice("posing", POSINGS, "skinning"), t.choice("skinning", SKINNINGS, "dqs"),
+                         t.integer("frames", 9, 2, 200))
+
+
+def _motions(top: _Table, folder: Path) -> tuple[MotionDef, ...]:
+    names = top.required("motions")
+    if not (isinstance(names, list) and names and all(isinstance(n, str) and n for n in names)):
+        raise top.fail("motions", names, "a list of scenario names or files")
+    shipped = shipped_scenarios()
+    out: dict[str, MotionDef] = {}
+    for name in names:
+        file = shipped[name] if name in shipped else folder / name
+        if not file.is_file():
+            raise top.fail("motions", name, f"a scenario file or a shipped scenario: {', '.join(sorted(shipped))}")
+        load_scenario(file)  # checked here, once, with the scenario's own one-line errors
+        stem = file.name.removesuffix(".toml")
+        if stem in out:
+            raise top.fail("motions", name, "each motion once (two files with the same name)")
+        out[stem] = MotionDef(stem, file.read_text(encoding="utf-8"))
+    return tuple(out.values())
+
+
+def _bodies(t: _Table, folder: Path, seed: int) -> tuple[tuple[BodyDef, ...], str]:
+    kinds = [k for k in ("sampled", "chart", "folder") if k in t.table]
+    if len(kinds) != 1:
+        raise HitogataError(f"{t.source}: [bodies]: {' and '.join(kinds) or 'none'} given; "
+                            "allowed exactly one of sampled (a count), chart (a CSV) or folder (body files)")
+    if kinds[0] == "sampled":
+        return _sampled(t, seed)
+    if kinds[0] == "chart":
+        return _chart(t, folder / str(t.table["chart"]))
+    return _folder(t, folder / str(t.table["folder"]))
+
+
+def _joint(t: _Table, sex: str) -> Joint:
+    key = "women" if sex == "female" else "men"
+    keys = {"stature_mean", "stature_sd", "mass_mean", "mass_sd", "correlation", "source"}
+    if key not in t.table:
+        raise HitogataError(f"{t.source}: [bodies.{key}]: missing; allowed a table of {', '.join(sorted(keys))}")
+    s = _Table(t.source, f"[bodies.{key}]", t.table[key], keys)
+    lo, hi = STATURE_RANGE
+    stature = "a length like 163cm"
+    joint = Joint(
+        s.quantity("stature_mean", units.LENGTH_UNITS, lo, hi, f"{stature}, {lo * 100:.0f}..{hi * 100:.0f} cm"),
+        s.quantity("stature_sd", units.LENGTH_UNITS, 1e-4, 0.3, f"{stature}, above 0 and up to 30 cm"),
+        s.quantity("mass_mean", units.MASS_UNITS, *MASS_RANGE, f"a mass like 68kg, {MASS_RANGE[0]:g}..{MASS_RANGE[1]:g} kg"),
+        s.quantity("mass_sd", units.MASS_UNITS, 1e-3, 60.0, "a mass like 11kg, above 0 and up to 60 kg"),
+        s.quantity("correlation", {"": 1.0}, -0.99, 0.99, "a number -0.99..0.99"),
+        s.required("source"),
+    )
+    if not isinstance(joint.source, str) or not joint.source.strip():
+        raise s.fail("source", joint.source, "the published survey the figures come from, as text")
+    return joint
+
+
+def _sampled(t: _Table, seed: int) -> tuple[tuple[BodyDef, ...], str]:
+    count = t.integer("sampled", None, 1, 1_000_000)
+    share = t.quantity("female", units.FRACTION_UNITS, 0.0, 1.0, "a share of women like 0.5 or 50%", 0.5)
+    age = t.quantity("age", {"": 1.0, "years": 1.0}, *AGE_RANGE, "years, 18..90", 30.0)
+    k = t.integer("clusters", 3, 1, 50)
+    bodies: list[BodyDef] = []
+    sources = []
+    for sex, n in sex_counts(count, share).items():
+        if n == 0:
+            continue
+        joint = _joint(t, sex)
+        sources.append(f"{sex}: {joint.source}")
+        values = sample_stature_mass(joint, n, seed, sex)
+        labels = clusters(values, k, seed)
+        names = {c: _cluster_name(sex, values[labels == c]) for c in set(labels.tolist())}
+        bodies += [BodyDef(f"{sex}-{i:06d}", names[int(c)], sex, age, float(s), float(m))
+                   for i, ((s, m), c) in enumerate(zip(values, labels))]
+    return tuple(bodies), f"{count} sampled bodies (seed {seed}); " + "; ".join(sources)
+
+
+def _cluster_name(sex: str, members: Any) -> str:
+    stature, mass = members.mean(axis=0)
+    return f"{sex} {stature * 100:.0f}cm {mass:.0f}kg"
+
+
+def _chart(t: _Table, path: Path) -> tuple[tuple[BodyDef, ...], str]:
+    """A size chart: a CSV with columns size, sex, stature_<unit>, mass_<unit> and optionally age_years."""
+    try:
+        rows = list(csv.reader(path.read_text(encoding="utf-8").splitlines()))
+    except (FileNotFoundError, IsADirectoryError, UnicodeDecodeError):
+        raise t.fail("chart", str(path), "a size chart CSV (UTF-8) next to the study file") from None
+    if not rows:
+        raise HitogataError(f"{path}: empty; allowed a header size,sex,stature_cm,mass_kg[,age_years] and rows")
+    header = [h.strip() for h in rows[0]]
+    columns = {"size": None, "sex": None}
+    for name, table in CHART_COLUMNS.items():
+        found = [h for h in header if h.startswith(name + "_") and h.split("_", 1)[1] in table]
+        columns[name] = found[0] if found else None
+    missing = [n for n, c in columns.items() if c is None and n != "age" and n not in header]
+    if missing:
+        raise HitogataError(f"{path}: header {','.join(header)}: no {missing[0]!r} column; allowed "
+                            "size,sex,stature_<cm|m|mm>,mass_<kg|g>[,age_years] (units in the header)")
+    bodies = []
+    for number, row in enumerate(rows[1:], start=2):
+        if not any(cell.strip() for cell in row):
+            continue
+        if len(row) != len(header):
+            raise HitogataError(f"{path}: row {number}: {len(row)} cells; allowed {len(header)} (the header's)")
+        cells = dict(zip(header, (c.strip() for c in row)))
+        size, sex = cells["size"], cells["sex"]
+        where = f"{path}: row {number} (size {size!r})"
+        if sex not in SEXES:
+            raise HitogataError(f"{where}: sex {sex!r}; allowed {', '.join(SEXES)}")
+        values = {}
+        for name, (low, high) in (("stature", STATURE_RANGE), ("mass", MASS_RANGE), ("age", AGE_RANGE)):
+            column = columns.get(name)
+            if column is None:
+                values[name] = 30.0
+                continue
+            unit = column.split("_", 1)[1]
+            try:
+                value = float(cells[column]) * CHART_COLUMNS[name][unit]
+            except ValueError:
+                value = math.nan
+            if not low <= value <= high:
+                scale = {"stature": 100.0}.get(name, 1.0)
+                raise HitogataError(f"{where}: {column} {cells[column]!r}; allowed a number "
+                                    f"{low * scale:g}..{high * scale:g} {'cm' if name == 'stature' else unit}")
+            values[name] = value
+        bodies.append(BodyDef(f"{size}-{number}", size, sex, values["age"], values["stature"], values["mass"]))
+    if not bodies:
+        raise HitogataError(f"{path}: no rows; allowed one row per size")
+    return tuple(bodies), f"size chart {path.name}: {len(bodies)} rows"
+
+
+def _folder(t: _Table, path: Path) -> tuple[tuple[BodyDef, ...], str]:
+    """Body files (GLB written by `hitogata body`) in a folder: their shape parameters from the extras."""
+    from hitogata.export.gltf import read_glb_skin
+
+    files = sorted(path.glob("*.glb")) if path.is_dir() else []
+    if not files:
+        raise t.fail("folder", str(path), "a folder holding .glb files written by `hitogata body`")
+    bodies = []
+    for file in files:
+        extras = read_glb_skin(file).extras or {}
+        shape = extras.get("shape")
+        if not isinstance(shape, dict):
+            raise HitogataError(f"{file}: no hitogata shape in the file's extras; allowed a .glb written by hitogata")
+        shape = {**shape, "race": tuple(shape.get("race", (1 / 3,) * 3))}
+        sex = "male" if float(shape.get("sex", 0.0)) >= 0.5 else "female"
+        bodies.append(BodyDef(file.stem, sex, sex, float(shape.get("age", 30.0)), shape=tuple(sorted(shape.items())),
+                              density=float(extras.get("density", WHOLE_BODY_DENSITY))))
+    return tuple(bodies), f"{len(bodies)} body files in {path}"
