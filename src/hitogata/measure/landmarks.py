@@ -1,16 +1,31 @@
 """Landmarks of ISO 8559-1 on the body surface, as fixed vertex indices.
 
-The mesh topology never changes, so a landmark found once on the rest body is
-a vertex index that follows the skin into any posture. Each rule below finds
-it on the rest surface from the rig's joint centres (docs/measurements.md):
+Every body shares the MakeHuman mesh's topology, and its shape targets keep a
+vertex on the same anatomical point in every shape. So a landmark on a
+profile of the trunk is found once, on the reference body (MakeHuman's
+default female shape), and is the same vertex on every body: it moves
+continuously with the shape parameters and follows the skin into any
+posture. Found anew on each body, such landmarks jumped between vertices as
+the shape changed (the male cervicale dropped 16 mm between BMI 20 and 22;
+the male under-breast point wandered 4–18 cm and fell to the navel on lean
+men, where the girth was lost). The bony points of the limbs depend on the
+limbs' build (a broad male shoulder puts the female's acromion vertex inside
+the shoulder joint), so they are found on each body. Each rule below finds
+its vertex on the rest surface from the rig's joint centres
+(docs/measurements.md):
 
-- bony points (cervicale, acromion, olecranon, ulnar styloid): the first skin
-  hit of a ray from the joint centre in the direction of that bone point;
-- the bust point and the navel: vertices found once on MakeHuman's default
-  female, where they are pronounced (the most forward vertex of the breast;
-  the deepest dip of the front midline profile), and kept for every body: a
-  male chest has no forward-most nipple, but the same vertex is his nipple;
-- levels (hip, underbust, crotch, thigh): from the rest shape's own profile.
+- bony points of the limbs (acromion, olecranon, ulnar styloid), on each
+  body: the first skin hit of a ray from the joint centre in the direction
+  of that bone point;
+- cervicale: the back midline vertex at the base neck joint's height;
+- the bust point and the navel: where they are pronounced on the reference
+  (the most forward vertex of the breast; the deepest dip of the front
+  midline profile): a male chest has no forward-most nipple, but the same
+  vertex is his nipple;
+- points on a profile (under-breast fold, crotch, buttock, back waist): from
+  the reference's profiles;
+- the thigh level (a fraction along the femur): from each body's own crotch
+  vertex and joints, so it too varies continuously.
 
 The waist of ISO 8559-1 lies midway between the lowest rib and the iliac
 crest, which a surface cannot show; the navel (omphalion) lies at that level
@@ -22,7 +37,7 @@ Limbs are measured on the right side, as ISO 8559-1 and ISO 7250-1 prescribe.
 from __future__ import annotations
 
 import weakref
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from functools import cache
 
 import numpy as np
@@ -66,12 +81,34 @@ _BY_BODY: "weakref.WeakKeyDictionary[Body, Landmarks]" = weakref.WeakKeyDictiona
 
 
 def body_landmarks(body: Body) -> Landmarks:
-    """The landmarks of a body, found once on its rest surface and cached."""
+    """The landmarks of a body: the reference's trunk vertices, the body's own limb points and
+    thigh level (see the module note); cached per body."""
     found = _BY_BODY.get(body)
     if found is None:
-        found = find_landmarks(body.vertices, body.faces, JointSet(body.rig.names, body.rig.heads))
+        marks, v, faces = reference_landmarks(), body.vertices, body.faces
+        joints = JointSet(body.rig.names, body.rig.heads)
+        found = replace(
+            marks,
+            acromion_right=_acromion(v, faces, joints, "R"),
+            acromion_left=_acromion(v, faces, joints, "L"),
+            olecranon=_olecranon(v, faces, joints),
+            ulnar_styloid=_ulnar_styloid(v, faces, joints),
+            thigh_level=_thigh_level(v, marks.crotch, joints),
+        )
         _BY_BODY[body] = found
     return found
+
+
+@cache
+def reference_landmarks() -> Landmarks:
+    """The landmark vertices, found once on the reference body (MakeHuman's default female)."""
+    reference = _reference_body()
+    return find_landmarks(reference.vertices, reference.faces, JointSet(reference.rig.names, reference.rig.heads))
+
+
+@cache
+def _reference_body() -> Body:
+    return Body.from_parameters(ShapeParameters(sex=0.0))
 
 
 def find_landmarks(vertices: np.ndarray, faces: np.ndarray, joints: JointSet) -> Landmarks:
@@ -81,9 +118,6 @@ def find_landmarks(vertices: np.ndarray, faces: np.ndarray, joints: JointSet) ->
     bust_right, bust_left, navel = reference_vertices()
     crotch = _crotch(v, midline, joints)
     waist_y = float(v[navel, 1])
-    hip, knee = joints["upperleg01.R"], joints["lowerleg01.R"]
-    femur = knee - hip
-    below = v[crotch] - THIGH_BELOW_CROTCH * UP - hip
     return Landmarks(
         head_top=int(np.argmax(v[:, 1])),
         cervicale=_cervicale(v, midline, joints),
@@ -98,8 +132,16 @@ def find_landmarks(vertices: np.ndarray, faces: np.ndarray, joints: JointSet) ->
         waist_back=_back_midline_at(v, midline, joints, waist_y),
         buttock=_buttock(v, float(v[crotch, 1]), waist_y),
         crotch=crotch,
-        thigh_level=float((below @ femur) / (femur @ femur)),
+        thigh_level=_thigh_level(v, crotch, joints),
     )
+
+
+def _thigh_level(v: np.ndarray, crotch: int, joints: JointSet) -> float:
+    """Where the thigh girth's plane cuts the femur, as a fraction from hip to knee joint."""
+    hip, knee = joints["upperleg01.R"], joints["lowerleg01.R"]
+    femur = knee - hip
+    below = v[crotch] - THIGH_BELOW_CROTCH * UP - hip
+    return float((below @ femur) / (femur @ femur))
 
 
 @cache
@@ -110,7 +152,7 @@ def reference_vertices() -> tuple[int, int, int]:
     the breast bone). Navel: the front midline vertex that lies deepest behind
     the chord of the profile from NAVEL_REACH above it to NAVEL_REACH below it.
     """
-    reference = Body.from_parameters(ShapeParameters(sex=0.0))
+    reference = _reference_body()
     v, rig = reference.vertices, reference.rig
     dominant = np.asarray(reference.skin_weights.argmax(axis=1)).ravel()
     nipples = []
