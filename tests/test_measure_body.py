@@ -88,8 +88,9 @@ def test_landmarks_hold_across_shapes(sex, stature, mass):
     joints = JointSet(rig.names, rig.heads)
     assert measure_surface(v, body.faces, marks, joints, joints) == m  # tape skin masks change nothing at rest
     shoulder = rig.heads[rig.index("upperarm01.R")]
-    assert v[marks.acromion_right, 1] > shoulder[1] and v[marks.acromion_right, 0] < shoulder[0]
-    assert v[marks.olecranon, 2] < rig.heads[rig.index("lowerarm01.R"), 2]  # behind the elbow
+    acromion = marks.acromion_right.at(v)
+    assert acromion[1] > shoulder[1] and acromion[0] < shoulder[0]
+    assert marks.olecranon.at(v)[2] < rig.heads[rig.index("lowerarm01.R"), 2]  # behind the elbow
     assert v[marks.cervicale, 2] < rig.heads[rig.index("neck01"), 2]
 
 

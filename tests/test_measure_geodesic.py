@@ -83,19 +83,17 @@ def test_the_shortest_route_not_the_first_locally_shortest_one():
 
 @pytest.mark.parametrize("sex", ["female", "male"])
 def test_arm_length_does_not_depend_on_the_skinning(sex, request):
-    # Elbow straight: the DQS arm's shoulder-to-elbow leg once followed a locally shortest route
-    # round the arm, 32.8 cm against 26.2 cm straight on the female default (LBS 27.0 cm).
-    from hitogata.measure.landmarks import body_landmarks
+    # Elbow straight: on the DQS arm the shoulder-to-elbow leg once followed a locally shortest
+    # route round the arm, 32.8 cm against 26.2 cm straight on the female default (LBS 27.0 cm).
+    from hitogata.measure import measure
+    from hitogata.measure.rig_joints import posed_rig_heads
     from hitogata.pose import pose_body
 
     body = request.getfixturevalue(sex)
-    marks = body_landmarks(body)
-    legs = {}
+    arm = {}
     for skinning in ("lbs", "dqs"):
         posed = pose_body(body, clinical={"forearm_r.flexion": 0.0}, skinning=skinning)
-        paths = SurfaceGeodesics(posed.vertices, body.faces)
-        upper = paths.length(marks.acromion_right, marks.olecranon)
-        chord = np.linalg.norm(posed.vertices[marks.acromion_right] - posed.vertices[marks.olecranon])
-        assert chord <= upper <= 1.04 * chord
-        legs[skinning] = upper + paths.length(marks.olecranon, marks.ulnar_styloid)
-    assert legs["dqs"] == pytest.approx(legs["lbs"], abs=0.003)
+        heads = posed_rig_heads(body.rig.heads, posed.skeleton.joints, posed.pose.rotations[0],
+                                posed.pose.translations[0])
+        arm[skinning] = measure(body, posed.vertices, heads).arm_length
+    assert arm["dqs"] == pytest.approx(arm["lbs"], abs=0.003)

@@ -25,7 +25,7 @@ from hitogata.body import Body
 from hitogata.errors import HitogataError
 from hitogata.export.atomic import write_bytes_atomically
 from hitogata.measure.heatmap import strain_heatmap
-from hitogata.measure.landmarks import body_landmarks
+from hitogata.measure.landmarks import body_landmarks, landmark_positions
 from hitogata.measure.measurements import Measurements, measure, measurement_paths, posture_arrays
 from hitogata.measure.render import render_png
 from hitogata.measure.strain import skin_strain
@@ -94,7 +94,7 @@ def measure_report(
         "units": "m",
         "measurements": _json_values(values),
         "measurements_cm": {k: None if x is None else round(x * 100, 2) for k, x in _json_values(values).items()},
-        "landmark_vertices": asdict(body_landmarks(body)),
+        "landmarks_m": {k: p.tolist() for k, p in landmark_positions(body_landmarks(body), v).items()},
     }
     paths = tuple(measurement_paths(body, v, heads).values())
     picture = render_png(v, body.faces, ("front", "side", "back"), title=title, overlays=paths)

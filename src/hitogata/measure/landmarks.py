@@ -1,4 +1,4 @@
-"""Landmarks of ISO 8559-1 on the body surface, as fixed vertex indices.
+"""Landmarks of ISO 8559-1 on the body surface: fixed vertices and points between them.
 
 Every body shares the MakeHuman mesh's topology, and its shape targets keep a
 vertex on the same anatomical point in every shape. So a landmark on a
@@ -10,7 +10,9 @@ the shape changed (the male cervicale dropped 16 mm between BMI 20 and 22;
 the male under-breast point wandered 4–18 cm and fell to the navel on lean
 men, where the girth was lost). The bony points of the limbs depend on the
 limbs' build (a broad male shoulder puts the female's acromion vertex inside
-the shoulder joint), so they are found on each body. Each rule below finds
+the shoulder joint), so they are found on each body, as the exact points
+where their rays cross the skin (`surface_points.SurfacePoint`), which move
+continuously with the shape. Each rule below finds
 its vertex on the rest surface from the rig's joint centres
 (docs/measurements.md):
 
@@ -37,15 +39,16 @@ Limbs are measured on the right side, as ISO 8559-1 and ISO 7250-1 prescribe.
 from __future__ import annotations
 
 import weakref
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, fields, replace
 from functools import cache
 
 import numpy as np
 
 from hitogata.body import Body
 from hitogata.errors import HitogataError
-from hitogata.measure.axes import UP, JointSet, axis, unit
-from hitogata.measure.raycast import first_hit, nearest_corner
+from hitogata.measure.axes import UP, JointSet, axis, trunk_frame, unit
+from hitogata.measure.raycast import first_hit
+from hitogata.measure.surface_points import SurfacePoint
 from hitogata.measure.sections import section
 from hitogata.measure.topology import topology
 from hitogata.shape import ShapeParameters
@@ -55,6 +58,7 @@ ACROMION_TILT = 0.35  # lateral run per unit rise of the ray from the shoulder j
 NAVEL_REACH = 0.03  # m: the navel dips below the front profile's chord over ± this height
 THIGH_BELOW_CROTCH = 0.01  # m: the thigh girth plane passes this far below the crotch
 CHEST_FRONT = 0.12  # m: the chest's front profile lies within this depth behind the bust point
+GIRDLE_JOINTS = {side: (f"clavicle.{side}", f"upperarm01.{side}") for side in "RL"}  # sternoclavicular, glenohumeral
 
 
 @dataclass(frozen=True)
@@ -63,10 +67,10 @@ class Landmarks:
 
     head_top: int
     cervicale: int
-    acromion_right: int
-    acromion_left: int
-    olecranon: int  # right elbow, back
-    ulnar_styloid: int  # right wrist, little-finger side
+    acromion_right: SurfacePoint
+    acromion_left: SurfacePoint
+    olecranon: SurfacePoint  # right elbow, back
+    ulnar_styloid: SurfacePoint  # right wrist, little-finger side
     bust_right: int
     bust_left: int
     underbust: int  # right inframammary fold, front
@@ -75,7 +79,13 @@ class Landmarks:
     buttock: int  # right buttock, most backward point
     crotch: int
     thigh_level: float  # fraction of hip → knee where the thigh plane cuts the femur
+    # Each acromion's rest position relative to its shoulder joint (m, right then left): the
+    # acromion belongs to the shoulder girdle, so a posture carries it with the girdle
+    # (`girdle_point`), not with the skin, which MakeHuman binds ~60 % to the humerus there.
+    acromion_offsets: tuple[tuple[float, float, float], tuple[float, float, float]]
 
+
+LANDMARK_NAMES = tuple(f.name for f in fields(Landmarks) if f.type in ("int", "SurfacePoint"))
 
 _BY_BODY: "weakref.WeakKeyDictionary[Body, Landmarks]" = weakref.WeakKeyDictionary()
 
@@ -87,16 +97,27 @@ def body_landmarks(body: Body) -> Landmarks:
     if found is None:
         marks, v, faces = reference_landmarks(), body.vertices, body.faces
         joints = JointSet(body.rig.names, body.rig.heads)
+        right, left = _acromion(v, faces, joints, "R"), _acromion(v, faces, joints, "L")
         found = replace(
             marks,
-            acromion_right=_acromion(v, faces, joints, "R"),
-            acromion_left=_acromion(v, faces, joints, "L"),
+            acromion_right=right,
+            acromion_left=left,
             olecranon=_olecranon(v, faces, joints),
             ulnar_styloid=_ulnar_styloid(v, faces, joints),
             thigh_level=_thigh_level(v, marks.crotch, joints),
+            acromion_offsets=_acromion_offsets(v, joints, right, left),
         )
         _BY_BODY[body] = found
     return found
+
+
+def landmark_positions(marks: Landmarks, vertices: np.ndarray) -> dict[str, np.ndarray]:
+    """Each landmark's point (3,) on a surface that shares the body's vertices."""
+    points = {}
+    for name in LANDMARK_NAMES:
+        mark = getattr(marks, name)
+        points[name] = mark.at(vertices) if isinstance(mark, SurfacePoint) else np.asarray(vertices)[mark]
+    return points
 
 
 @cache
@@ -118,11 +139,12 @@ def find_landmarks(vertices: np.ndarray, faces: np.ndarray, joints: JointSet) ->
     bust_right, bust_left, navel = reference_vertices()
     crotch = _crotch(v, midline, joints)
     waist_y = float(v[navel, 1])
+    right, left = _acromion(v, faces, joints, "R"), _acromion(v, faces, joints, "L")
     return Landmarks(
         head_top=int(np.argmax(v[:, 1])),
         cervicale=_cervicale(v, midline, joints),
-        acromion_right=_acromion(v, faces, joints, "R"),
-        acromion_left=_acromion(v, faces, joints, "L"),
+        acromion_right=right,
+        acromion_left=left,
         olecranon=_olecranon(v, faces, joints),
         ulnar_styloid=_ulnar_styloid(v, faces, joints),
         bust_right=bust_right,
@@ -133,7 +155,37 @@ def find_landmarks(vertices: np.ndarray, faces: np.ndarray, joints: JointSet) ->
         buttock=_buttock(v, float(v[crotch, 1]), waist_y),
         crotch=crotch,
         thigh_level=_thigh_level(v, crotch, joints),
+        acromion_offsets=_acromion_offsets(v, joints, right, left),
     )
+
+
+def _acromion_offsets(v: np.ndarray, joints: JointSet, right: SurfacePoint,
+                      left: SurfacePoint) -> tuple[tuple[float, float, float], tuple[float, float, float]]:
+    offsets = (right.at(v) - joints[GIRDLE_JOINTS["R"][1]], left.at(v) - joints[GIRDLE_JOINTS["L"][1]])
+    return tuple(tuple(float(x) for x in o) for o in offsets)  # type: ignore[return-value]
+
+
+def girdle_point(marks: Landmarks, rest: JointSet, posed: JointSet, side: str) -> np.ndarray:
+    """Where the shoulder girdle carries an acromion ('R' or 'L') in a posture (3,).
+
+    The girdle turns with the thorax (its frame from joint centres, `trunk_frame`) and,
+    within it, by the least rotation taking the rest line from the sternoclavicular to the
+    glenohumeral joint centre to the posed one; it moves with the glenohumeral centre.
+    """
+    inner, outer = GIRDLE_JOINTS[side]
+    offset = np.asarray(marks.acromion_offsets[0 if side == "R" else 1])
+    thorax = trunk_frame(posed, "thorax") @ trunk_frame(rest, "thorax").T
+    a, b = thorax @ unit(rest[outer] - rest[inner]), unit(posed[outer] - posed[inner])
+    return posed[outer] + _least_rotation(a, b) @ thorax @ offset
+
+
+def _least_rotation(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """The rotation (3, 3) by the least angle taking unit vector a to unit vector b."""
+    v, c = np.cross(a, b), float(a @ b)
+    if c < -1.0 + 1e-12:
+        raise HitogataError("shoulder girdle turned by 180°: the posture is broken")
+    k = np.array([[0.0, -v[2], v[1]], [v[2], 0.0, -v[0]], [-v[1], v[0], 0.0]])
+    return np.eye(3) + k + k @ k / (1.0 + c)
 
 
 def _thigh_level(v: np.ndarray, crotch: int, joints: JointSet) -> float:
@@ -178,33 +230,33 @@ def _cervicale(v: np.ndarray, midline: np.ndarray, joints: JointSet) -> int:
     return int(back[np.argmin(np.abs(v[back, 1] - base[1]))])
 
 
-def _ray_vertex(v: np.ndarray, faces: np.ndarray, origin: np.ndarray, direction: np.ndarray) -> int:
+def _ray_point(v: np.ndarray, faces: np.ndarray, origin: np.ndarray, direction: np.ndarray) -> SurfacePoint:
     face, point = first_hit(v, faces, origin, direction)
     if face < 0:
         where = np.round(origin, 3).tolist()
         raise HitogataError(f"landmark ray from {where} m misses the skin: the body's shape is broken")
-    return nearest_corner(v, faces, face, point)
+    return SurfacePoint.on_face(v, faces[face], point)
 
 
-def _acromion(v: np.ndarray, faces: np.ndarray, joints: JointSet, side: str) -> int:
+def _acromion(v: np.ndarray, faces: np.ndarray, joints: JointSet, side: str) -> SurfacePoint:
     """Shoulder point: skin above the shoulder joint, on a ray tilted slightly outwards."""
     outwards = np.array([1.0 if side == "L" else -1.0, 0.0, 0.0])
-    return _ray_vertex(v, faces, joints[f"upperarm01.{side}"], UP + ACROMION_TILT * outwards)
+    return _ray_point(v, faces, joints[f"upperarm01.{side}"], UP + ACROMION_TILT * outwards)
 
 
-def _olecranon(v: np.ndarray, faces: np.ndarray, joints: JointSet) -> int:
+def _olecranon(v: np.ndarray, faces: np.ndarray, joints: JointSet) -> SurfacePoint:
     """Back of the right elbow: the ray from the elbow joint away from the bend."""
     upper = axis(joints, "upperarm01.R", "lowerarm01.R")
     fore = axis(joints, "lowerarm01.R", "wrist.R")
     back = upper - fore
-    return _ray_vertex(v, faces, joints["lowerarm01.R"], unit(back - (back @ upper) * upper))
+    return _ray_point(v, faces, joints["lowerarm01.R"], unit(back - (back @ upper) * upper))
 
 
-def _ulnar_styloid(v: np.ndarray, faces: np.ndarray, joints: JointSet) -> int:
+def _ulnar_styloid(v: np.ndarray, faces: np.ndarray, joints: JointSet) -> SurfacePoint:
     """Little-finger side of the right wrist: the ray from the wrist joint towards the fifth finger."""
     fore = axis(joints, "lowerarm01.R", "wrist.R")
     ulnar = joints["finger5-1.R"] - joints["finger2-1.R"]
-    return _ray_vertex(v, faces, joints["wrist.R"], unit(ulnar - (ulnar @ fore) * fore))
+    return _ray_point(v, faces, joints["wrist.R"], unit(ulnar - (ulnar @ fore) * fore))
 
 
 def _crotch(v: np.ndarray, midline: np.ndarray, joints: JointSet) -> int:

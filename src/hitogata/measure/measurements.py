@@ -19,8 +19,9 @@ from hitogata.body import Body
 from hitogata.errors import HitogataError
 from hitogata.measure.axes import JointSet, axis, trunk_normal, unit
 from hitogata.measure.geodesic import SurfaceGeodesics, polyline_length
-from hitogata.measure.landmarks import Landmarks, body_landmarks
+from hitogata.measure.landmarks import Landmarks, body_landmarks, girdle_point
 from hitogata.measure.sections import Tape, tape_girth
+from hitogata.measure.surface_points import insert_points
 from hitogata.measure.topology import topology
 
 
@@ -135,7 +136,7 @@ def girth_planes(vertices: np.ndarray, marks: Landmarks, rest: JointSet, posed: 
     thigh_point = hip_joint + marks.thigh_level * (knee - hip_joint)
     shoulder, elbow = posed["upperarm01.R"], posed["lowerarm01.R"]
     humerus = unit(elbow - shoulder)
-    middle = 0.5 * (v[marks.acromion_right] + v[marks.olecranon])
+    middle = 0.5 * (girdle_point(marks, rest, posed, "R") + marks.olecranon.at(v))
     arm_point = shoulder + ((middle - shoulder) @ humerus) * humerus
     thorax = trunk_normal(rest, posed, "thorax")
     return {
@@ -167,13 +168,22 @@ def tapes(
     return {name: tape_girth(vertices, topo, *plane, part=skin.get(name)) for name, plane in planes.items()}
 
 
-def surface_paths(vertices: np.ndarray, faces: np.ndarray, marks: Landmarks) -> dict[str, np.ndarray]:
-    """The geodesic polylines of the three surface lengths."""
-    paths = SurfaceGeodesics(vertices, faces)
+def surface_paths(vertices: np.ndarray, faces: np.ndarray, marks: Landmarks, rest: JointSet,
+                  posed: JointSet) -> dict[str, np.ndarray]:
+    """The geodesic polylines of the three surface lengths.
+
+    The acromions are where the shoulder girdle carries them (`girdle_point`), on the skin
+    nearest there; the other limb points ride the skin. Each becomes a vertex of the surface
+    the paths run on (`insert_points`).
+    """
+    points = np.stack([girdle_point(marks, rest, posed, "R"), girdle_point(marks, rest, posed, "L"),
+                       marks.olecranon.at(vertices), marks.ulnar_styloid.at(vertices)])
+    v, f, (right, left, elbow, wrist) = insert_points(vertices, faces, points)
+    paths = SurfaceGeodesics(v, f)
     return {
         "back_waist_length": paths.path_through(marks.cervicale, marks.waist_back),
-        "shoulder_width": paths.path_through(marks.acromion_left, marks.cervicale, marks.acromion_right),
-        "arm_length": paths.path_through(marks.acromion_right, marks.olecranon, marks.ulnar_styloid),
+        "shoulder_width": paths.path_through(left, marks.cervicale, right),
+        "arm_length": paths.path_through(right, elbow, wrist),
     }
 
 
@@ -197,7 +207,8 @@ def measure_surface(
     """The measurements of any surface with landmark vertices `marks` (e.g. a subdivided body);
     `skin`: per girth, the vertices its tape may rest on (`tape_skin`; None: any skin)."""
     values = heights(vertices, marks)
-    values.update({name: polyline_length(path) for name, path in surface_paths(vertices, faces, marks).items()})
+    lengths = surface_paths(vertices, faces, marks, rest, posed)
+    values.update({name: polyline_length(path) for name, path in lengths.items()})
     values.update({name: tape.girth for name, tape in tapes(vertices, faces, marks, rest, posed, skin).items()})
     return Measurements(**values)
 
@@ -210,4 +221,4 @@ def measurement_paths(
     marks, rest = body_landmarks(body), JointSet(body.rig.names, body.rig.heads)
     girths = tapes(vertices, body.faces, marks, rest, posed, tape_skin(body))
     loops = {name: np.vstack([t.path, t.path[:1]]) for name, t in girths.items() if len(t.path)}
-    return {**loops, **surface_paths(vertices, body.faces, marks)}
+    return {**loops, **surface_paths(vertices, body.faces, marks, rest, posed)}
