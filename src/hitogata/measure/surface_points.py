@@ -22,6 +22,7 @@ from hitogata.volume.surface import closest_points_on_triangles
 # Barycentric weights are kept at least this far inside a face when the point becomes a
 # vertex, so no new triangle is degenerate (moves the point by at most 1e-6 of an edge).
 _INSIDE = 1e-6
+_CANDIDATES = 16  # triangles with the nearest centroids, whose distance bounds the search
 
 
 @dataclass(frozen=True)
@@ -53,6 +54,23 @@ def barycentric(triangle: np.ndarray, point: np.ndarray) -> np.ndarray:
     return weights / weights.sum()
 
 
+def _nearest_face(corners: np.ndarray, point: np.ndarray) -> int:
+    """The triangle (of corners (F, 3, 3)) nearest a point: exact distances only to the
+    triangles that can beat the best of the few whose centroids are nearest."""
+    centre = corners.mean(axis=1)
+    radius = np.linalg.norm(corners - centre[:, None], axis=2).max(axis=1)
+    gap = np.linalg.norm(centre - point, axis=1)
+
+    def distances(rows: np.ndarray) -> np.ndarray:
+        q = closest_points_on_triangles(np.repeat(point[None], len(rows), axis=0),
+                                        corners[rows, 0], corners[rows, 1], corners[rows, 2])
+        return np.linalg.norm(q - point, axis=1)
+
+    first = np.argpartition(gap, min(_CANDIDATES, len(gap) - 1))[:_CANDIDATES]
+    rows = np.flatnonzero(gap - radius <= distances(first).min())
+    return int(rows[np.argmin(distances(rows))])
+
+
 def insert_points(vertices: np.ndarray, faces: np.ndarray, points: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The surface with each point (P, 3) made a vertex: its nearest face split in three.
 
@@ -65,9 +83,7 @@ def insert_points(vertices: np.ndarray, faces: np.ndarray, points: np.ndarray) -
     count = len(vertices)
     for point in np.asarray(points, dtype=np.float64).reshape(-1, 3):
         corners = np.concatenate(new_vertices)[new_faces]
-        nearest = closest_points_on_triangles(np.repeat(point[None], len(new_faces), axis=0),
-                                              corners[:, 0], corners[:, 1], corners[:, 2])
-        face = int(np.argmin(np.linalg.norm(nearest - point, axis=1)))
+        face = _nearest_face(corners, point)
         weights = barycentric(corners[face], point)
         if weights.max() > 1.0 - 1e-9:
             indices.append(int(new_faces[face, np.argmax(weights)]))
