@@ -48,6 +48,7 @@ from hitogata.body import Body
 from hitogata.errors import HitogataError
 from hitogata.measure.axes import UP, JointSet, axis, trunk_frame, unit
 from hitogata.measure.raycast import first_hit
+from hitogata.measure.levels import ANKLE_SPAN, CALF_SPAN, extreme_girth_level
 from hitogata.measure.surface_points import SurfacePoint
 from hitogata.measure.sections import section
 from hitogata.measure.topology import topology
@@ -63,7 +64,8 @@ GIRDLE_JOINTS = {side: (f"clavicle.{side}", f"upperarm01.{side}") for side in "R
 
 @dataclass(frozen=True)
 class Landmarks:
-    """Vertex indices of one body's landmarks, plus the thigh level along the femur."""
+    """One body's landmarks (vertex indices and points between them) and the levels of its
+    girths and widths."""
 
     head_top: int
     cervicale: int
@@ -83,6 +85,8 @@ class Landmarks:
     # acromion belongs to the shoulder girdle, so a posture carries it with the girdle
     # (`girdle_point`), not with the skin, which MakeHuman binds ~60 % to the humerus there.
     acromion_offsets: tuple[tuple[float, float, float], tuple[float, float, float]]
+    calf_level: float  # fraction of knee → ankle joint where the calf girth is largest
+    ankle_level: float  # … where the leg is thinnest above the malleoli
 
 
 LANDMARK_NAMES = tuple(f.name for f in fields(Landmarks) if f.type in ("int", "SurfacePoint"))
@@ -95,18 +99,9 @@ def body_landmarks(body: Body) -> Landmarks:
     thigh level (see the module note); cached per body."""
     found = _BY_BODY.get(body)
     if found is None:
-        marks, v, faces = reference_landmarks(), body.vertices, body.faces
-        joints = JointSet(body.rig.names, body.rig.heads)
-        right, left = _acromion(v, faces, joints, "R"), _acromion(v, faces, joints, "L")
-        found = replace(
-            marks,
-            acromion_right=right,
-            acromion_left=left,
-            olecranon=_olecranon(v, faces, joints),
-            ulnar_styloid=_ulnar_styloid(v, faces, joints),
-            thigh_level=_thigh_level(v, marks.crotch, joints),
-            acromion_offsets=_acromion_offsets(v, joints, right, left),
-        )
+        marks = reference_landmarks()
+        found = replace(marks, **_own(body.vertices, body.faces, JointSet(body.rig.names, body.rig.heads),
+                                      marks.crotch))
         _BY_BODY[body] = found
     return found
 
@@ -139,14 +134,9 @@ def find_landmarks(vertices: np.ndarray, faces: np.ndarray, joints: JointSet) ->
     bust_right, bust_left, navel = reference_vertices()
     crotch = _crotch(v, midline, joints)
     waist_y = float(v[navel, 1])
-    right, left = _acromion(v, faces, joints, "R"), _acromion(v, faces, joints, "L")
     return Landmarks(
         head_top=int(np.argmax(v[:, 1])),
         cervicale=_cervicale(v, midline, joints),
-        acromion_right=right,
-        acromion_left=left,
-        olecranon=_olecranon(v, faces, joints),
-        ulnar_styloid=_ulnar_styloid(v, faces, joints),
         bust_right=bust_right,
         bust_left=bust_left,
         underbust=_inframammary_fold(v, faces, bust_right, waist_y),
@@ -154,9 +144,25 @@ def find_landmarks(vertices: np.ndarray, faces: np.ndarray, joints: JointSet) ->
         waist_back=_back_midline_at(v, midline, joints, waist_y),
         buttock=_buttock(v, float(v[crotch, 1]), waist_y),
         crotch=crotch,
-        thigh_level=_thigh_level(v, crotch, joints),
-        acromion_offsets=_acromion_offsets(v, joints, right, left),
+        **_own(v, faces, joints, crotch),
     )
+
+
+def _own(v: np.ndarray, faces: np.ndarray, joints: JointSet, crotch: int) -> dict:
+    """The landmarks and levels each body has of its own (see the module note)."""
+    right, left = _acromion(v, faces, joints, "R"), _acromion(v, faces, joints, "L")
+    topo = topology(faces)
+    knee, ankle = joints["lowerleg01.R"], joints["foot.R"]
+    return {
+        "acromion_right": right,
+        "acromion_left": left,
+        "olecranon": _olecranon(v, faces, joints),
+        "ulnar_styloid": _ulnar_styloid(v, faces, joints),
+        "thigh_level": _thigh_level(v, crotch, joints),
+        "acromion_offsets": _acromion_offsets(v, joints, right, left),
+        "calf_level": extreme_girth_level(v, topo, knee, ankle, CALF_SPAN, largest=True),
+        "ankle_level": extreme_girth_level(v, topo, knee, ankle, ANKLE_SPAN, largest=False),
+    }
 
 
 def _acromion_offsets(v: np.ndarray, joints: JointSet, right: SurfacePoint,

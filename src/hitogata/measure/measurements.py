@@ -37,6 +37,10 @@ class Measurements:
     hip_girth: float
     thigh_girth: float
     upper_arm_girth: float
+    knee_girth: float
+    calf_girth: float
+    ankle_girth: float
+    wrist_girth: float
     back_waist_length: float
     shoulder_width: float
     arm_length: float
@@ -57,7 +61,8 @@ class Measurements:
 
 MEASUREMENT_NAMES = Measurements.names()
 
-GIRTHS = ("neck_girth", "chest_girth", "underbust_girth", "waist_girth", "hip_girth", "thigh_girth", "upper_arm_girth")
+GIRTHS = ("neck_girth", "chest_girth", "underbust_girth", "waist_girth", "hip_girth", "thigh_girth", "upper_arm_girth",
+          "knee_girth", "calf_girth", "ankle_girth", "wrist_girth")
 
 
 def check_names(names: Iterable[str]) -> None:
@@ -111,6 +116,10 @@ TAPE_SKIN: dict[str, tuple[str, tuple[str, ...]]] = {
     **{name: ("not", ARM_BONES + LEG_BONES) for name in ("chest_girth", "underbust_girth", "waist_girth", "hip_girth")},
     "thigh_girth": ("only", ("upperleg01.R", "upperleg02.R", "pelvis.R", "spine05")),  # + the groin's skin
     "upper_arm_girth": ("only", ("upperarm01.R", "upperarm02.R")),
+    "knee_girth": ("only", ("upperleg02.R", "lowerleg01.R")),
+    "calf_girth": ("only", ("lowerleg01.R", "lowerleg02.R")),
+    "ankle_girth": ("only", ("lowerleg02.R", "foot.R")),
+    "wrist_girth": ("only", ("lowerarm02.R", "wrist.R")),
 }
 
 _SKIN_BY_BODY: "weakref.WeakKeyDictionary[Body, dict[str, np.ndarray]]" = weakref.WeakKeyDictionary()
@@ -134,6 +143,10 @@ def girth_planes(vertices: np.ndarray, marks: Landmarks, rest: JointSet, posed: 
     v = vertices
     hip_joint, knee = posed["upperleg01.R"], posed["lowerleg01.R"]
     thigh_point = hip_joint + marks.thigh_level * (knee - hip_joint)
+    ankle = posed["foot.R"]
+    calf, narrow = knee + marks.calf_level * (ankle - knee), knee + marks.ankle_level * (ankle - knee)
+    wrist, styloid = posed["wrist.R"], marks.ulnar_styloid.at(v)
+    forearm = unit(wrist - posed["lowerarm01.R"])
     shoulder, elbow = posed["upperarm01.R"], posed["lowerarm01.R"]
     humerus = unit(elbow - shoulder)
     middle = 0.5 * (girdle_point(marks, rest, posed, "R") + marks.olecranon.at(v))
@@ -151,6 +164,10 @@ def girth_planes(vertices: np.ndarray, marks: Landmarks, rest: JointSet, posed: 
         "hip_girth": (v[marks.buttock], trunk_normal(rest, posed, "pelvis"), posed["spine05"]),
         "thigh_girth": (thigh_point, unit(knee - hip_joint), thigh_point),
         "upper_arm_girth": (arm_point, humerus, arm_point),
+        "knee_girth": (knee, unit(unit(knee - hip_joint) + unit(ankle - knee)), knee),
+        "calf_girth": (calf, unit(ankle - knee), calf),
+        "ankle_girth": (narrow, unit(ankle - knee), narrow),
+        "wrist_girth": (styloid, forearm, wrist),
     }
 
 
