@@ -49,7 +49,7 @@ BIACROMIAL = ((366, 18), (416, 19))
 
 # ISO 20685-1 maximum allowable differences (mm) between two measurings of one body.
 ISO_20685 = {"large girth": 9.0, "small girth": 4.0, "length": 5.0}
-SMALL_GIRTHS = ("neck_girth", "upper_arm_girth")
+SMALL_GIRTHS = ("neck_girth", "upper_arm_girth", "ankle_girth", "wrist_girth")
 
 
 def allowed(name: str) -> float:
@@ -83,13 +83,16 @@ def test_landmarks_hold_across_shapes(sex, stature, mass):
     assert np.isfinite(values).all() and (values > 0).all()
     assert m.hip_girth > m.waist_girth > m.thigh_girth > m.neck_girth > m.upper_arm_girth
     assert m.chest_girth > m.underbust_girth
+    assert m.thigh_girth > m.knee_girth > m.ankle_girth and m.calf_girth > m.ankle_girth
+    assert m.upper_arm_girth > m.wrist_girth and 0.10 < m.wrist_girth < m.ankle_girth
     assert 0.42 < m.inside_leg / m.stature < 0.52
     marks, v, rig = body_landmarks(body), body.vertices, body.rig
     joints = JointSet(rig.names, rig.heads)
     assert measure_surface(v, body.faces, marks, joints, joints) == m  # tape skin masks change nothing at rest
     shoulder = rig.heads[rig.index("upperarm01.R")]
-    assert v[marks.acromion_right, 1] > shoulder[1] and v[marks.acromion_right, 0] < shoulder[0]
-    assert v[marks.olecranon, 2] < rig.heads[rig.index("lowerarm01.R"), 2]  # behind the elbow
+    acromion = marks.acromion_right.at(v)
+    assert acromion[1] > shoulder[1] and acromion[0] < shoulder[0]
+    assert marks.olecranon.at(v)[2] < rig.heads[rig.index("lowerarm01.R"), 2]  # behind the elbow
     assert v[marks.cervicale, 2] < rig.heads[rig.index("neck01"), 2]
 
 

@@ -50,3 +50,50 @@ def test_unknown_vertex_is_a_one_line_error(cylinder):
     v, f = cylinder
     with pytest.raises(HitogataError, match="geodesic vertex"):
         SurfaceGeodesics(v, f).length(0, len(v) + 3)
+
+
+def skewed_tube(radius: float, around: int, rings: int) -> tuple[np.ndarray, np.ndarray]:
+    """An open tube whose quads are all split by the diagonal that rises against the +angle
+    direction: the edge graph is short for paths winding one way and a staircase the other."""
+    t = 2 * np.pi * np.arange(around) / around
+    step = 2 * np.pi * radius / around  # ring spacing = the step round: square quads
+    v = np.array([[radius * np.cos(a), r * step, radius * np.sin(a)] for r in range(rings) for a in t])
+    f = []
+    for r in range(rings - 1):
+        for k in range(around):
+            a, b = r * around + k, r * around + (k + 1) % around
+            c, d = a + around, b + around
+            f += [[a, b, c], [b, d, c]]  # diagonal b–c: from (r, k+1) up to (r+1, k)
+    return v, np.array(f, dtype=np.int64)
+
+
+def test_the_shortest_route_not_the_first_locally_shortest_one():
+    # 150° round one way, 210° the other, 42 rings up. The edge graph's shortest path winds the
+    # long way (its diagonals run straight there); straightened, it stays a locally shortest
+    # helix on that side, 15 % longer than the true shortest, the helix the short way round.
+    around, rings, radius = 72, 43, 0.1
+    v, f = skewed_tube(radius, around, rings)
+    step = 2 * np.pi * radius / around
+    end = (rings - 1) * around + 30  # 30 steps = 150° in the +angle direction
+    short_way = np.hypot(30 * 2 * radius * np.sin(np.pi / around), (rings - 1) * step)
+    long_way = np.hypot(42 * 2 * radius * np.sin(np.pi / around), (rings - 1) * step)
+    assert long_way > 1.1 * short_way
+    assert SurfaceGeodesics(v, f).length(0, end) == pytest.approx(short_way, rel=1e-6)
+
+
+@pytest.mark.parametrize("sex", ["female", "male"])
+def test_arm_length_does_not_depend_on_the_skinning(sex, request):
+    # Elbow straight: on the DQS arm the shoulder-to-elbow leg once followed a locally shortest
+    # route round the arm, 32.8 cm against 26.2 cm straight on the female default (LBS 27.0 cm).
+    from hitogata.measure import measure
+    from hitogata.measure.rig_joints import posed_rig_heads
+    from hitogata.pose import pose_body
+
+    body = request.getfixturevalue(sex)
+    arm = {}
+    for skinning in ("lbs", "dqs"):
+        posed = pose_body(body, clinical={"forearm_r.flexion": 0.0}, skinning=skinning)
+        heads = posed_rig_heads(body.rig.heads, posed.skeleton.joints, posed.pose.rotations[0],
+                                posed.pose.translations[0])
+        arm[skinning] = measure(body, posed.vertices, heads).arm_length
+    assert arm["dqs"] == pytest.approx(arm["lbs"], abs=0.003)

@@ -33,7 +33,7 @@ def test_rest_report_writes_measurements_and_picture(female, tmp_path):
     document = json.loads(written["json"].read_text())
     assert document["units"] == "m"
     assert document["measurements"]["stature"] == pytest.approx(1.65, abs=1e-9)
-    assert set(document["landmark_vertices"]) >= {"cervicale", "acromion_right", "crotch"}
+    assert set(document["landmarks_m"]) >= {"cervicale", "acromion_right", "crotch"}
     rows = written["csv"].read_text().splitlines()
     assert rows[0] == "measurement,value_cm" and len(rows) == 1 + len(MEASUREMENT_NAMES)
     assert written["picture"].read_bytes().startswith(PNG)

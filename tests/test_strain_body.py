@@ -56,7 +56,7 @@ def test_bent_elbow_stretches_most_over_the_back_of_the_elbow(female):
     s = skin_strain(female.vertices, vertices, female.faces)
     rig = female.rig
     elbow = rig.heads[rig.index("lowerarm01.R")]
-    back = female.vertices[body_landmarks(female).olecranon] - elbow  # towards the olecranon
+    back = body_landmarks(female).olecranon.at(female.vertices) - elbow  # towards the olecranon
     worst = int(np.nanargmax(s.stretch_max))
     assert worst in set(body_zones(female)["elbow_right"])
     assert (female.vertices[female.faces[worst]].mean(axis=0) - elbow) @ back > 0

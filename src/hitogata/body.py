@@ -144,9 +144,9 @@ class Body:
     def landmarks(self) -> Landmarks:
         """The measurement landmarks found on the rest surface (docs/measurements.md)."""
         from hitogata.measure.axes import JointSet
-        from hitogata.measure.landmarks import find_landmarks
+        from hitogata.measure.landmarks import landmarks_for
 
-        return find_landmarks(self.vertices, self.faces, JointSet(self.rig.names, self.rig.heads))
+        return landmarks_for(self.vertices, self.faces, JointSet(self.rig.names, self.rig.heads))
 
     @cached_property
     def zones(self) -> dict[str, np.ndarray]:

@@ -1,16 +1,33 @@
-"""Landmarks of ISO 8559-1 on the body surface, as fixed vertex indices.
+"""Landmarks of ISO 8559-1 on the body surface: fixed vertices and points between them.
 
-The mesh topology never changes, so a landmark found once on the rest body is
-a vertex index that follows the skin into any posture. Each rule below finds
-it on the rest surface from the rig's joint centres (docs/measurements.md):
+Every body shares the MakeHuman mesh's topology, and its shape targets keep a
+vertex on the same anatomical point in every shape. So a landmark on a
+profile of the trunk is found once, on the reference body (MakeHuman's
+default female shape), and is the same vertex on every body: it moves
+continuously with the shape parameters and follows the skin into any
+posture. Found anew on each body, such landmarks jumped between vertices as
+the shape changed (the male cervicale dropped 16 mm between BMI 20 and 22;
+the male under-breast point wandered 4–18 cm and fell to the navel on lean
+men, where the girth was lost). The bony points of the limbs depend on the
+limbs' build (a broad male shoulder puts the female's acromion vertex inside
+the shoulder joint), so they are found on each body, as the exact points
+where their rays cross the skin (`surface_points.SurfacePoint`), which move
+continuously with the shape. Each rule below finds
+its vertex on the rest surface from the rig's joint centres
+(docs/measurements.md):
 
-- bony points (cervicale, acromion, olecranon, ulnar styloid): the first skin
-  hit of a ray from the joint centre in the direction of that bone point;
-- the bust point and the navel: vertices found once on MakeHuman's default
-  female, where they are pronounced (the most forward vertex of the breast;
-  the deepest dip of the front midline profile), and kept for every body: a
-  male chest has no forward-most nipple, but the same vertex is his nipple;
-- levels (hip, underbust, crotch, thigh): from the rest shape's own profile.
+- bony points of the limbs (acromion, olecranon, ulnar styloid), on each
+  body: the first skin hit of a ray from the joint centre in the direction
+  of that bone point;
+- cervicale: the back midline vertex at the base neck joint's height;
+- the bust point and the navel: where they are pronounced on the reference
+  (the most forward vertex of the breast; the deepest dip of the front
+  midline profile): a male chest has no forward-most nipple, but the same
+  vertex is his nipple;
+- points on a profile (under-breast fold, crotch, buttock, back waist): from
+  the reference's profiles;
+- the thigh level (a fraction along the femur): from each body's own crotch
+  vertex and joints, so it too varies continuously.
 
 The waist of ISO 8559-1 lies midway between the lowest rib and the iliac
 crest, which a surface cannot show; the navel (omphalion) lies at that level
@@ -21,15 +38,17 @@ Limbs are measured on the right side, as ISO 8559-1 and ISO 7250-1 prescribe.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, fields, replace
 from functools import cache
 
 import numpy as np
 
 from hitogata.body import Body
 from hitogata.errors import HitogataError
-from hitogata.measure.axes import UP, JointSet, axis, unit
-from hitogata.measure.raycast import first_hit, nearest_corner
+from hitogata.measure.axes import UP, JointSet, axis, trunk_frame, unit
+from hitogata.measure.raycast import first_hit
+from hitogata.measure.levels import ANKLE_SPAN, CALF_SPAN, extreme_girth_level
+from hitogata.measure.surface_points import SurfacePoint
 from hitogata.measure.sections import section
 from hitogata.measure.topology import topology
 from hitogata.shape import ShapeParameters
@@ -39,18 +58,20 @@ ACROMION_TILT = 0.35  # lateral run per unit rise of the ray from the shoulder j
 NAVEL_REACH = 0.03  # m: the navel dips below the front profile's chord over ± this height
 THIGH_BELOW_CROTCH = 0.01  # m: the thigh girth plane passes this far below the crotch
 CHEST_FRONT = 0.12  # m: the chest's front profile lies within this depth behind the bust point
+GIRDLE_JOINTS = {side: (f"clavicle.{side}", f"upperarm01.{side}") for side in "RL"}  # sternoclavicular, glenohumeral
 
 
 @dataclass(frozen=True)
 class Landmarks:
-    """Vertex indices of one body's landmarks, plus the thigh level along the femur."""
+    """One body's landmarks (vertex indices and points between them) and the levels of its
+    girths and widths."""
 
     head_top: int
     cervicale: int
-    acromion_right: int
-    acromion_left: int
-    olecranon: int  # right elbow, back
-    ulnar_styloid: int  # right wrist, little-finger side
+    acromion_right: SurfacePoint
+    acromion_left: SurfacePoint
+    olecranon: SurfacePoint  # right elbow, back
+    ulnar_styloid: SurfacePoint  # right wrist, little-finger side
     bust_right: int
     bust_left: int
     underbust: int  # right inframammary fold, front
@@ -59,11 +80,48 @@ class Landmarks:
     buttock: int  # right buttock, most backward point
     crotch: int
     thigh_level: float  # fraction of hip → knee where the thigh plane cuts the femur
+    # Each acromion's rest position relative to its shoulder joint (m, right then left): the
+    # acromion belongs to the shoulder girdle, so a posture carries it with the girdle
+    # (`girdle_point`), not with the skin, which MakeHuman binds ~60 % to the humerus there.
+    acromion_offsets: tuple[tuple[float, float, float], tuple[float, float, float]]
+    calf_level: float  # fraction of knee → ankle joint where the calf girth is largest
+    ankle_level: float  # … where the leg is thinnest above the malleoli
+
+
+LANDMARK_NAMES = tuple(f.name for f in fields(Landmarks) if f.type in ("int", "SurfacePoint"))
 
 
 def body_landmarks(body: Body) -> Landmarks:
-    """The landmarks of a body, found once on its rest surface (`Body.landmarks`)."""
+    """The landmarks of a body (`Body.landmarks`, found once per body: `landmarks_for`)."""
     return body.landmarks
+
+
+def landmarks_for(vertices: np.ndarray, faces: np.ndarray, joints: JointSet) -> Landmarks:
+    """A body's landmarks from its rest surface and joints: the reference's trunk vertices, the
+    body's own limb points and levels (see the module note)."""
+    marks = reference_landmarks()
+    return replace(marks, **_own(vertices, faces, joints, marks.crotch))
+
+
+def landmark_positions(marks: Landmarks, vertices: np.ndarray) -> dict[str, np.ndarray]:
+    """Each landmark's point (3,) on a surface that shares the body's vertices."""
+    points = {}
+    for name in LANDMARK_NAMES:
+        mark = getattr(marks, name)
+        points[name] = mark.at(vertices) if isinstance(mark, SurfacePoint) else np.asarray(vertices)[mark]
+    return points
+
+
+@cache
+def reference_landmarks() -> Landmarks:
+    """The landmark vertices, found once on the reference body (MakeHuman's default female)."""
+    reference = _reference_body()
+    return find_landmarks(reference.vertices, reference.faces, JointSet(reference.rig.names, reference.rig.heads))
+
+
+@cache
+def _reference_body() -> Body:
+    return Body.from_parameters(ShapeParameters(sex=0.0))
 
 
 def find_landmarks(vertices: np.ndarray, faces: np.ndarray, joints: JointSet) -> Landmarks:
@@ -73,16 +131,9 @@ def find_landmarks(vertices: np.ndarray, faces: np.ndarray, joints: JointSet) ->
     bust_right, bust_left, navel = reference_vertices()
     crotch = _crotch(v, midline, joints)
     waist_y = float(v[navel, 1])
-    hip, knee = joints["upperleg01.R"], joints["lowerleg01.R"]
-    femur = knee - hip
-    below = v[crotch] - THIGH_BELOW_CROTCH * UP - hip
     return Landmarks(
         head_top=int(np.argmax(v[:, 1])),
         cervicale=_cervicale(v, midline, joints),
-        acromion_right=_acromion(v, faces, joints, "R"),
-        acromion_left=_acromion(v, faces, joints, "L"),
-        olecranon=_olecranon(v, faces, joints),
-        ulnar_styloid=_ulnar_styloid(v, faces, joints),
         bust_right=bust_right,
         bust_left=bust_left,
         underbust=_inframammary_fold(v, faces, bust_right, waist_y),
@@ -90,8 +141,62 @@ def find_landmarks(vertices: np.ndarray, faces: np.ndarray, joints: JointSet) ->
         waist_back=_back_midline_at(v, midline, joints, waist_y),
         buttock=_buttock(v, float(v[crotch, 1]), waist_y),
         crotch=crotch,
-        thigh_level=float((below @ femur) / (femur @ femur)),
+        **_own(v, faces, joints, crotch),
     )
+
+
+def _own(v: np.ndarray, faces: np.ndarray, joints: JointSet, crotch: int) -> dict:
+    """The landmarks and levels each body has of its own (see the module note)."""
+    right, left = _acromion(v, faces, joints, "R"), _acromion(v, faces, joints, "L")
+    topo = topology(faces)
+    knee, ankle = joints["lowerleg01.R"], joints["foot.R"]
+    return {
+        "acromion_right": right,
+        "acromion_left": left,
+        "olecranon": _olecranon(v, faces, joints),
+        "ulnar_styloid": _ulnar_styloid(v, faces, joints),
+        "thigh_level": _thigh_level(v, crotch, joints),
+        "acromion_offsets": _acromion_offsets(v, joints, right, left),
+        "calf_level": extreme_girth_level(v, topo, knee, ankle, CALF_SPAN, largest=True),
+        "ankle_level": extreme_girth_level(v, topo, knee, ankle, ANKLE_SPAN, largest=False),
+    }
+
+
+def _acromion_offsets(v: np.ndarray, joints: JointSet, right: SurfacePoint,
+                      left: SurfacePoint) -> tuple[tuple[float, float, float], tuple[float, float, float]]:
+    offsets = (right.at(v) - joints[GIRDLE_JOINTS["R"][1]], left.at(v) - joints[GIRDLE_JOINTS["L"][1]])
+    return tuple(tuple(float(x) for x in o) for o in offsets)  # type: ignore[return-value]
+
+
+def girdle_point(marks: Landmarks, rest: JointSet, posed: JointSet, side: str) -> np.ndarray:
+    """Where the shoulder girdle carries an acromion ('R' or 'L') in a posture (3,).
+
+    The girdle turns with the thorax (its frame from joint centres, `trunk_frame`) and,
+    within it, by the least rotation taking the rest line from the sternoclavicular to the
+    glenohumeral joint centre to the posed one; it moves with the glenohumeral centre.
+    """
+    inner, outer = GIRDLE_JOINTS[side]
+    offset = np.asarray(marks.acromion_offsets[0 if side == "R" else 1])
+    thorax = trunk_frame(posed, "thorax") @ trunk_frame(rest, "thorax").T
+    a, b = thorax @ unit(rest[outer] - rest[inner]), unit(posed[outer] - posed[inner])
+    return posed[outer] + _least_rotation(a, b) @ thorax @ offset
+
+
+def _least_rotation(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """The rotation (3, 3) by the least angle taking unit vector a to unit vector b."""
+    v, c = np.cross(a, b), float(a @ b)
+    if c < -1.0 + 1e-12:
+        raise HitogataError("shoulder girdle turned by 180°: the posture is broken")
+    k = np.array([[0.0, -v[2], v[1]], [v[2], 0.0, -v[0]], [-v[1], v[0], 0.0]])
+    return np.eye(3) + k + k @ k / (1.0 + c)
+
+
+def _thigh_level(v: np.ndarray, crotch: int, joints: JointSet) -> float:
+    """Where the thigh girth's plane cuts the femur, as a fraction from hip to knee joint."""
+    hip, knee = joints["upperleg01.R"], joints["lowerleg01.R"]
+    femur = knee - hip
+    below = v[crotch] - THIGH_BELOW_CROTCH * UP - hip
+    return float((below @ femur) / (femur @ femur))
 
 
 @cache
@@ -102,7 +207,7 @@ def reference_vertices() -> tuple[int, int, int]:
     the breast bone). Navel: the front midline vertex that lies deepest behind
     the chord of the profile from NAVEL_REACH above it to NAVEL_REACH below it.
     """
-    reference = Body.from_parameters(ShapeParameters(sex=0.0))
+    reference = _reference_body()
     v, rig = reference.vertices, reference.rig
     dominant = np.asarray(reference.skin_weights.argmax(axis=1)).ravel()
     nipples = []
@@ -128,33 +233,33 @@ def _cervicale(v: np.ndarray, midline: np.ndarray, joints: JointSet) -> int:
     return int(back[np.argmin(np.abs(v[back, 1] - base[1]))])
 
 
-def _ray_vertex(v: np.ndarray, faces: np.ndarray, origin: np.ndarray, direction: np.ndarray) -> int:
+def _ray_point(v: np.ndarray, faces: np.ndarray, origin: np.ndarray, direction: np.ndarray) -> SurfacePoint:
     face, point = first_hit(v, faces, origin, direction)
     if face < 0:
         where = np.round(origin, 3).tolist()
         raise HitogataError(f"landmark ray from {where} m misses the skin: the body's shape is broken")
-    return nearest_corner(v, faces, face, point)
+    return SurfacePoint.on_face(v, faces[face], point)
 
 
-def _acromion(v: np.ndarray, faces: np.ndarray, joints: JointSet, side: str) -> int:
+def _acromion(v: np.ndarray, faces: np.ndarray, joints: JointSet, side: str) -> SurfacePoint:
     """Shoulder point: skin above the shoulder joint, on a ray tilted slightly outwards."""
     outwards = np.array([1.0 if side == "L" else -1.0, 0.0, 0.0])
-    return _ray_vertex(v, faces, joints[f"upperarm01.{side}"], UP + ACROMION_TILT * outwards)
+    return _ray_point(v, faces, joints[f"upperarm01.{side}"], UP + ACROMION_TILT * outwards)
 
 
-def _olecranon(v: np.ndarray, faces: np.ndarray, joints: JointSet) -> int:
+def _olecranon(v: np.ndarray, faces: np.ndarray, joints: JointSet) -> SurfacePoint:
     """Back of the right elbow: the ray from the elbow joint away from the bend."""
     upper = axis(joints, "upperarm01.R", "lowerarm01.R")
     fore = axis(joints, "lowerarm01.R", "wrist.R")
     back = upper - fore
-    return _ray_vertex(v, faces, joints["lowerarm01.R"], unit(back - (back @ upper) * upper))
+    return _ray_point(v, faces, joints["lowerarm01.R"], unit(back - (back @ upper) * upper))
 
 
-def _ulnar_styloid(v: np.ndarray, faces: np.ndarray, joints: JointSet) -> int:
+def _ulnar_styloid(v: np.ndarray, faces: np.ndarray, joints: JointSet) -> SurfacePoint:
     """Little-finger side of the right wrist: the ray from the wrist joint towards the fifth finger."""
     fore = axis(joints, "lowerarm01.R", "wrist.R")
     ulnar = joints["finger5-1.R"] - joints["finger2-1.R"]
-    return _ray_vertex(v, faces, joints["wrist.R"], unit(ulnar - (ulnar @ fore) * fore))
+    return _ray_point(v, faces, joints["wrist.R"], unit(ulnar - (ulnar @ fore) * fore))
 
 
 def _crotch(v: np.ndarray, midline: np.ndarray, joints: JointSet) -> int:

@@ -19,8 +19,9 @@ from hitogata.body import Body
 from hitogata.errors import HitogataError
 from hitogata.measure.axes import JointSet, axis, trunk_normal, unit
 from hitogata.measure.geodesic import SurfaceGeodesics, polyline_length
-from hitogata.measure.landmarks import Landmarks, body_landmarks
+from hitogata.measure.landmarks import Landmarks, body_landmarks, girdle_point
 from hitogata.measure.sections import Tape, tape_girth
+from hitogata.measure.surface_points import insert_points
 from hitogata.measure.topology import topology
 
 if TYPE_CHECKING:
@@ -39,6 +40,10 @@ class Measurements:
     hip_girth: float
     thigh_girth: float
     upper_arm_girth: float
+    knee_girth: float
+    calf_girth: float
+    ankle_girth: float
+    wrist_girth: float
     back_waist_length: float
     shoulder_width: float
     arm_length: float
@@ -59,7 +64,8 @@ class Measurements:
 
 MEASUREMENT_NAMES = Measurements.names()
 
-GIRTHS = ("neck_girth", "chest_girth", "underbust_girth", "waist_girth", "hip_girth", "thigh_girth", "upper_arm_girth")
+GIRTHS = ("neck_girth", "chest_girth", "underbust_girth", "waist_girth", "hip_girth", "thigh_girth", "upper_arm_girth",
+          "knee_girth", "calf_girth", "ankle_girth", "wrist_girth")
 
 
 def check_names(names: Iterable[str]) -> None:
@@ -128,6 +134,10 @@ TAPE_SKIN: dict[str, tuple[str, tuple[str, ...]]] = {
     **{name: ("not", ARM_BONES + LEG_BONES) for name in ("chest_girth", "underbust_girth", "waist_girth", "hip_girth")},
     "thigh_girth": ("only", ("upperleg01.R", "upperleg02.R", "pelvis.R", "spine05")),  # + the groin's skin
     "upper_arm_girth": ("only", ("upperarm01.R", "upperarm02.R")),
+    "knee_girth": ("only", ("upperleg02.R", "lowerleg01.R")),
+    "calf_girth": ("only", ("lowerleg01.R", "lowerleg02.R")),
+    "ankle_girth": ("only", ("lowerleg02.R", "foot.R")),
+    "wrist_girth": ("only", ("lowerarm02.R", "wrist.R")),
 }
 
 def tape_skin(body: Body) -> dict[str, np.ndarray]:
@@ -150,9 +160,13 @@ def girth_planes(vertices: np.ndarray, marks: Landmarks, rest: JointSet, posed: 
     v = vertices
     hip_joint, knee = posed["upperleg01.R"], posed["lowerleg01.R"]
     thigh_point = hip_joint + marks.thigh_level * (knee - hip_joint)
+    ankle = posed["foot.R"]
+    calf, narrow = knee + marks.calf_level * (ankle - knee), knee + marks.ankle_level * (ankle - knee)
+    wrist, styloid = posed["wrist.R"], marks.ulnar_styloid.at(v)
+    forearm = unit(wrist - posed["lowerarm01.R"])
     shoulder, elbow = posed["upperarm01.R"], posed["lowerarm01.R"]
     humerus = unit(elbow - shoulder)
-    middle = 0.5 * (v[marks.acromion_right] + v[marks.olecranon])
+    middle = 0.5 * (girdle_point(marks, rest, posed, "R") + marks.olecranon.at(v))
     arm_point = shoulder + ((middle - shoulder) @ humerus) * humerus
     thorax = trunk_normal(rest, posed, "thorax")
     return {
@@ -167,6 +181,10 @@ def girth_planes(vertices: np.ndarray, marks: Landmarks, rest: JointSet, posed: 
         "hip_girth": (v[marks.buttock], trunk_normal(rest, posed, "pelvis"), posed["spine05"]),
         "thigh_girth": (thigh_point, unit(knee - hip_joint), thigh_point),
         "upper_arm_girth": (arm_point, humerus, arm_point),
+        "knee_girth": (knee, unit(unit(knee - hip_joint) + unit(ankle - knee)), knee),
+        "calf_girth": (calf, unit(ankle - knee), calf),
+        "ankle_girth": (narrow, unit(ankle - knee), narrow),
+        "wrist_girth": (styloid, forearm, wrist),
     }
 
 
@@ -184,13 +202,22 @@ def tapes(
     return {name: tape_girth(vertices, topo, *plane, part=skin.get(name)) for name, plane in planes.items()}
 
 
-def surface_paths(vertices: np.ndarray, faces: np.ndarray, marks: Landmarks) -> dict[str, np.ndarray]:
-    """The geodesic polylines of the three surface lengths."""
-    paths = SurfaceGeodesics(vertices, faces)
+def surface_paths(vertices: np.ndarray, faces: np.ndarray, marks: Landmarks, rest: JointSet,
+                  posed: JointSet) -> dict[str, np.ndarray]:
+    """The geodesic polylines of the three surface lengths.
+
+    The acromions are where the shoulder girdle carries them (`girdle_point`), on the skin
+    nearest there; the other limb points ride the skin. Each becomes a vertex of the surface
+    the paths run on (`insert_points`).
+    """
+    points = np.stack([girdle_point(marks, rest, posed, "R"), girdle_point(marks, rest, posed, "L"),
+                       marks.olecranon.at(vertices), marks.ulnar_styloid.at(vertices)])
+    v, f, (right, left, elbow, wrist) = insert_points(vertices, faces, points)
+    paths = SurfaceGeodesics(v, f)
     return {
         "back_waist_length": paths.path_through(marks.cervicale, marks.waist_back),
-        "shoulder_width": paths.path_through(marks.acromion_left, marks.cervicale, marks.acromion_right),
-        "arm_length": paths.path_through(marks.acromion_right, marks.olecranon, marks.ulnar_styloid),
+        "shoulder_width": paths.path_through(left, marks.cervicale, right),
+        "arm_length": paths.path_through(right, elbow, wrist),
     }
 
 
@@ -214,7 +241,8 @@ def measure_surface(
     """The measurements of any surface with landmark vertices `marks` (e.g. a subdivided body);
     `skin`: per girth, the vertices its tape may rest on (`tape_skin`; None: any skin)."""
     values = heights(vertices, marks)
-    values.update({name: polyline_length(path) for name, path in surface_paths(vertices, faces, marks).items()})
+    lengths = surface_paths(vertices, faces, marks, rest, posed)
+    values.update({name: polyline_length(path) for name, path in lengths.items()})
     values.update({name: tape.girth for name, tape in tapes(vertices, faces, marks, rest, posed, skin).items()})
     return Measurements(**values)
 
@@ -228,4 +256,4 @@ def measurement_paths(
     marks, rest = body_landmarks(body), JointSet(body.rig.names, body.rig.heads)
     girths = tapes(vertices, body.faces, marks, rest, posed, tape_skin(body))
     loops = {name: np.vstack([t.path, t.path[:1]]) for name, t in girths.items() if len(t.path)}
-    return {**loops, **surface_paths(vertices, body.faces, marks)}
+    return {**loops, **surface_paths(vertices, body.faces, marks, rest, posed)}

@@ -1,4 +1,4 @@
-"""First hit of a ray with the skin, and the nearest corner of a hit face."""
+"""First hit of a ray with the skin."""
 
 from __future__ import annotations
 
@@ -17,9 +17,3 @@ def first_hit(
         return -1, np.full(3, np.nan)
     face = int(np.argmin(t))
     return face, origin + t[face] * direction
-
-
-def nearest_corner(vertices: np.ndarray, faces: np.ndarray, face: int, point: np.ndarray) -> int:
-    """The vertex of `face` closest to `point`."""
-    corners = faces[face]
-    return int(corners[np.argmin(np.linalg.norm(vertices[corners] - point, axis=1))])

@@ -24,7 +24,7 @@ import numpy as np
 from hitogata.body import Body
 from hitogata.errors import HitogataError
 from hitogata.export.atomic import write_bytes_atomically
-from hitogata.measure.landmarks import body_landmarks
+from hitogata.measure.landmarks import body_landmarks, landmark_positions
 from hitogata.measure.measurements import Measurements, measure, measurement_paths, posture_arrays
 from hitogata.measure.strain import skin_strain
 from hitogata.measure.zones import ZoneStrain, zone_strains
@@ -40,6 +40,10 @@ LABELS = {
     "hip_girth": "hip girth",
     "thigh_girth": "thigh girth",
     "upper_arm_girth": "upper-arm girth",
+    "knee_girth": "knee girth",
+    "calf_girth": "calf girth",
+    "ankle_girth": "ankle girth (minimum)",
+    "wrist_girth": "wrist girth",
     "back_waist_length": "back waist length",
     "shoulder_width": "shoulder width",
     "arm_length": "arm length",
@@ -94,7 +98,7 @@ def measure_report(
         "units": "m",
         "measurements": _json_values(values),
         "measurements_cm": {k: None if x is None else round(x * 100, 2) for k, x in _json_values(values).items()},
-        "landmark_vertices": asdict(body_landmarks(body)),
+        "landmarks_m": {k: p.tolist() for k, p in landmark_positions(body_landmarks(body), v).items()},
     }
     paths = tuple(measurement_paths(body, v, heads).values())
     picture = render_png(v, body.faces, ("front", "right", "back"), title=title, overlays=paths)  # the tapes are on the right
