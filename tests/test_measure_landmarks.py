@@ -6,7 +6,6 @@ import pytest
 from hitogata.body import Body
 from hitogata.measure import measure
 from hitogata.measure.landmarks import LANDMARK_NAMES, body_landmarks, landmark_positions
-from hitogata.measure.rig_joints import posed_rig_heads
 from hitogata.pose import pose_body
 
 
@@ -34,9 +33,7 @@ def test_lean_men_have_an_underbust_girth(stature):
 
 def lowered_arms(body, abduction_deg):
     clinical = {f"upper_arm_{s}.abduction": np.radians(abduction_deg) for s in "lr"}
-    posed = pose_body(body, clinical=clinical)
-    heads = posed_rig_heads(body.rig.heads, posed.skeleton.joints, posed.pose.rotations[0], posed.pose.translations[0])
-    return measure(body, posed.vertices, heads)
+    return measure(pose_body(body, clinical=clinical))
 
 
 @pytest.mark.parametrize("sex", ["female", "male"])
