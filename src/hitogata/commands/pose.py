@@ -15,6 +15,7 @@ from hitogata.errors import HitogataError
 from hitogata.export.body_files import body_figures, shape_extras
 from hitogata.export.pose_files import check_posed_path, write_posed
 from hitogata.pose import Poser
+from hitogata.skeleton.shoulder import CHANNEL_RANGES, channel_names
 
 
 def list_names(poser: Poser) -> list[str]:
@@ -30,6 +31,11 @@ def list_names(poser: Poser) -> list[str]:
     low, high, rest = (np.degrees(a) for a in (sk.rest + sk.lower, sk.rest + sk.upper, sk.rest))
     for k, name in enumerate(sk.dof_names):
         lines.append(f"  {name:40s} {low[k]:7.1f}° … {high[k]:6.1f}°  rest {rest[k]:6.1f}°")
+    channels = channel_names(sk)
+    lines.append(f"shoulder complex ({len(channels)}; --angle NAME=ANGLE, clinical range; the girdle follows):")
+    for name in channels:
+        lo, hi = CHANNEL_RANGES[name.split(".")[1]]
+        lines.append(f"  {name:40s} {lo:7.1f}° … {hi:6.1f}°")
     return lines
 
 
