@@ -19,8 +19,8 @@ from hitogata.errors import HitogataError
 from hitogata.export.body_files import body_from_extras
 from hitogata.export.gltf import read_glb_skin
 from hitogata.dynamics.files import find_sequence, read_sequence_body
-from hitogata.measure import Measurements, measure, posed_rig_heads
-from hitogata.pose import pose_body
+from hitogata.export.posed_mesh import posture, read_posed_mesh
+from hitogata.measure import Measurements, measure
 from hitogata.measure.timeseries import measure_sequence, write_series
 from hitogata.measure.cli_support import measure_report, measurement_table
 
@@ -28,14 +28,18 @@ from hitogata.measure.cli_support import measure_report, measurement_table
 REST_TOLERANCE = 1e-5  # m: a GLB stores float32 positions; closer than this to rest is the rest pose
 
 
-def body_from_file(path: Path) -> tuple[Body, np.ndarray | None, np.ndarray | None]:
-    """The body a hitogata GLB describes, and its skin vertices and rig joints when posed.
+def body_from_file(path: Path) -> tuple[Body, np.ndarray | None, np.ndarray | None, np.ndarray | None]:
+    """The body a hitogata file describes, and when posed its skin vertices, rig joints and fine skin.
 
-    A `hitogata pose` file holds the rest skin with the pose as joint rotations and
-    the pose's angles in its extras: the posture is rebuilt from those.
+    A `hitogata pose` GLB holds the rest skin with the pose as joint rotations and
+    the pose's angles in its extras: the posture is rebuilt from those. An .obj/.ply
+    of `hitogata pose` is read with its JSON sidecar (`hitogata.export.posed_mesh`).
     """
+    if path.suffix.lower() in (".obj", ".ply"):
+        return read_posed_mesh(path)
     if path.suffix.lower() != ".glb":
-        raise HitogataError(f"{path}: allowed a .glb written by `hitogata body` or `hitogata pose` (OBJ/PLY carry no shape)")
+        raise HitogataError(f"{path}: allowed a .glb written by `hitogata body` or `hitogata pose`, "
+                            "or an .obj/.ply of `hitogata pose` with its .json")
     if not path.is_file():
         raise HitogataError(f"{path}: no such file")
     skin = read_glb_skin(path)
@@ -44,11 +48,9 @@ def body_from_file(path: Path) -> tuple[Body, np.ndarray | None, np.ndarray | No
     if skin.vertices.shape != body.vertices.shape:
         raise HitogataError(f"{path}: {len(skin.vertices)} vertices, allowed {len(body.vertices)} (the hitogata skin)")
     if "angles_rad" in extras:
-        posed = pose_body(body, angles=np.asarray(extras["angles_rad"], dtype=float))
-        joints = posed_rig_heads(body.rig.heads, posed.skeleton.joints, posed.pose.rotations[0], posed.pose.translations[0])
-        return body, posed.vertices, joints
+        return body, *posture(body, np.asarray(extras["angles_rad"], dtype=float))
     at_rest = np.abs(skin.vertices - body.vertices).max() < REST_TOLERANCE
-    return body, (None if at_rest else skin.vertices), None
+    return body, (None if at_rest else skin.vertices), None, None
 
 
 def measure_results(path: Path, out: Path) -> None:
@@ -68,11 +70,11 @@ def run(args: argparse.Namespace) -> None:
         measure_results(Path(args.input), out)
         return
     if args.input is not None:
-        body, vertices, joints = body_from_file(Path(args.input))
+        body, vertices, joints, fine = body_from_file(Path(args.input))
     else:
-        body, vertices, joints = body_from_args(args), None, None
+        body, vertices, joints, fine = body_from_args(args), None, None, None
     out.mkdir(parents=True, exist_ok=True)
-    written = measure_report(body, out, vertices=vertices, joints=joints, title=args.input or "")
+    written = measure_report(body, out, vertices=vertices, joints=joints, title=args.input or "", fine_vertices=fine)
     posture = measure(body, vertices=vertices, joints=joints)
     print(measurement_table(posture, reference=None if vertices is None else measure(body)))
     print(f"wrote {', '.join(p.name for p in written.values())} in {out}/")
@@ -81,7 +83,8 @@ def run(args: argparse.Namespace) -> None:
 def register(sub: argparse._SubParsersAction) -> None:
     parser = sub.add_parser("measure", help="apparel measurements of a body (a hitogata .glb or the body options)")
     parser.add_argument("input", nargs="?", default=None,
-                        help="a .glb written by `hitogata body`, or a results folder / *_sequence.npz of `hitogata simulate`")
+                        help="a .glb written by `hitogata body` or `hitogata pose`, an .obj/.ply of `hitogata pose` "
+                        "(with its .json), or a results folder / *_sequence.npz of `hitogata simulate`")
     add_body_arguments(parser)
     parser.add_argument("--out", required=True, help="report folder: measurements.json/.csv/.png")
     parser.set_defaults(run=run)
