@@ -63,5 +63,6 @@ def test_measure_reads_a_dqs_obj_with_its_json(tmp_path, female_args, capsys):
     capsys.readouterr()
     assert main(["measure", str(out), "--out", str(tmp_path / "r2")]) == 2
     err = capsys.readouterr().err.strip()
-    assert err.endswith(f"{out}: no twist.json beside it; allowed an .obj/.ply written by `hitogata pose`")
+    assert err.endswith(f"{out}: no twist.json beside it; allowed a .glb written by `hitogata body` or "
+                        "`hitogata pose`, or an .obj/.ply written by `hitogata pose` with its .json")
     assert not (tmp_path / "r2" / "measurements.json").exists()

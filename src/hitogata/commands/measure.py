@@ -1,6 +1,7 @@
 """`hitogata measure`: ISO 8559-1 measurements (and skin strain for a posture) of a body.
 
-INPUT is a GLB written by `hitogata body` (its extras hold the shape), a results
+INPUT is a GLB written by `hitogata body` or `hitogata pose` (its extras hold the
+shape), an .obj/.ply of `hitogata pose` with its .json (the pose), a results
 folder or `*_sequence.npz` of `hitogata simulate` (measurements and zone strains
 over time), or nothing (the body options). The report goes to --out.
 """

@@ -59,7 +59,10 @@ def read_posed_mesh(path: Path) -> tuple[Body, np.ndarray, np.ndarray, np.ndarra
     if not path.is_file():
         raise HitogataError(f"{path}: no such file")
     if not side.is_file():
-        raise HitogataError(f"{path}: no {side.name} beside it; allowed an .obj/.ply written by `hitogata pose`")
+        raise HitogataError(
+            f"{path}: no {side.name} beside it; allowed a .glb written by `hitogata body` or `hitogata pose`, "
+            "or an .obj/.ply written by `hitogata pose` with its .json"
+        )
     try:
         extras = json.loads(side.read_text())
     except (OSError, ValueError) as err:
