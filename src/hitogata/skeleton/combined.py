@@ -5,12 +5,14 @@ joints free; some motions are bounded by what several joints do together:
 - the arm's abduction is glenohumeral + scapular + clavicular (AAOS 180°:
   together they cannot carry the arm past the vertical into the head);
 - the thoracolumbar spine bends as a whole (AAOS regional ranges: flexion
-  80°, extension 25°, lateral bending 35°, rotation 45°);
+  80°, extension 25°, lateral bending 35°, rotation 45°; the shipped
+  segments' ranges are shared from these, so this guards edited lists);
 - a hip adducts 30° (AAOS) with the other leg out of the way: with both legs
   straight they meet, so the two hips' adductions (abduction below zero)
   together stay within 30°.
-Each limit is a sum of clinical angles; a pose beyond it is a one-line error
-naming the joint, its DOFs and the combined range.
+Each limit is a sum of clinical angles, checked to half the shown digit per
+addend; a pose beyond it is a one-line error naming the joint, its DOFs and
+the combined range.
 """
 
 from __future__ import annotations
@@ -27,7 +29,7 @@ from hitogata.skeleton.placement import Skeleton
 SPINE = tuple(f"lumbar_{i}" for i in range(1, 6)) + tuple(f"thoracic_{i}" for i in range(1, 13))
 # AAOS thoracolumbar ranges (degrees), the same the segments' ranges are shared from.
 SPINE_RANGES = {"flexion": (-25.0, 80.0), "lateral_bending": (-35.0, 35.0), "rotation": (-45.0, 45.0)}
-SHOULDER_ABDUCTION = (0.0, 180.0)
+SHOULDER_ABDUCTION = 180.0  # at most: past it the arm goes into the head
 HIP_ADDUCTION_TOGETHER = 30.0
 
 
@@ -48,8 +50,8 @@ def combined_limits(skeleton: Skeleton) -> tuple[CombinedLimit, ...]:
         CombinedLimit(
             f"shoulder_{s}.abduction",
             (f"clavicle_{s}.elevation", f"scapula_{s}.upward_rotation", f"upper_arm_{s}.abduction"),
-            rad(SHOULDER_ABDUCTION[0]),
-            rad(SHOULDER_ABDUCTION[1]),
+            -math.inf,  # a depressed girdle with the arm hanging is no collision
+            rad(SHOULDER_ABDUCTION),
         )
         for s in ("l", "r")
     ]
@@ -73,14 +75,16 @@ def combined_violation(skeleton: Skeleton, angles: np.ndarray, skip: frozenset[s
         if c.name in skip:
             continue
         total = float(sum(clinical[skeleton.dof_index(n)] for n in c.dofs))
-        if c.lower - LIMIT_TOLERANCE <= total <= c.upper + LIMIT_TOLERANCE:
+        slack = LIMIT_TOLERANCE * len(c.dofs)  # each addend's range is given to 0.1°
+        if c.lower - slack <= total <= c.upper + slack:
             continue
         what = " + ".join(c.dofs) if len(c.dofs) <= 3 else f"{c.dofs[0]} + … + {c.dofs[-1]}"
-        allowed = (
-            f"at least {math.degrees(c.lower):.1f}°"
-            if math.isinf(c.upper)
-            else f"{math.degrees(c.lower):.1f}…{math.degrees(c.upper):.1f}°"
-        )
+        if math.isinf(c.upper):
+            allowed = f"at least {math.degrees(c.lower):.1f}°"
+        elif math.isinf(c.lower):
+            allowed = f"at most {math.degrees(c.upper):.1f}°"
+        else:
+            allowed = f"{math.degrees(c.lower):.1f}…{math.degrees(c.upper):.1f}°"
         return f"{c.name} = {math.degrees(total):.1f}° clinical ({what}): the joints together allow {allowed}"
     return None
 
