@@ -12,9 +12,9 @@ from hitogata.commands.body import body_from_args
 from hitogata.commands.pose_args import add_pose_arguments
 from hitogata.commands.pose_summary import moved_count, pose_summary
 from hitogata.commands.posing import pose_from_args
+from hitogata.dynamics.single_pose import elastic_dynamics, elastic_pose
 from hitogata.errors import HitogataError
 from hitogata.export.body_files import body_figures, shape_extras
-from hitogata.dynamics.single_pose import elastic_dynamics, elastic_pose
 from hitogata.export.meshfiles import write_mesh
 from hitogata.export.pose_files import check_posed_path, write_posed
 from hitogata.export.posed_mesh import write_sidecar

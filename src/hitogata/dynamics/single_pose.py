@@ -25,7 +25,7 @@ from hitogata.pose import PosedBody
 
 ELEMENT_SIZE = 40.0  # mm: the whole body's lattice for a held posture (as the large-motion tests)
 
-_CACHE: "weakref.WeakKeyDictionary[Body, dict[float, BodyDynamics]]" = weakref.WeakKeyDictionary()
+_CACHE: weakref.WeakKeyDictionary[Body, dict[float, BodyDynamics]] = weakref.WeakKeyDictionary()
 
 
 def elastic_dynamics(body: Body, element_size: float = ELEMENT_SIZE) -> BodyDynamics:
@@ -79,7 +79,7 @@ def elastic_pose(
     g, r = dynamics.rig.pose(posed.pose.rotations, posed.pose.translations)
     dynamics.statics.quaternions[:] = (1.0, 0.0, 0.0, 0.0)  # from rest, whatever was solved before
     delta, _ = dynamics.quasi_static(g[0], r[0], None, None, iterations)
-    elastic, skin, _ = dynamics.frame(
+    _, skin, _ = dynamics.frame(
         posed.pose.rotations[0], posed.pose.translations[0], r[0], delta, np.zeros(len(dynamics.eigenvalues))
     )
     nodes = g[0] + rotate(r[0], delta)

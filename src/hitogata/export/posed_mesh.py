@@ -78,7 +78,7 @@ def read_posed_mesh(path: Path) -> tuple[Body, np.ndarray, np.ndarray, np.ndarra
         raise HitogataError(f"{side}: skinning = {skinning!r}: allowed {', '.join(METHODS)}")
     try:
         mesh = trimesh.load(path, process=False, force="mesh")
-    except Exception as err:  # trimesh raises many kinds on a broken file
+    except Exception as err:  # noqa: BLE001 -- trimesh raises many kinds on a broken file
         raise HitogataError(f"{path}: not a readable mesh ({err})") from None
     vertices = np.asarray(mesh.vertices, dtype=float)
     if vertices.shape != body.vertices.shape or not np.isfinite(vertices).all():

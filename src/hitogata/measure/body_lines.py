@@ -51,7 +51,10 @@ def body_lines(body: Body, vertices: np.ndarray | None = None, faces: np.ndarray
     """The named lines on the body's rest skin, or on another rest surface of it (e.g. the fine skin)."""
     v = body.vertices if vertices is None else vertices
     f = body.faces if faces is None else faces
-    head = lambda bone: body.rig.heads[body.rig.index(bone)]  # noqa: E731
+
+    def head(bone: str) -> np.ndarray:
+        return body.rig.heads[body.rig.index(bone)]
+
     elbow, knee = head("lowerarm01.L"), head("lowerleg01.L")
     arm = _unit(head("wrist.L") - head("upperarm01.L"))
     leg = _unit(head("foot.L") - head("upperleg01.L"))

@@ -64,7 +64,7 @@ def subdivide(vertices: np.ndarray, faces: np.ndarray, levels: int = LEVELS) -> 
     return FineSkin(v, f, sp.csr_matrix(interp), parent)
 
 
-_BY_BODY: "weakref.WeakKeyDictionary[Body, FineSkin]" = weakref.WeakKeyDictionary()
+_BY_BODY: weakref.WeakKeyDictionary[Body, FineSkin] = weakref.WeakKeyDictionary()
 
 
 def fine_skin(body: Body) -> FineSkin:
@@ -93,7 +93,7 @@ class FineSkinning:
         return out
 
 
-_BY_SKIN: "weakref.WeakKeyDictionary[Skin, FineSkinning]" = weakref.WeakKeyDictionary()
+_BY_SKIN: weakref.WeakKeyDictionary[Skin, FineSkinning] = weakref.WeakKeyDictionary()
 
 
 def fine_skinning(body: Body, coarse: Skin) -> FineSkinning:
