@@ -28,8 +28,10 @@ from hitogata.muscles.activation import (
 from hitogata.muscles.geometry import MuscleSet, place_muscles
 from hitogata.muscles.spec import load_muscle_spec
 from hitogata.options import ON_LIMIT, OnLimit, Skinning
-from hitogata.skeleton.kinematics import Kinematics, Pose, limit_violations
+from hitogata.skeleton.combined import clamp_combined, combined_violation
+from hitogata.skeleton.kinematics import LIMIT_TOLERANCE, Kinematics, Pose, limit_violations
 from hitogata.skeleton.placement import Skeleton, place_skeleton
+from hitogata.skeleton.shoulder import CHANNEL_RANGES, SIDES, channel_names, girdle_dofs, shoulder_pose
 from hitogata.skeleton.spec import load_skeleton_spec
 from hitogata.skeleton.weights import part_weights
 from hitogata.rig import carried_heads, carrying_parts
@@ -128,17 +130,59 @@ class Poser:
 
         A DOF named in `angles`/`clinical` may not also be moved by a given muscle;
         an angle array (D,) is a base pose on which the muscles set their DOFs.
+        `clinical` also takes the shoulder complex ('shoulder_l.flexion', '.abduction':
+        the girdle follows by the scapulohumeral rhythm, `hitogata.skeleton.shoulder`).
+        Single joints are checked against their ranges, then the combined limits
+        (`hitogata.skeleton.combined`).
         """
         if on_limit not in ON_LIMIT:
             raise HitogataError(f"on_limit = {on_limit!r}: allowed {', '.join(ON_LIMIT)}")
         sk, ms = self.skeleton, self.muscles
-        base, given = self._given_angles(angles, clinical)
+        complex_given = {k: v for k, v in (clinical or {}).items() if k in channel_names(sk)}
+        single = {k: v for k, v in (clinical or {}).items() if k not in complex_given}
+        base, given = self._given_angles(angles, single)
         base = self._limited(base, on_limit)
+        base, set_by_complex = self._shoulders(base, given, complex_given, on_limit)
+        given |= set_by_complex
         for name in list(contractions or {}) + list(lengths or {}):
             clash = [sk.dof_names[d] for d in ms.dofs(ms.index(name)) if d in given]
             if clash:
                 raise HitogataError(f"{clash[0]} is set both by an angle and by muscle {name!r}: give one")
-        return angles_from_muscles(ms, contractions, lengths, base, on_limit)
+        q = angles_from_muscles(ms, contractions, lengths, base, on_limit)
+        own_range = frozenset(f"{name.split('.')[0]}.abduction" for name in complex_given)
+        return self._combined(q, on_limit, own_range)
+
+    def _shoulders(
+        self, q: np.ndarray, given: set[int], channels: Mapping[str, float], on_limit: str
+    ) -> tuple[np.ndarray, set[int]]:
+        """The shoulder-complex controls applied on `q`: girdle by the rhythm, glenohumeral solved."""
+        sk, done = self.skeleton, set()
+        for side in SIDES:
+            prefix = f"shoulder_{side}."
+            mine = {name[len(prefix):]: value for name, value in channels.items() if name.startswith(prefix)}
+            if not mine:
+                continue
+            for motion, value in mine.items():
+                lo, hi = np.radians(CHANNEL_RANGES[motion])
+                if not np.isfinite(value):
+                    raise HitogataError(f"shoulder_{side}.{motion} = {value!r}: expected a finite angle in radians")
+                if lo - LIMIT_TOLERANCE <= value <= hi + LIMIT_TOLERANCE:
+                    continue
+                message = (
+                    f"shoulder_{side}.{motion} = {np.degrees(value):.1f}° clinical: the shoulder complex "
+                    f"allows {np.degrees(lo):.1f}…{np.degrees(hi):.1f}°"
+                )
+                if on_limit == "raise":
+                    raise HitogataError(message)
+                warnings.warn(f"clamped onto the range of motion: {message}", MuscleLimitWarning, stacklevel=4)
+                mine[motion] = float(np.clip(value, lo, hi))
+            dofs = set(girdle_dofs(sk, side))
+            if dofs & given:
+                clash = sk.dof_names[min(dofs & given)]
+                raise HitogataError(f"{clash} is set both by shoulder_{side} and on its own: give one")
+            q = shoulder_pose(self.kinematics, q, side, mine.get("flexion", 0.0), mine.get("abduction", 0.0))
+            done |= dofs
+        return q, done
 
     def _given_angles(self, angles, clinical) -> tuple[np.ndarray, set[int]]:
         sk = self.skeleton
@@ -163,14 +207,25 @@ class Poser:
         return q, given
 
     def _limited(self, q: np.ndarray, on_limit: str) -> np.ndarray:
-        bad = limit_violations(self.skeleton, q)
-        if not bad.any():
+        """Each DOF within its range; one within `LIMIT_TOLERANCE` of a limit is put on it."""
+        sk = self.skeleton
+        bad = limit_violations(sk, q)
+        if bad.any():
+            if on_limit == "raise":
+                self.kinematics.check_limits(q, "raise")
+            names = [sk.dof_names[k] for k in np.flatnonzero(bad)]
+            warnings.warn(f"clamped onto the range of motion: {', '.join(names)}", MuscleLimitWarning, stacklevel=3)
+        return np.clip(q, sk.lower, sk.upper)
+
+    def _combined(self, q: np.ndarray, on_limit: str, skip: frozenset[str]) -> np.ndarray:
+        """The combined limits (but `skip`): an error, or (clamp) the excess taken off the joints in equal shares."""
+        message = combined_violation(self.skeleton, q, skip)
+        if message is None:
             return q
         if on_limit == "raise":
-            self.kinematics.check_limits(q, "raise")
-        names = [self.skeleton.dof_names[k] for k in np.flatnonzero(bad)]
-        warnings.warn(f"clamped onto the range of motion: {', '.join(names)}", MuscleLimitWarning, stacklevel=3)
-        return np.clip(q, self.skeleton.lower, self.skeleton.upper)
+            raise HitogataError(message)
+        warnings.warn(f"clamped onto the range of motion: {message}", MuscleLimitWarning, stacklevel=3)
+        return clamp_combined(self.skeleton, q, skip)
 
     def pose(
         self,
@@ -186,6 +241,12 @@ class Poser:
         q = self.angles(contractions, lengths, angles, clinical, on_limit)
         pose = self.kinematics.pose(q, root=root)
         verts = skin_vertices(self.skin, pose.rotations, pose.translations, skinning)[0]
+        with warnings.catch_warnings():
+            # a shoulder complex may turn the glenohumeral angles past what the single-joint
+            # muscle triangles span (flexion 130–170°): those lengths stop at their reach
+            warnings.simplefilter("ignore", MuscleLimitWarning)
+            complex_set = any(name in channel_names(self.skeleton) for name in clinical or {})
+            lengths_now = muscle_lengths(self.muscles, q, "clamp" if complex_set else on_limit)[0]
         return PosedBody(
             body=self.body,
             skeleton=self.skeleton,
@@ -194,7 +255,7 @@ class Poser:
             pose=pose,
             vertices=verts,
             faces=self.body.faces,
-            muscle_lengths=muscle_lengths(self.muscles, q, on_limit)[0],
+            muscle_lengths=lengths_now,
             rig_joints=self.rig_joints(pose.rotations[0], pose.translations[0]),
         )
 

@@ -1,6 +1,7 @@
 """`hitogata measure`: ISO 8559-1 measurements (and skin strain for a posture) of a body.
 
-INPUT is a GLB written by `hitogata body` (its extras hold the shape), a results
+INPUT is a GLB written by `hitogata body` or `hitogata pose` (its extras hold the
+shape), an .obj/.ply of `hitogata pose` with its .json (the pose), a results
 folder or `*_sequence.npz` of `hitogata simulate` (measurements and zone strains
 over time), or nothing (the body options). The report goes to --out.
 """
@@ -20,8 +21,8 @@ from hitogata.errors import HitogataError
 from hitogata.export.body_files import body_from_extras
 from hitogata.export.gltf import read_glb_skin
 from hitogata.dynamics.files import find_sequence, read_sequence_body
+from hitogata.export.posed_mesh import posture, read_posed_mesh
 from hitogata.measure import Measurements, measure
-from hitogata.pose import pose_body
 from hitogata.measure.timeseries import measure_sequence
 from hitogata.report.measurements import measure_report, measurement_table
 from hitogata.report.series import write_series
@@ -30,22 +31,24 @@ from hitogata.report.series import write_series
 REST_TOLERANCE = 1e-5  # m: a GLB stores float32 positions; closer than this to rest is the rest pose
 
 
-def body_from_file(path: Path) -> tuple[Body, np.ndarray | None, np.ndarray | None]:
-    """The body a hitogata GLB describes, and its skin vertices and rig joints when posed.
+def body_from_file(path: Path) -> tuple[Body, np.ndarray | None, np.ndarray | None, np.ndarray | None]:
+    """The body a hitogata file describes, and when posed its skin vertices, rig joints and fine skin.
 
-    A `hitogata pose` file holds the rest skin with the pose as joint rotations and
-    the pose's angles in its extras: the posture is rebuilt from those.
+    A `hitogata pose` GLB holds the rest skin with the pose as joint rotations and
+    the pose's angles in its extras: the posture is rebuilt from those. An .obj/.ply
+    of `hitogata pose` is read with its JSON sidecar (`hitogata.export.posed_mesh`).
     """
+    if path.suffix.lower() in (".obj", ".ply"):
+        return read_posed_mesh(path)
     skin = read_glb_skin(path)
     extras = skin.extras or {}
     body = body_from_extras(path, extras)
     if skin.vertices.shape != body.vertices.shape:
         raise HitogataError(f"{path}: {len(skin.vertices)} vertices, allowed {len(body.vertices)} (the hitogata skin)")
     if "angles_rad" in extras:
-        posed = pose_body(body, angles=np.asarray(extras["angles_rad"], dtype=float))
-        return body, posed.vertices, posed.rig_joints
+        return body, *posture(body, np.asarray(extras["angles_rad"], dtype=float))
     at_rest = np.abs(skin.vertices - body.vertices).max() < REST_TOLERANCE
-    return body, (None if at_rest else skin.vertices), None
+    return body, (None if at_rest else skin.vertices), None, None
 
 
 def measure_results(path: Path, out: Path, workdir: Path) -> None:
@@ -66,10 +69,11 @@ def run(args: argparse.Namespace) -> None:
         measure_results(given, out, workdir)
         return
     if given is not None:
-        body, vertices, joints = body_from_file(given)
+        body, vertices, joints, fine = body_from_file(given)
     else:
-        body, vertices, joints = body_from_args(args), None, None
-    written = measure_report(body, workdir, vertices=vertices, joints=joints, title=str(given or ""))
+        body, vertices, joints, fine = body_from_args(args), None, None, None
+    written = measure_report(body, workdir, vertices=vertices, joints=joints, title=str(given or ""),
+                             fine_vertices=fine)
     posture = measure(body, vertices=vertices, joints=joints)
     print(measurement_table(posture, reference=None if vertices is None else measure(body)))
     print(f"wrote {', '.join(p.name for p in written.values())} in {out}/")
@@ -78,8 +82,9 @@ def run(args: argparse.Namespace) -> None:
 def register(sub: argparse._SubParsersAction) -> None:
     parser = sub.add_parser("measure", help="apparel measurements of a body (a hitogata .glb or the body options)")
     parser.add_argument("input", nargs="?", default=None,
-                        type=input_path("file", "folder", suffixes=(".glb", ".npz")),
-                        help="a .glb written by `hitogata body`, or a results folder / *_sequence.npz of `hitogata simulate`")
+                        type=input_path("file", "folder", suffixes=(".glb", ".npz", ".obj", ".ply")),
+                        help="a .glb written by `hitogata body` or `hitogata pose`, an .obj/.ply of `hitogata pose` "
+                        "(with its .json), or a results folder / *_sequence.npz of `hitogata simulate`")
     add_body_arguments(parser)
     add_output(parser, "folder", "report folder: measurements.json/.csv/.png (created; a new or empty folder)")
     parser.set_defaults(run=run)

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+from pathlib import Path
 
 import numpy as np
 
@@ -12,11 +13,14 @@ from hitogata.commands.paths import add_output
 from hitogata.commands.pose_args import add_pose_arguments
 from hitogata.commands.pose_summary import moved_count, pose_summary
 from hitogata.commands.posing import pose_from_args
+from hitogata.dynamics.single_pose import elastic_dynamics, elastic_pose
 from hitogata.errors import HitogataError
 from hitogata.export.body_files import body_figures, shape_extras
-from hitogata.export.meshfiles import MESH_SUFFIXES
+from hitogata.export.meshfiles import MESH_SUFFIXES, write_mesh
 from hitogata.export.pose_files import check_posed_path, write_posed
+from hitogata.export.posed_mesh import write_sidecar
 from hitogata.pose import Poser
+from hitogata.skeleton.shoulder import CHANNEL_RANGES, channel_names
 
 
 def list_names(poser: Poser) -> list[str]:
@@ -32,6 +36,11 @@ def list_names(poser: Poser) -> list[str]:
     low, high, rest = (np.degrees(a) for a in (sk.rest + sk.lower, sk.rest + sk.upper, sk.rest))
     for k, name in enumerate(sk.dof_names):
         lines.append(f"  {name:40s} {low[k]:7.1f}° … {high[k]:6.1f}°  rest {rest[k]:6.1f}°")
+    channels = channel_names(sk)
+    lines.append(f"shoulder complex ({len(channels)}; --angle NAME=ANGLE, clinical range; the girdle follows):")
+    for name in channels:
+        lo, hi = CHANNEL_RANGES[name.split(".")[1]]
+        lines.append(f"  {name:40s} {lo:7.1f}° … {hi:6.1f}°")
     return lines
 
 
@@ -42,6 +51,8 @@ def run(args: argparse.Namespace) -> None:
     if args.out is None:
         raise HitogataError("--out: give the output file (.glb, .obj or .ply), or --list")
     check_posed_path(args.out, args.skinning)
+    if args.elastic and args.skinning != "dqs" and Path(args.out).suffix.lower() != ".glb":
+        raise HitogataError("--elastic: the elastic body stands on dual-quaternion skinning; add --skinning dqs")
     poser, request, posed = pose_from_args(args)
     extras = {
         "shape": shape_extras(poser.body.params),
@@ -52,10 +63,22 @@ def run(args: argparse.Namespace) -> None:
             name: round(float(np.degrees(value)), 4) for name, value in zip(posed.skeleton.dof_names, posed.clinical)
         },
     }
-    path = write_posed(args.out, poser, posed, extras)
+    written = []
+    if args.elastic:
+        held = elastic_pose(elastic_dynamics(poser.body), angles=posed.angles)
+        mesh = Path(args.out) if Path(args.out).suffix.lower() != ".glb" else Path(args.out).with_name(
+            Path(args.out).stem + "_elastic.ply")
+        written.append(write_mesh(mesh, held.vertices, held.faces))
+        written.append(write_sidecar(mesh, {**extras, "skinning": "dqs", "surface": "elastic"}))
+        print(f"elastic body: {held.quality.line()}")
+    if not (args.elastic and Path(args.out).suffix.lower() != ".glb"):
+        written.insert(0, write_posed(args.out, poser, posed, extras))
+        if Path(args.out).suffix.lower() != ".glb":
+            written.append(write_sidecar(args.out, {**extras, "skinning": request.skinning, "surface": "skinning"}))
     moved = moved_count(posed)
     angles = f"{moved} joint angle{'s' * (moved != 1)}"
-    print(f"{path}: {len(posed.skeleton.names)}-part skeleton, {angles} moved (clinical):")
+    files = ", ".join(str(p) for p in written)
+    print(f"{files}: {len(posed.skeleton.names)}-part skeleton, {angles} moved (clinical):")
     print("\n".join(pose_summary(request, posed)))
 
 
@@ -70,6 +93,11 @@ def register(sub: argparse._SubParsersAction) -> None:
     add_body_arguments(parser)
     add_pose_arguments(parser)
     parser.add_argument("--list", action="store_true", help="print the muscles and degrees of freedom, and exit")
-    add_output(parser, "file", "output file: .glb (skinned, posed, re-posable), .obj or .ply", MESH_SUFFIXES,
-               required=False)
+    add_output(parser, "file", "output file: .glb (skinned, posed, re-posable), .obj or .ply "
+               "(with a .json of the pose beside it: `hitogata measure` reads both)", MESH_SUFFIXES, required=False)
+    parser.add_argument(
+        "--elastic", action="store_true",
+        help="also solve the elastic body (whole body, DQS + quasi-statics; about a minute) and write its skin: "
+        "to the .obj/.ply given, or beside a .glb as NAME_elastic.ply (+ .json)",
+    )
     parser.set_defaults(run=run)

@@ -5,8 +5,11 @@ Shared by `hitogata pose` and `hitogata skeleton`. Values go through
 with two shorthands: no side suffix means both sides (`biceps_brachii=20%`,
 `forearm.flexion=90deg`; a midline DOF moved by a left and a right muscle is
 driven by the left one, the right one follows), and a joint may be named by
-its common name (`elbow_l.flexion` for `forearm_l.flexion`). An unknown name
-is a one-line error with the closest names.
+its common name (`elbow_l.flexion` for `forearm_l.flexion`). The shoulder's
+flexion and abduction are the shoulder complex's (`shoulder_l.flexion`: the
+arm relative to the thorax, 0…180°, the girdle following by the
+scapulohumeral rhythm); `upper_arm_l.flexion` is the glenohumeral joint alone.
+An unknown name is a one-line error with the closest names.
 """
 
 from __future__ import annotations
@@ -19,6 +22,7 @@ from hitogata import units
 from hitogata.errors import HitogataError
 from hitogata.options import OnLimit, Skinning
 from hitogata.pose import ON_LIMIT, Poser
+from hitogata.skeleton.shoulder import channel_names
 from hitogata.skinning import METHODS
 
 JOINT_NAMES = {
@@ -54,7 +58,8 @@ def add_pose_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--angle", action="append", default=[], metavar="PART.DOF=ANGLE",
         help="a clinical joint angle (0 = anatomical position), e.g. forearm_l.flexion=90deg or "
-        "elbow_l.flexion=1.57rad; joints may be called shoulder, elbow, wrist, hip, knee, ankle; repeatable",
+        "elbow_l.flexion=1.57rad; joints may be called shoulder, elbow, wrist, hip, knee, ankle; "
+        "shoulder_l.flexion/abduction move the whole shoulder complex (0…180°); repeatable",
     )
     parser.add_argument("--skinning", choices=METHODS, default="lbs", help="skin deformation: lbs (default) or dqs")
     parser.add_argument(
@@ -92,12 +97,15 @@ def muscle_names(poser: Poser, name: str) -> list[str]:
 
 
 def dof_names(poser: Poser, name: str) -> list[str]:
-    """The DOFs a 'part.dof' name stands for, joint names and side-less names resolved."""
-    known = poser.skeleton.dof_names
+    """The DOFs (or shoulder-complex controls) a 'part.dof' name stands for, joint names and
+    side-less names resolved."""
+    known = poser.skeleton.dof_names + channel_names(poser.skeleton)
     part, _, dof = name.rpartition(".")
     side = next((s for s in SIDES if part.endswith(s)), "")
     base = part[: len(part) - len(side)]
-    part = JOINT_NAMES.get(base, base) + side
+    if f"{base}_l.{dof}" not in known:
+        base = JOINT_NAMES.get(base, base)
+    part = base + side
     candidates = [f"{part}.{dof}"] if side else [f"{part}.{dof}"] + [f"{part}{s}.{dof}" for s in SIDES]
     found = [c for c in candidates if c in known]
     if not found:

@@ -12,6 +12,7 @@ import numpy as np
 
 from hitogata.commands.pose_args import PoseRequest
 from hitogata.pose import PosedBody
+from hitogata.skeleton.shoulder import channel_names, girdle_dofs
 
 MOVED = np.radians(0.05)  # smaller changes are not reported
 
@@ -43,6 +44,13 @@ def _muscle_effect(posed: PosedBody, name: str) -> str:
     return f"{what}, {change.sum():+.1f}° in all ({change.min():+.1f}…{change.max():+.1f}° each)"
 
 
+def _complex_line(request: PoseRequest, posed: PosedBody, name: str) -> str:
+    """A shoulder-complex control and the joint angles the rhythm gave it."""
+    sk, side = posed.skeleton, name.split(".")[0][-1]
+    joints = "; ".join(_dof_line(posed, k) for k in girdle_dofs(sk, side))
+    return f"{name} {np.degrees(request.clinical[name]):.1f}° (shoulder complex): {joints}"
+
+
 def pose_summary(request: PoseRequest, posed: PosedBody) -> list[str]:
     """Indented lines, one per muscle and angle of the request; 'rest pose' when nothing moved."""
     lines = [
@@ -50,7 +58,10 @@ def pose_summary(request: PoseRequest, posed: PosedBody) -> list[str]:
         for name in [*request.contractions, *request.lengths]
     ]
     sk = posed.skeleton
-    lines += [f"  --angle {_dof_line(posed, sk.dof_index(name))}" for name in request.clinical]
+    complexes = channel_names(sk)
+    for name in request.clinical:
+        said = _complex_line(request, posed, name) if name in complexes else _dof_line(posed, sk.dof_index(name))
+        lines.append(f"  --angle {said}")
     if not lines:
         return ["  rest pose (MakeHuman A-pose): no muscle or angle given"]
     return lines

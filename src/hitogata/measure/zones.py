@@ -5,7 +5,9 @@ the rig (docs/measurements.md): round a joint, the skin within a radius of the
 joint centre that mainly follows the bones meeting there (elbow, knee,
 shoulder); on the trunk, the backward-facing skin that mainly follows given
 bones (the back: the thoracic spine; the seat: the pelvis and hip). A face
-belongs to a zone when its three corners do.
+belongs to a zone when its three corners do. On the fine skin
+(`hitogata.measure.fine_skin`) a face belongs to the zone of the coarse face
+it lies in, so the zones are the same skin measured finer.
 """
 
 from __future__ import annotations
@@ -15,6 +17,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from hitogata.body import Body
+from hitogata.errors import HitogataError
+from hitogata.measure.fine_skin import fine_skin
 from hitogata.measure.strain import SkinStrain
 
 MAIN_WEIGHT = 0.5  # a vertex follows a bone group when its summed weight on it is at least this
@@ -108,6 +112,20 @@ def zone_strain(strain: SkinStrain, faces: np.ndarray) -> ZoneStrain:
     )
 
 
+def fine_zones(body: Body) -> dict[str, np.ndarray]:
+    """Face indices of each zone on the body's fine skin."""
+    parent = fine_skin(body).parent
+    return {name: np.flatnonzero(np.isin(parent, faces)) for name, faces in body_zones(body).items()}
+
+
 def zone_strains(body: Body, strain: SkinStrain) -> dict[str, ZoneStrain]:
-    """Summary figures of every zone of `body`."""
-    return {name: zone_strain(strain, faces) for name, faces in body_zones(body).items()}
+    """Summary figures of every zone of `body`, for a strain on its skin or on its fine skin."""
+    n = len(strain.rest_area)
+    if n == len(body.faces):
+        zones = body_zones(body)
+    elif n == len(fine_skin(body).faces):
+        zones = fine_zones(body)
+    else:
+        allowed = f"{len(body.faces)} (the skin) or {len(fine_skin(body).faces)} (the fine skin)"
+        raise HitogataError(f"strain of {n} faces: allowed {allowed}")
+    return {name: zone_strain(strain, faces) for name, faces in zones.items()}

@@ -9,7 +9,8 @@ existing directory, every file atomically (`export.atomic`):
 - `measurements.png`: the body from the front, the right side and the back with
   every tape drawn where it lies;
 - for a posture only: `strain_zones.csv` and `strain.png` (heat map of the
-  largest principal strain, front and back).
+  largest principal strain, front and back), on the fine skin when its posed
+  vertices are given (`hitogata.measure.fine_skin`), else on the skin.
 """
 
 from __future__ import annotations
@@ -24,6 +25,7 @@ import numpy as np
 from hitogata.body import Body
 from hitogata.errors import HitogataError
 from hitogata.export.atomic import write_bytes_atomically
+from hitogata.measure.fine_skin import fine_skin
 from hitogata.measure.landmarks import body_landmarks, landmark_positions
 from hitogata.measure.measurements import Measurements, measure, measurement_paths, posture_arrays
 from hitogata.measure.strain import skin_strain
@@ -77,8 +79,10 @@ def measure_report(
     vertices: np.ndarray | None = None,
     joints: np.ndarray | None = None,
     title: str = "",
+    fine_vertices: np.ndarray | None = None,
 ) -> dict[str, Path]:
-    """Measure `body` (at rest, or posed by `vertices` and `joints`) and write the report files.
+    """Measure `body` (at rest, or posed by `vertices` and `joints`) and write the report files;
+    skin strain on the fine skin posed as `fine_vertices` when given.
 
     Returns the written paths by kind. `out_dir` must exist.
     """
@@ -104,14 +108,16 @@ def measure_report(
     picture = render_png(v, body.faces, ("front", "right", "back"), title=title, overlays=paths)  # the tapes are on the right
     if posed:
         rest = measure(body)
-        strain = skin_strain(body.vertices, v, body.faces)
+        fine = fine_skin(body)
+        surface = (v, body.faces) if fine_vertices is None else (fine_vertices, fine.faces)
+        strain = skin_strain(body.vertices if fine_vertices is None else fine.vertices, *surface)
         zones = zone_strains(body, strain)
         document["rest_measurements"] = _json_values(rest)
         document["zone_strain_percent"] = {name: asdict(z) for name, z in zones.items()}
         written["zones"] = out / "strain_zones.csv"
         written["strain"] = out / "strain.png"
         write_bytes_atomically(written["zones"], _zones_csv(zones).encode())
-        write_bytes_atomically(written["strain"], strain_heatmap(v, body.faces, strain, title=title))
+        write_bytes_atomically(written["strain"], strain_heatmap(*surface, strain, title=title))
     write_bytes_atomically(written["json"], (json.dumps(document, indent=2, allow_nan=False) + "\n").encode())
     write_bytes_atomically(written["csv"], _measurements_csv(values).encode())
     write_bytes_atomically(written["picture"], picture)

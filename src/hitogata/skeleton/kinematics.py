@@ -19,6 +19,9 @@ from hitogata.errors import HitogataError
 from hitogata.options import LIMIT_MODES, Limits
 from hitogata.skeleton.placement import Skeleton
 
+# Limits are shown to 0.1°: an angle within half that digit of a limit is on it (a value read
+# back from a message, a file or another unit is accepted, not refused as outside itself).
+LIMIT_TOLERANCE = np.radians(0.05)
 
 
 @dataclass(frozen=True, eq=False)
@@ -137,9 +140,9 @@ class Kinematics:
 
 
 def limit_violations(skeleton: Skeleton, angles: np.ndarray) -> np.ndarray:
-    """Boolean mask, same shape as angles: outside the DOF's range of motion."""
+    """Boolean mask, same shape as angles: outside the DOF's range of motion (beyond `LIMIT_TOLERANCE`)."""
     a = np.asarray(angles, dtype=float)
-    return (a < skeleton.lower) | (a > skeleton.upper)
+    return (a < skeleton.lower - LIMIT_TOLERANCE) | (a > skeleton.upper + LIMIT_TOLERANCE)
 
 
 def forward_kinematics(

@@ -1,0 +1,110 @@
+"""Skin stretch on lines drawn on the skin, for the extreme poses, by skinning and by the elastic body.
+
+For both default bodies and each pose of issue 12 (elbow 150°, knee 135°,
+hip flexion 120°, seated, hip adduction 30°, shoulder flexion 180°, shoulder
+abduction 170°, neck flexion 45°, trunk flexion 80°, trunk rotation 45°):
+the change of length (%) of the lines of `hitogata.measure.body_lines`
+(left side), measured on the fine skin (`hitogata.measure.fine_skin`) posed
+by linear blend skinning, by dual-quaternion skinning, and by the elastic
+body (DQS + the quasi-static correction, `hitogata.dynamics.single_pose`);
+with the fine skin's area stretched beyond +100 % (λ1 > 2, and area ratio
+> 2) and its 99.9th percentile (by area) of λ1 − 1, and the elastic body's
+inverted elements and largest tissue-region volume change. Prints a Markdown table
+(docs/measurements.md). Slow: the whole-body model per body, a quasi-static
+solve per pose.
+
+    PYTHONPATH=src python benchmarks/skin_stretch_lines.py [female|male ...]
+"""
+
+from __future__ import annotations
+
+import sys
+import time
+
+import numpy as np
+
+from hitogata.body import default_body
+from hitogata.dynamics.single_pose import elastic_dynamics, elastic_pose
+from hitogata.measure.body_lines import LINE_NAMES, body_lines
+from hitogata.measure.fine_skin import fine_skinning
+from hitogata.measure.strain import skin_strain
+
+SPINE = [f"lumbar_{i}" for i in range(1, 6)] + [f"thoracic_{i}" for i in range(1, 13)]
+NECK = [f"cervical_{i}" for i in range(1, 8)] + ["head"]
+SHORT = {
+    "elbow_posterior": "elbow post.", "elbow_circumference": "elbow circ.", "knee_anterior": "knee ant.",
+    "knee_posterior": "knee post.", "knee_circumference": "knee circ.", "back_width": "back width",
+    "seat_vertical": "seat vert.",
+}
+
+
+def at_limit(skeleton, parts: list[str], dof: str) -> dict[str, float]:
+    """Clinical angles (radians) putting every segment of a region at the upper end of its range."""
+    out = {}
+    for part in parts:
+        k = skeleton.dof_index(f"{part}.{dof}")
+        out[f"{part}.{dof}"] = float(skeleton.rest[k] + skeleton.upper[k])
+    return out
+
+
+def poses(skeleton) -> dict[str, dict[str, float]]:
+    """The issue's extreme poses as clinical angles, radians."""
+    d = np.radians
+    return {
+        "elbow 150°": {"forearm_l.flexion": d(150)},
+        "knee 135°": {"shank_l.flexion": d(135)},
+        "hip flexion 120°": {"thigh_l.flexion": d(120)},
+        "seated 90/90": {"thigh_l.flexion": d(90), "thigh_r.flexion": d(90),
+                         "shank_l.flexion": d(90), "shank_r.flexion": d(90)},
+        "hip adduction 30°": {"thigh_l.abduction": d(-30)},
+        "shoulder flexion 180°": {"shoulder_l.flexion": d(180)},
+        "shoulder abduction 170°": {"shoulder_l.abduction": d(170)},
+        "neck flexion 45°": at_limit(skeleton, NECK, "flexion"),
+        "trunk flexion 80°": at_limit(skeleton, SPINE, "flexion"),
+        "trunk rotation 45°": at_limit(skeleton, SPINE, "rotation"),
+    }
+
+
+def stretch_peaks(strain) -> str:
+    """Skin stretched beyond +100 % (cm², by λ1 and by area) and the 99.9th percentile (by area) of λ1 − 1."""
+    ok = np.isfinite(strain.stretch_max)
+    area, lam, ratio = strain.rest_area[ok], strain.stretch_max[ok], strain.area_ratio[ok]
+    order = np.argsort(lam)
+    p999 = lam[order][np.searchsorted(np.cumsum(area[order]) / area.sum(), 0.999)]
+    return f"{area[lam > 2].sum() * 1e4:.0f} | {area[ratio > 2].sum() * 1e4:.0f} | {p999 - 1:+.0%}"
+
+
+def main(sexes: list[str]) -> None:
+    print("| body | pose | surface | " + " | ".join(SHORT[n] for n in LINE_NAMES)
+          + " | λ1 > 2 cm² | area > 2 cm² | λ1 p99.9 | inverted | volume |")
+    print("|---|---|---|" + "---:|" * (len(LINE_NAMES) + 5))
+    for sex in sexes:
+        body = default_body(sex)
+        start = time.perf_counter()
+        dynamics = elastic_dynamics(body)
+        print(f"<!-- {sex}: whole-body model in {time.perf_counter() - start:.0f} s -->", flush=True)
+        poser = dynamics.poser
+        fine = fine_skinning(body, poser.skin)
+        lines = body_lines(body, fine.fine.vertices, fine.fine.faces)
+        rest = {n: lines[n].length(fine.fine.vertices) for n in LINE_NAMES}
+        for pose, clinical in poses(poser.skeleton).items():
+            start = time.perf_counter()
+            held = elastic_pose(dynamics, clinical=clinical)
+            seconds = time.perf_counter() - start
+            lbs = poser.pose(clinical=clinical, skinning="lbs")
+            surfaces = {
+                "LBS": (fine.surface(lbs.pose, "lbs"), None),
+                "DQS": (fine.surface(held.posed.pose, "dqs"), None),
+                "elastic": (held.fine_vertices(), held.quality),
+            }
+            for name, (v, quality) in surfaces.items():
+                cells = [f"{(lines[n].length(v) / rest[n] - 1) * 100:+.0f}" for n in LINE_NAMES]
+                worst = max(quality.region_change.values(), key=abs) if quality else 0.0
+                extra = f"{quality.inverted} | {worst * 100:+.2f}%" if quality else "|"
+                peaks = stretch_peaks(skin_strain(fine.fine.vertices, v, fine.fine.faces))
+                print(f"| {sex} | {pose} | {name} | " + " | ".join(cells) + f" | {peaks} | {extra} |", flush=True)
+            print(f"<!-- {sex} {pose}: elastic pose in {seconds:.0f} s -->", flush=True)
+
+
+if __name__ == "__main__":
+    main(sys.argv[1:] or ["female", "male"])

@@ -1,0 +1,86 @@
+"""The elastic skin of one pose: a library call for a posture to measure, draw or write.
+
+`elastic_pose` poses the skeleton (muscles and/or angles, as `Poser.pose`),
+skins the FE nodes (the dynamics' skinning, DQS by default), solves the
+tissue's quasi-static equilibrium about them from rest (no loads, no
+dynamics: a posture held), and carries the nodes' elastic displacement to the
+skin as a simulation frame does (`BodyDynamics.frame`). `elastic_dynamics`
+builds and caches the whole-body model it needs, once per body and size.
+"""
+
+from __future__ import annotations
+
+import weakref
+from collections.abc import Mapping
+from dataclasses import dataclass
+
+import numpy as np
+
+from hitogata.body import Body
+from hitogata.dynamics.motion import BodyDynamics
+from hitogata.dynamics.quality import STATIC_ITERATIONS, PoseQuality, measure
+from hitogata.dynamics.quasistatic import rotate
+from hitogata.measure.fine_skin import fine_skinning
+from hitogata.pose import PosedBody
+
+ELEMENT_SIZE = 40.0  # mm: the whole body's lattice for a held posture (as the large-motion tests)
+
+_CACHE: weakref.WeakKeyDictionary[Body, dict[float, BodyDynamics]] = weakref.WeakKeyDictionary()
+
+
+def elastic_dynamics(body: Body, element_size: float = ELEMENT_SIZE) -> BodyDynamics:
+    """The whole body's elastic model ready for posing (2 modes: statics need none), built once per body."""
+    from hitogata.elastic import build_elastic_model
+
+    per_size = _CACHE.setdefault(body, {})
+    if element_size not in per_size:
+        model = build_elastic_model(body, extent="body", element_size=element_size, n_modes=2)
+        per_size[element_size] = BodyDynamics.build(body, model)
+    return per_size[element_size]
+
+
+@dataclass(frozen=True, eq=False)
+class ElasticPose:
+    """One held posture: the pose, its skinned and elastic skins (coarse), the FE nodes and their figures."""
+
+    posed: PosedBody  # the skeleton's pose; its vertices are skinned by the dynamics' method
+    vertices: np.ndarray  # (V, 3) the elastic skin
+    nodes: np.ndarray  # (N, 3) the FE nodes, elastic
+    quality: PoseQuality  # inversions, region volumes, distortion of the elastic body
+    dynamics: BodyDynamics
+
+    @property
+    def faces(self) -> np.ndarray:
+        return self.posed.faces
+
+    @property
+    def skinned(self) -> np.ndarray:
+        """(V, 3) the skin by skinning alone, the same method."""
+        return self.posed.vertices
+
+    def fine_vertices(self) -> np.ndarray:
+        """(Vf, 3) the fine skin (`hitogata.measure.fine_skin`) carried by the same skinning and elastic field."""
+        poser = self.dynamics.poser
+        return fine_skinning(poser.body, poser.skin).surface(self.posed.pose, self.dynamics.rig.method, self.vertices)
+
+
+def elastic_pose(
+    dynamics: BodyDynamics,
+    angles: Mapping[str, float] | np.ndarray | None = None,
+    clinical: Mapping[str, float] | None = None,
+    contractions: Mapping[str, float] | None = None,
+    lengths: Mapping[str, float] | None = None,
+    on_limit: str = "raise",
+    iterations: int = STATIC_ITERATIONS,
+) -> ElasticPose:
+    """The elastic skin of one posture (names and units as `Poser.pose`), solved from rest."""
+    poser = dynamics.poser
+    posed = poser.pose(contractions, lengths, angles, clinical, dynamics.rig.method, on_limit)
+    g, r = dynamics.rig.pose(posed.pose.rotations, posed.pose.translations)
+    dynamics.statics.quaternions[:] = (1.0, 0.0, 0.0, 0.0)  # from rest, whatever was solved before
+    delta, _ = dynamics.quasi_static(g[0], r[0], None, None, iterations)
+    _, skin, _ = dynamics.frame(
+        posed.pose.rotations[0], posed.pose.translations[0], r[0], delta, np.zeros(len(dynamics.eigenvalues))
+    )
+    nodes = g[0] + rotate(r[0], delta)
+    return ElasticPose(posed, skin.astype(float), nodes, measure(dynamics.model, nodes, "elastic"), dynamics)

@@ -1,0 +1,88 @@
+"""A posed surface as OBJ/PLY with a JSON sidecar: a posture `hitogata measure` can read back.
+
+An OBJ or PLY holds positions only. `hitogata pose` writes next to it a JSON
+file of the same name (`posed.ply` → `posed.json`) with the body's shape, the
+pose's rest-relative angles, how the surface was made (`skinning`: lbs/dqs;
+`surface`: skinning or elastic); `read_posed_mesh` rebuilds the body, checks
+the surface is its skin (vertex count), and gives the posture to measure: the
+file's vertices, the rig joints of the pose, and the fine skin
+(`hitogata.measure.fine_skin`) posed by the same skinning plus the file's
+difference from it (the elastic correction, carried to the fine skin).
+"""
+
+from __future__ import annotations
+
+import json
+import os
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import trimesh
+
+from hitogata.body import Body
+from hitogata.errors import HitogataError
+from hitogata.export.atomic import write_bytes_atomically
+from hitogata.export.body_files import body_from_extras
+from hitogata.measure.fine_skin import fine_skinning
+from hitogata.pose import poser_for
+from hitogata.skinning import METHODS, skin_vertices
+
+SURFACES = ("skinning", "elastic")
+
+
+def sidecar_path(path: str | os.PathLike) -> Path:
+    """The JSON file that describes a posed OBJ/PLY."""
+    return Path(path).with_suffix(".json")
+
+
+def write_sidecar(path: str | os.PathLike, extras: dict[str, Any]) -> Path:
+    """Write the sidecar of a posed OBJ/PLY (atomic)."""
+    return write_bytes_atomically(sidecar_path(path), (json.dumps(extras, indent=1, allow_nan=False) + "\n").encode())
+
+
+def posture(body: Body, angles: np.ndarray, skinning: str = "lbs", vertices: np.ndarray | None = None):
+    """(skin vertices, rig joints, fine skin vertices) of a pose; `vertices`: a surface made from it
+    (e.g. the elastic skin), by default the skinned one."""
+    poser = poser_for(body)
+    pose = poser.kinematics.pose(np.asarray(angles, dtype=float))  # as written: checked when it was posed
+    joints = poser.rig_joints(pose.rotations[0], pose.translations[0])
+    v = skin_vertices(poser.skin, pose.rotations, pose.translations, skinning)[0] if vertices is None else vertices
+    fine = fine_skinning(body, poser.skin).surface(pose, skinning, vertices)
+    return v, joints, fine
+
+
+def read_posed_mesh(path: Path) -> tuple[Body, np.ndarray, np.ndarray, np.ndarray]:
+    """Body, skin vertices, rig joints and fine skin vertices of a posed OBJ/PLY with its sidecar."""
+    side = sidecar_path(path)
+    if not path.is_file():
+        raise HitogataError(f"{path}: no such file")
+    if not side.is_file():
+        raise HitogataError(
+            f"{path}: no {side.name} beside it; allowed a .glb written by `hitogata body` or `hitogata pose`, "
+            "or an .obj/.ply written by `hitogata pose` with its .json"
+        )
+    try:
+        extras = json.loads(side.read_text())
+    except (OSError, ValueError) as err:
+        raise HitogataError(f"{side}: not a hitogata pose description ({err})") from None
+    if not isinstance(extras, dict):
+        raise HitogataError(f"{side}: not a hitogata pose description (expected a JSON object)")
+    body = body_from_extras(side, extras)
+    angles = extras.get("angles_rad")
+    if not isinstance(angles, list) or len(angles) != poser_for(body).skeleton.n_dofs:
+        raise HitogataError(f"{side}: angles_rad: allowed {poser_for(body).skeleton.n_dofs} angles in radians")
+    skinning = extras.get("skinning", "lbs")
+    if skinning not in METHODS:
+        raise HitogataError(f"{side}: skinning = {skinning!r}: allowed {', '.join(METHODS)}")
+    try:
+        mesh = trimesh.load(path, process=False, force="mesh")
+    except Exception as err:  # noqa: BLE001 -- trimesh raises many kinds on a broken file
+        raise HitogataError(f"{path}: not a readable mesh ({err})") from None
+    vertices = np.asarray(mesh.vertices, dtype=float)
+    if vertices.shape != body.vertices.shape or not np.isfinite(vertices).all():
+        raise HitogataError(
+            f"{path}: {len(vertices)} vertices, allowed {len(body.vertices)} finite ones (the hitogata skin)"
+        )
+    v, joints, fine = posture(body, np.asarray(angles, dtype=float), skinning, vertices)
+    return body, v, joints, fine

@@ -1,0 +1,68 @@
+"""A pose you can measure: the elastic skin of one pose from one call, written by `hitogata pose
+--elastic`, read back by `hitogata measure` (OBJ/PLY with the pose beside it as JSON)."""
+
+import json
+
+import numpy as np
+import pytest
+
+from hitogata.cli import main
+from hitogata.dynamics.single_pose import elastic_dynamics, elastic_pose
+from hitogata.measure.body_lines import body_lines
+from hitogata.measure.fine_skin import fine_skinning
+from hitogata.pose import poser_for
+
+
+@pytest.fixture()
+def female_args(female, monkeypatch):
+    monkeypatch.setattr("hitogata.commands.posing.body_from_args", lambda args: female)
+    monkeypatch.setattr("hitogata.commands.pose.body_from_args", lambda args: female)
+    return female
+
+
+def test_elastic_pose_returns_the_elastic_skin(female):
+    held = elastic_pose(elastic_dynamics(female), clinical={"forearm_l.flexion": np.radians(120)})
+    assert held.vertices.shape == female.vertices.shape and np.isfinite(held.vertices).all()
+    assert held.quality.inverted == 0
+    moved = np.linalg.norm(held.vertices - held.skinned, axis=1)
+    assert 0.001 < moved.max() < 0.05  # the quasi-static correction: mm to cm at the bent elbow
+    fine = held.fine_vertices()
+    fs = fine_skinning(female, poser_for(female).skin).fine
+    assert fine.shape == fs.vertices.shape
+    assert np.abs(fine[: len(female.vertices)] - held.vertices).max() < 1e-9  # the fine skin carries it
+    lines = body_lines(female, fs.vertices, fs.faces)
+    line = lines["elbow_posterior"]
+    assert line.length(fine) > line.length(fs.vertices)  # the skin over the olecranon stretches
+
+
+def test_pose_elastic_writes_a_measurable_file(tmp_path, female_args, capsys):
+    out = tmp_path / "bent.glb"
+    assert main(["pose", "--elastic", "--angle", "elbow_l.flexion=120deg", "--out", str(out)]) == 0
+    printed = capsys.readouterr().out
+    mesh, side = tmp_path / "bent_elastic.ply", tmp_path / "bent_elastic.json"
+    assert out.is_file() and mesh.is_file() and side.is_file()
+    assert "elastic body: elastic  inverted    0" in printed
+    extras = json.loads(side.read_text())
+    assert extras["surface"] == "elastic" and extras["skinning"] == "dqs"
+    assert extras["clinical_angles_deg"]["forearm_l.flexion"] == pytest.approx(120.0)
+    report = tmp_path / "report"
+    assert main(["measure", str(mesh), "--out", str(report)]) == 0
+    zones = json.loads((report / "measurements.json").read_text())["zone_strain_percent"]
+    assert zones["elbow_left"]["stretch_mean"] > 5.0 and abs(zones["knee_left"]["stretch_mean"]) < 0.5
+    assert (report / "strain.png").is_file()
+
+
+def test_measure_reads_a_dqs_obj_with_its_json(tmp_path, female_args, capsys):
+    out = tmp_path / "twist.obj"
+    assert main(["pose", "--skinning", "dqs", "--angle", "knee_l.flexion=90deg", "--out", str(out)]) == 0
+    assert (tmp_path / "twist.json").is_file()
+    assert main(["measure", str(out), "--out", str(tmp_path / "r")]) == 0
+    zones = json.loads((tmp_path / "r" / "measurements.json").read_text())["zone_strain_percent"]
+    assert zones["knee_left"]["stretch_mean"] > 5.0 and abs(zones["elbow_left"]["stretch_mean"]) < 0.5
+    (tmp_path / "twist.json").unlink()
+    capsys.readouterr()
+    assert main(["measure", str(out), "--out", str(tmp_path / "r2")]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.endswith(f"{out}: no twist.json beside it; allowed a .glb written by `hitogata body` or "
+                        "`hitogata pose`, or an .obj/.ply written by `hitogata pose` with its .json")
+    assert not (tmp_path / "r2" / "measurements.json").exists()

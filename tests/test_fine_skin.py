@@ -1,0 +1,77 @@
+"""The fine skin: fine enough that a 10 cm line crosses ≥ 20 triangles at elbow and knee, and it
+measures the same stretch as the skin where the deformation is smooth."""
+
+import numpy as np
+import pytest
+
+from hitogata.body import Body
+from hitogata.measure.body_lines import body_lines
+from hitogata.measure.fine_skin import LEVELS, fine_skin, fine_skinning
+from hitogata.measure.strain import skin_strain
+from hitogata.measure.zones import zone_strains
+from hitogata.pose import poser_for
+
+LINES_10CM = ("elbow_posterior", "knee_anterior", "knee_posterior")
+
+
+@pytest.fixture(scope="module", params=["female", "male", "short thin", "tall heavy"])
+def body(request, female, male):
+    if request.param == "short thin":
+        return Body.from_measurements(sex="female", age=30, stature=1.50, mass=18.0 * 1.50**2)
+    if request.param == "tall heavy":
+        return Body.from_measurements(sex="male", age=30, stature=1.95, mass=35.0 * 1.95**2)
+    return {"female": female, "male": male}[request.param]
+
+
+def test_a_10cm_line_crosses_at_least_20_triangles_at_elbow_and_knee(body):
+    fine = fine_skin(body)
+    assert len(fine.faces) == 16 * len(body.faces) and LEVELS == 2
+    coarse_lines, fine_lines = body_lines(body), body_lines(body, fine.vertices, fine.faces)
+    for name in LINES_10CM:
+        line = fine_lines[name]
+        assert line.crossings >= 20, (name, line.crossings)
+        assert line.crossings >= 3.5 * coarse_lines[name].crossings
+        assert 0.09 <= line.length(fine.vertices) <= 0.115  # ±5 cm along the limb, over the skin
+    # the rest surface is the skin's own: a closed line round the limb is as long on both
+    for name in ("elbow_circumference", "knee_circumference"):
+        assert fine_lines[name].length(fine.vertices) == pytest.approx(
+            coarse_lines[name].length(body.vertices), rel=1e-9
+        )
+
+
+def test_fine_and_coarse_stretch_agree_on_a_smooth_deformation(female):
+    """A smooth nonlinear map of the whole body: each zone's mean stretch and area change agree to
+    0.01 percentage points, each coarse triangle's stretch with its 16 fine ones' mean to 1.5 %."""
+    fine = fine_skin(female)
+
+    def bend(x):
+        y = x[:, 1]
+        return np.stack([x[:, 0] * (1 + 0.2 * np.sin(3 * y)), 1.05 * y, x[:, 2] + 0.3 * x[:, 0] ** 2], axis=1)
+
+    coarse = skin_strain(female.vertices, bend(female.vertices), female.faces)
+    finer = skin_strain(fine.vertices, bend(fine.vertices), fine.faces)
+    zc, zf = zone_strains(female, coarse), zone_strains(female, finer)
+    for name in zc:
+        assert zf[name].stretch_mean == pytest.approx(zc[name].stretch_mean, abs=0.01)
+        assert zf[name].area_change == pytest.approx(zc[name].area_change, abs=0.01)
+    area = finer.rest_area
+    n = len(female.faces)
+    mean = np.bincount(fine.parent, area * finer.stretch_max, n) / np.bincount(fine.parent, area, n)
+    ok = np.isfinite(coarse.stretch_max) & np.isfinite(mean)
+    assert np.abs(mean - coarse.stretch_max)[ok].max() < 0.015
+
+
+def test_the_fine_skin_is_posed_by_the_same_skinning(female):
+    """At rest it is its rest surface; posed, its vertices at the coarse vertices are the coarse skin's,
+    and an elastic difference of the coarse skin is carried by interpolation."""
+    poser = poser_for(female)
+    fs = fine_skinning(female, poser.skin)
+    n = len(female.vertices)
+    rest = poser.pose()
+    assert np.abs(fs.surface(rest.pose, "lbs") - fs.fine.vertices).max() < 1e-12
+    for method in ("lbs", "dqs"):
+        posed = poser.pose(clinical={"shank_l.flexion": np.radians(90)}, skinning=method)
+        fine_posed = fs.surface(posed.pose, method)
+        assert np.abs(fine_posed[:n] - posed.vertices).max() < 1e-12  # subdivision keeps the coarse vertices first
+        push = posed.vertices + np.array([0.0, 0.0, 0.01])
+        assert np.abs(fs.surface(posed.pose, method, push) - fine_posed - [0.0, 0.0, 0.01]).max() < 1e-12
