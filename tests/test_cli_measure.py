@@ -32,7 +32,7 @@ def test_body_measure_prints_table(tmp_path: Path, capsys) -> None:
 
 @pytest.mark.parametrize("name,content,message", [
     ("missing.glb", None, "no such file"),
-    ("body.obj", b"v 0 0 0\n", "unknown file suffix '.obj'; allowed a file (.glb, .npz) or a folder"),
+    ("body.obj", b"v 0 0 0\n", "no body.json beside it; allowed a .glb written by `hitogata body` or `hitogata pose`, or an .obj/.ply written by `hitogata pose` with its .json"),
 ])
 def test_measure_bad_input(tmp_path: Path, capsys, name: str, content: bytes | None, message: str) -> None:
     path = tmp_path / name

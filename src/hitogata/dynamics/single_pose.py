@@ -18,7 +18,7 @@ import numpy as np
 
 from hitogata.body import Body
 from hitogata.dynamics.motion import BodyDynamics
-from hitogata.dynamics.quality import STATIC_ITERATIONS, PoseQuality, measure
+from hitogata.dynamics.quality import STATIC_ITERATIONS, PoseQuality, pose_quality
 from hitogata.dynamics.quasistatic import rotate
 from hitogata.measure.fine_skin import fine_skinning
 from hitogata.pose import PosedBody
@@ -83,4 +83,4 @@ def elastic_pose(
         posed.pose.rotations[0], posed.pose.translations[0], r[0], delta, np.zeros(len(dynamics.eigenvalues))
     )
     nodes = g[0] + rotate(r[0], delta)
-    return ElasticPose(posed, skin.astype(float), nodes, measure(dynamics.model, nodes, "elastic"), dynamics)
+    return ElasticPose(posed, skin.astype(float), nodes, pose_quality(dynamics.model, nodes, "elastic"), dynamics)
