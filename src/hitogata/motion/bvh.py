@@ -210,6 +210,7 @@ def _joint(tokens: _Tokens, joints: list[BvhJoint], parent: int) -> None:
     channels = []
     for _ in range(int(count)):
         word, at = tokens.next("a channel name")
+        word = word.capitalize()  # 'zrotation' and 'ZROTATION' are seen in the wild
         if word not in CHANNELS or word in channels:
             raise tokens.fail(f"{name}: channel {word!r}; allowed each of {', '.join(CHANNELS)} at most once", at)
         channels.append(word)
