@@ -11,10 +11,10 @@ import os
 import sys
 from typing import Sequence
 
-from hitogata.commands import body, demo, measure, modes, motion, pose, simulate, skeleton, view
+from hitogata.commands import body, demo, ease, measure, modes, motion, pose, simulate, skeleton, view
 from hitogata.errors import HitogataError
 
-COMMANDS = (body, demo, measure, modes, motion, pose, simulate, skeleton, view)
+COMMANDS = (body, demo, ease, measure, modes, motion, pose, simulate, skeleton, view)
 
 
 def build_parser() -> argparse.ArgumentParser:

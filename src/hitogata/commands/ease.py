@@ -1,0 +1,65 @@
+"""`hitogata ease`: dynamic ease of a body through mobility motions — tables (CSV, JSON) and a plot."""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+from hitogata.commands.args import add_body_arguments
+from hitogata.commands.body import body_from_args
+from hitogata.dynamics.scenario import load_scenario, shipped_scenarios
+from hitogata.errors import HitogataError
+from hitogata.export.atomic import write_bytes_atomically
+from hitogata.garment.ease import dynamic_ease, ease_csv, ease_json, overall, skinned_surface
+from hitogata.motion.clip import scenario_clip
+from hitogata.pose import poser_for
+
+DEFAULT_MOTIONS = "reach_forward,arms_crossed,arms_overhead,sit,deep_squat,stride,toe_touch,trunk_twist"
+
+
+def scenario_path(name: str) -> Path:
+    """A shipped scenario by name (with or without 'mobility_') or a scenario file."""
+    shipped = shipped_scenarios()
+    for candidate in (name, f"mobility_{name}"):
+        if candidate in shipped:
+            return shipped[candidate]
+    if Path(name).suffix == ".toml":
+        return Path(name)
+    mobility = sorted(n.removeprefix("mobility_") for n in shipped if n.startswith("mobility_"))
+    raise HitogataError(f"--motions: {name!r}; allowed a scenario file (.toml) or {', '.join(mobility)}")
+
+
+def run(args: argparse.Namespace) -> None:
+    from hitogata.garment.ease_plot import ease_plot
+
+    out = Path(args.out)
+    names = [n.strip() for n in args.motions.split(",") if n.strip()]
+    paths = {Path(n).stem.removeprefix("mobility_"): scenario_path(n) for n in names}
+    scenarios = {name: load_scenario(path) for name, path in paths.items()}  # all checked before the long work
+    if not (args.rate > 0):
+        raise HitogataError(f"--rate {args.rate}: allowed frames per second > 0")
+    out.mkdir(parents=True, exist_ok=True)
+    body = body_from_args(args)
+    poser = poser_for(body)
+    clips = {name: scenario_clip(s, poser) for name, s in scenarios.items()}
+    results = dynamic_ease(body, clips, skinned_surface(body, args.skinning), args.rate)
+    write_bytes_atomically(out / "ease.csv", ease_csv(results).encode())
+    write_bytes_atomically(out / "ease.json", ease_json(results).encode())
+    write_bytes_atomically(out / "ease.png", ease_plot(results, f"dynamic ease: {body.stature * 100:.0f} cm, "
+                                                                 f"{body.mass:.0f} kg"))
+    print(f"{out}/: ease.csv, ease.json, ease.png ({len(results)} motions)")
+    for row in overall(results):
+        if row["increase_cm"] > 0.05 or row["decrease_cm"] < -0.05:
+            print(f"  {row['measurement']:20s} {row['standing_cm']:6.1f} cm  +{row['increase_cm']:5.1f} "
+                  f"({row['increase_in']})  {row['decrease_cm']:6.1f} ({row['decrease_in']})")
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    parser = sub.add_parser("ease", help="dynamic ease: each girth and length through mobility motions")
+    add_body_arguments(parser)
+    parser.add_argument("--motions", default=DEFAULT_MOTIONS,
+                        help=f"comma-separated shipped motions or scenario files; default {DEFAULT_MOTIONS}")
+    parser.add_argument("--skinning", choices=("dqs", "lbs"), default="dqs", help="the surface's source; default dqs")
+    parser.add_argument("--rate", type=float, default=5.0, help="frames measured per second of motion; default 5")
+    parser.add_argument("--out", default="ease", help="output folder; default ./ease")
+    parser.set_defaults(run=run)
