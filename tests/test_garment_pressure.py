@@ -130,3 +130,24 @@ def test_sitting_stretches_the_knee_thigh_and_seat(male):
     assert sitting["knee"].strain == pytest.approx(0.3433, abs=0.002)
     assert sitting["knee"].peak_pressure > 2 * rest["knee"].peak_pressure
     assert sitting["thigh"].mean_pressure > 1.2 * rest["thigh"].mean_pressure
+
+
+@pytest.mark.parametrize("sex", ["female", "male"])
+def test_the_pressure_map_covers_the_garment_and_nothing_else(request, sex):
+    from hitogata.garment.levels import level_planes
+    from hitogata.garment.pressure_map import pressure_map
+    from hitogata.measure.axes import JointSet
+
+    body = request.getfixturevalue(sex)
+    v = body.vertices
+    garment, fabric = Garment(ease=-0.15), Fabric.linear(400.0)
+    result = pressure_map(body, garment, fabric)
+    planes = level_planes(body, v, JointSet(body.rig.names, body.rig.heads))
+    between = (v[:, 1] > planes["ankle"][0][1]) & (v[:, 1] < planes["thigh"][0][1] - 0.01)
+    right_leg, left_leg = between & (v[:, 0] < -0.02), between & (v[:, 0] > 0.02)
+    assert np.isfinite(result.pressure[right_leg]).all() and np.isnan(result.pressure[left_leg]).all()
+    assert all(s["strain"] == pytest.approx(0.15 / 0.85, rel=1e-9) for s in result.sections)
+    levels = garment_pressure(body, garment, fabric)
+    assert np.nanmax(result.pressure) == pytest.approx(max(r.peak_pressure for r in levels.values()), rel=0.05)
+    above = v[:, 1] > planes["waist"][0][1] + 0.02
+    assert np.isnan(result.pressure[above]).all()
