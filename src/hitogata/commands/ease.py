@@ -1,4 +1,4 @@
-"""`hitogata ease`: dynamic ease of a body through mobility motions — tables (CSV, JSON) and a plot."""
+"""`hitogata ease`: dynamic ease and zone stretch of a body through mobility motions — tables (CSV, JSON), a plot."""
 
 from __future__ import annotations
 
@@ -11,6 +11,7 @@ from hitogata.dynamics.scenario import load_scenario, shipped_scenarios
 from hitogata.errors import HitogataError
 from hitogata.export.atomic import write_bytes_atomically
 from hitogata.garment.ease import dynamic_ease, ease_csv, ease_json, overall, skinned_surface
+from hitogata.garment.stretch import stretch_csv, stretch_table
 from hitogata.motion.clip import scenario_clip
 from hitogata.pose import poser_for
 
@@ -42,12 +43,15 @@ def run(args: argparse.Namespace) -> None:
     body = body_from_args(args)
     poser = poser_for(body)
     clips = {name: scenario_clip(s, poser) for name, s in scenarios.items()}
-    results = dynamic_ease(body, clips, skinned_surface(body, args.skinning), args.rate)
+    surface = skinned_surface(body, args.skinning)
+    results = dynamic_ease(body, clips, surface, args.rate)
+    stretch = stretch_table(body, clips, surface, args.rate)
     write_bytes_atomically(out / "ease.csv", ease_csv(results).encode())
     write_bytes_atomically(out / "ease.json", ease_json(results).encode())
     write_bytes_atomically(out / "ease.png", ease_plot(results, f"dynamic ease: {body.stature * 100:.0f} cm, "
                                                                  f"{body.mass:.0f} kg"))
-    print(f"{out}/: ease.csv, ease.json, ease.png ({len(results)} motions)")
+    write_bytes_atomically(out / "stretch.csv", stretch_csv(stretch).encode())
+    print(f"{out}/: ease.csv, ease.json, ease.png, stretch.csv ({len(results)} motions)")
     for row in overall(results):
         if row["increase_cm"] > 0.05 or row["decrease_cm"] < -0.05:
             print(f"  {row['measurement']:20s} {row['standing_cm']:6.1f} cm  +{row['increase_cm']:5.1f} "
