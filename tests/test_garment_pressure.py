@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from measure_shapes import circle, ellipse, prism
 
 from hitogata.body import Body
 from hitogata.errors import HitogataError
@@ -13,7 +14,6 @@ from hitogata.measure import posed_rig_heads
 from hitogata.measure.sections import tape_girth
 from hitogata.measure.topology import topology
 from hitogata.pose import pose_body
-from measure_shapes import circle, ellipse, prism
 
 UP = np.array([0.0, 1.0, 0.0])
 
@@ -44,7 +44,7 @@ def test_elliptic_cylinder_pressure_follows_the_local_curvature():
 def test_a_hollow_bridged_by_the_fabric_gets_no_pressure():
     t = np.linspace(0, 2 * np.pi, 720, endpoint=False)
     r = 0.05 * (1 - 0.15 * np.cos(2 * t) ** 8)  # two shallow dents
-    profile, pressure = section_pressure(np.stack([r * np.cos(t), -r * np.sin(t)], 1), 80.0, window=0.004)
+    _, pressure = section_pressure(np.stack([r * np.cos(t), -r * np.sin(t)], 1), 80.0, window=0.004)
     assert (pressure < 1e-6).sum() > 0.05 * len(pressure)
 
 

@@ -4,12 +4,12 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from test_garment_ease import rigid_clip
 
 from hitogata.dynamics.scenario import load_scenario, shipped_scenarios
 from hitogata.garment.stretch import GARMENT_ZONES, directional_strain, garment_zones, stretch_csv, zone_stretch
 from hitogata.motion.clip import scenario_clip
 from hitogata.pose import poser_for
-from test_garment_ease import rigid_clip
 
 
 def test_directional_strain_of_a_stretched_triangle():

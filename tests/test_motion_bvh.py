@@ -90,14 +90,16 @@ def other_tool_bvh(poser, clip, order: str, unit: float, turn: float, walk: floa
         else:
             rest_t[name] = t_pose.joints[0, part[parts[0]]]
     children = {name: [c for c, p, _ in CMU if p == name] for name, _, _ in CMU}
+    parts_of = {name: parts for name, _, parts in CMU}
+    parent_of = {name: parent for name, parent, _ in CMU}
 
     def directions(name, joints, tails):
-        kids = [c for c in children[name] if dict((a, b) for a, _, b in CMU)[c] is not None]
+        """The joint's rest bone directions: to its mapped children, or (a leaf) to its last part's tail."""
+        start = joints[part[parts_of[name][0]]]
+        kids = [c for c in children[name] if parts_of[c] is not None]
         if kids:
-            return [joints[part[dict((a, b) for a, _, b in CMU)[c][0]]] - joints[part[dict((a, b) for a, _, b in CMU)[name][0]]]
-                    for c in kids]
-        last = dict((a, b) for a, _, b in CMU)[name][-1]
-        return [tails[part[last]] - joints[part[dict((a, b) for a, _, b in CMU)[name][0]]]]
+            return [joints[part[parts_of[c][0]]] - start for c in kids]
+        return [tails[part[parts_of[name][-1]]] - start]
 
     world = {}  # their joints' world rotations per frame, in their world
     for name, parent, parts in CMU:
@@ -107,8 +109,7 @@ def other_tool_bvh(poser, clip, order: str, unit: float, turn: float, walk: floa
         theirs = directions(name, t_pose.joints[0], t_pose.tails[0])
         ours = directions(name, sk.joints, sk.tails)
         # their rest orientation of this bone relative to ours: the rotation taking our rest bones onto theirs
-        align = Rotation.align_vectors(np.array(theirs), np.array(ours))[0].as_matrix() if len(ours) > 1 else \
-            Rotation.align_vectors(np.array(theirs), np.array(ours))[0].as_matrix()
+        align = Rotation.align_vectors(np.array(theirs), np.array(ours))[0].as_matrix()
         motion = posed.rotations[:, part[parts[-1]]] if name != "Hips" else posed.rotations[:, 0]
         world[name] = up_z @ motion @ align.T @ up_z.T
     channels = " ".join(f"{axis}rotation" for axis in order)
@@ -116,7 +117,7 @@ def other_tool_bvh(poser, clip, order: str, unit: float, turn: float, walk: floa
 
     def emit(name, depth):
         pad = "  " * depth
-        parent = dict((a, p) for a, p, _ in CMU)[name]
+        parent = parent_of[name]
         offset = up_z @ (rest_t[name] - (rest_t[parent] if parent else 0.0)) / unit
         lines.extend([f"{pad}{'ROOT' if parent is None else 'JOINT'} {name}", f"{pad}{{",
                       f"{pad}  OFFSET {offset[0]:.6f} {offset[1]:.6f} {offset[2]:.6f}",
@@ -130,8 +131,8 @@ def other_tool_bvh(poser, clip, order: str, unit: float, turn: float, walk: floa
             emit(child, depth + 1)
         if name in LEAVES:
             tip = up_z @ (t_pose.tails[0, part[LEAVES[name]]] - t_pose.joints[0, part[LEAVES[name]]]) / unit
-            lines.extend([f"{pad}  End Site", f"{pad}  {{", f"{pad}    OFFSET {tip[0]:.6f} {tip[1]:.6f} {tip[2]:.6f}",
-                          f"{pad}  }}"])
+            lines.extend([f"{pad}  End Site", f"{pad}  {{",
+                          f"{pad}    OFFSET {tip[0]:.6f} {tip[1]:.6f} {tip[2]:.6f}", f"{pad}  }}"])
         lines.append(f"{pad}}}")
 
     emit("Hips", 0)
@@ -158,8 +159,8 @@ def test_another_tools_bvh_imports_to_the_joint_angles_it_encodes(scene, order, 
     turn = Rotation.from_matrix(result.clip.root[-1, :3, :3]).as_rotvec()
     assert np.degrees(turn) == pytest.approx([0, 30, 0], abs=0.01)
     pelvis = poser.skeleton.joints[0]
-    assert result.clip.root[-1, :3, :3] @ pelvis + result.clip.root[-1, :3, 3] == pytest.approx(pelvis + [0, 0, 0.4],
-                                                                                                  abs=1e-4)
+    moved = result.clip.root[-1, :3, :3] @ pelvis + result.clip.root[-1, :3, 3]
+    assert moved == pytest.approx(pelvis + [0, 0, 0.4], abs=1e-4)
 
 
 GOOD = """HIERARCHY
@@ -187,7 +188,8 @@ Frame Time: 0.04
 
 @pytest.mark.parametrize("old, new, said", [
     ("CHANNELS 3 Zrotation", "CHANNELS 3 Wrotation", "line 9: Spine: channel 'Wrotation'; allowed each of"),
-    ("OFFSET 0 10 0\n    CHANNELS", "OFFSET 0 ten 0\n    CHANNELS", "line 8: Spine OFFSET: 'ten'; allowed a finite number"),
+    ("OFFSET 0 10 0\n    CHANNELS", "OFFSET 0 ten 0\n    CHANNELS",
+     "line 8: Spine OFFSET: 'ten'; allowed a finite number"),
     ("0 90 0 0 0 0 0 10 0", "0 90 0 0 0 0 0 1O 0", "line 20: channel value '1O'; allowed a finite number"),
     ("0 90 0 0 0 0 0 10 0", "0 90 0 0 0 0 0 10", "line 20: 17 channel values for 2 frames of 9 channels; allowed 18"),
     ("Frames: 2", "Frames: 0", "line 17: frame count 0; allowed a whole number"),

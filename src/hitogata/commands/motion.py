@@ -45,7 +45,7 @@ def run_export(args: argparse.Namespace) -> None:
     if out.suffix != ".bvh":
         raise HitogataError(f"--out {args.out}: allowed a .bvh file")
     shipped = shipped_scenarios()
-    scenario = load_scenario(shipped[args.scenario] if args.scenario in shipped else args.scenario)
+    scenario = load_scenario(shipped.get(args.scenario, args.scenario))
     poser = poser_for(make_body(scenario.body))
     clip = scenario_clip(scenario, poser, args.rate)
     write_bytes_atomically(out, write_bvh(export_bvh(poser.skeleton, clip, str(out))).encode())

@@ -54,10 +54,13 @@ class MotionEase:
         for m, name in enumerate(NAMES):
             change = self.change[:, m]
             up, down = int(np.nanargmax(change)), int(np.nanargmin(change))
-            rows.append({"motion": self.motion, "measurement": name, "standing_cm": 100 * self.standing[m],
-                         "increase_cm": max(100 * change[up], 0.0), "increase_pct": max(100 * change[up] / self.standing[m], 0.0),
+            standing = self.standing[m]
+            rows.append({"motion": self.motion, "measurement": name, "standing_cm": 100 * standing,
+                         "increase_cm": max(100 * change[up], 0.0),
+                         "increase_pct": max(100 * change[up] / standing, 0.0),
                          "increase_at_s": float(self.times[up]),
-                         "decrease_cm": min(100 * change[down], 0.0), "decrease_pct": min(100 * change[down] / self.standing[m], 0.0),
+                         "decrease_cm": min(100 * change[down], 0.0),
+                         "decrease_pct": min(100 * change[down] / standing, 0.0),
                          "decrease_at_s": float(self.times[down])})
         return rows
 

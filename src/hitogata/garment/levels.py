@@ -37,7 +37,7 @@ KNEE_SKIN = ("upperleg02.R", "lowerleg01.R")
 
 Plane = tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray | None]  # origin, normal, centre, skin mask
 
-_SHANK: "weakref.WeakKeyDictionary[Body, tuple[float, float]]" = weakref.WeakKeyDictionary()
+_SHANK: weakref.WeakKeyDictionary[Body, tuple[float, float]] = weakref.WeakKeyDictionary()
 
 
 def level_planes(body: Body, vertices: np.ndarray, posed: JointSet) -> dict[str, Plane]:

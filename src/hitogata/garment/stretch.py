@@ -65,7 +65,7 @@ class ZoneStretch:
                 for k, z in enumerate(self.zones)]
 
 
-_BY_BODY: "weakref.WeakKeyDictionary[Body, tuple[dict[str, np.ndarray], np.ndarray]]" = weakref.WeakKeyDictionary()
+_BY_BODY: weakref.WeakKeyDictionary[Body, tuple[dict[str, np.ndarray], np.ndarray]] = weakref.WeakKeyDictionary()
 
 
 def garment_zones(body: Body) -> tuple[dict[str, np.ndarray], np.ndarray]:

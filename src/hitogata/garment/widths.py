@@ -32,7 +32,7 @@ from hitogata.body import Body
 from hitogata.errors import HitogataError
 from hitogata.measure.axes import UP, JointSet
 from hitogata.measure.geodesic import SurfaceGeodesics, polyline_length
-from hitogata.measure.sections import section, loops_around
+from hitogata.measure.sections import loops_around, section
 from hitogata.measure.topology import topology
 
 SCAN_STEP = 0.002  # m between the sections scanned for the axilla
@@ -56,7 +56,7 @@ class ArmpitFolds:
     axilla: float
 
 
-_BY_BODY: "weakref.WeakKeyDictionary[Body, ArmpitFolds]" = weakref.WeakKeyDictionary()
+_BY_BODY: weakref.WeakKeyDictionary[Body, ArmpitFolds] = weakref.WeakKeyDictionary()
 
 
 def armpit_folds(body: Body) -> ArmpitFolds:

@@ -70,7 +70,8 @@ class Bvh:
             column += len(j.channels)
             local = _local_rotation(j.channels, values)
             has_position = any(c.endswith("position") for c in j.channels)
-            moved = _local_translation(j.channels, values) if has_position else np.broadcast_to(j.offset, (n_frames, 3))
+            moved = (_local_translation(j.channels, values) if has_position
+                     else np.broadcast_to(j.offset, (n_frames, 3)))
             if j.parent < 0:
                 rotations[:, k], positions[:, k] = local, moved
             else:
@@ -160,7 +161,8 @@ def parse_bvh(text: str, source: str = "<bvh>") -> Bvh:
     tokens.expect("Frames:")
     frames = tokens.number("the frame count")
     if frames != int(frames) or not 1 <= frames <= MAX_FRAMES:
-        raise tokens.fail(f"frame count {frames:g}; allowed a whole number 1..{MAX_FRAMES}", tokens.items[tokens.at - 1][1])
+        raise tokens.fail(f"frame count {frames:g}; allowed a whole number 1..{MAX_FRAMES}",
+                          tokens.items[tokens.at - 1][1])
     tokens.expect("Frame")
     tokens.expect("Time:")
     frame_time = tokens.number("the frame time")
@@ -252,8 +254,8 @@ def write_bvh(bvh: Bvh) -> str:
         for c in children[k]:
             emit(c, depth + 1)
         if j.end_site is not None:
-            lines.extend([f"{pad}  End Site", f"{pad}  {{", f"{pad}    OFFSET " + " ".join(f"{x:.6f}" for x in j.end_site),
-                          f"{pad}  }}"])
+            site = " ".join(f"{x:.6f}" for x in j.end_site)
+            lines.extend([f"{pad}  End Site", f"{pad}  {{", f"{pad}    OFFSET {site}", f"{pad}  }}"])
         lines.append(f"{pad}}}")
 
     for root in children[-1]:

@@ -68,20 +68,20 @@ def scenario_text(result: Retargeted, skeleton: Skeleton, body: BodySpec, title:
     """A scenario TOML holding the retargeted motion as keyframes (angles in degrees from rest)."""
     clip = result.clip
     moving = np.flatnonzero(np.abs(clip.angles).max(axis=0) > STILL)
-    outside = [skeleton.dof_names[d] for d in moving
-               if (clip.angles[:, d] < skeleton.lower[d] - 1e-9).any() or (clip.angles[:, d] > skeleton.upper[d] + 1e-9).any()]
+    beyond = (clip.angles < skeleton.lower - 1e-9) | (clip.angles > skeleton.upper + 1e-9)
+    outside = [skeleton.dof_names[d] for d in moving if beyond[:, d].any()]
     turn = float(np.degrees(np.arccos(np.clip((np.trace(clip.root[-1, :3, :3]) - 1) / 2, -1, 1))))
     travel = float(np.linalg.norm(clip.root[-1, :3, 3] - clip.root[0, :3, 3]) * 100)
     lines = [f"# Retargeted from {origin} by `hitogata motion import` (docs/motion.md).",
              f"# Joint map {joint_map}; BVH joints used: {', '.join(result.mapped)}.",
-             f"# The file's skeleton stands {result.height:.4g} {result.unit or 'units (unit not recognised)'} "
-             f"tall (head joint above the lowest joint).",
-             f"# Root motion (not a scenario channel, not simulated): turned {turn:.1f}°, moved {travel:.1f} cm "
-             "by the last frame.",
-             f"# Joint angles outside the ranges of motion: {', '.join(outside) if outside else 'none'}"
-             + (" (on_limit = clamp)" if outside else ""),
-             f"title = {_quote(title)}", "", "[body]", f"sex = {_quote(body.sex) if isinstance(body.sex, str) else body.sex}",
-             f"age = {body.age:g}"]
+             (f"# The file's skeleton stands {result.height:.4g} {result.unit or 'units (unit not recognised)'} "
+              "tall (head joint above the lowest joint)."),
+             (f"# Root motion (not a scenario channel, not simulated): turned {turn:.1f}°, moved {travel:.1f} cm "
+              "by the last frame."),
+             (f"# Joint angles outside the ranges of motion: {', '.join(outside) if outside else 'none'}"
+              + (" (on_limit = clamp)" if outside else "")),
+             f"title = {_quote(title)}", "", "[body]",
+             f"sex = {_quote(body.sex) if isinstance(body.sex, str) else body.sex}", f"age = {body.age:g}"]
     if body.stature is not None:
         lines += [f'stature = "{body.stature * 100:.1f}cm"', f'mass = "{body.mass:.1f}kg"']
     lines += ["", "[model]", 'extent = "body"', "", "[time]", f'duration = "{clip.times[-1]:.6g}s"',
