@@ -41,6 +41,18 @@ CMU = [("Hips", None, ("pelvis",)), ("LHipJoint", "Hips", None), ("LeftUpLeg", "
        ("LeftForeArm", "LeftArm", ("forearm_l",)), ("LeftHand", "LeftForeArm", ("hand_l",)),
        ("RightShoulder", "Spine1", ("clavicle_r", "scapula_r")), ("RightArm", "RightShoulder", ("upper_arm_r",)),
        ("RightForeArm", "RightArm", ("forearm_r",)), ("RightHand", "RightForeArm", ("hand_r",))]
+MIXAMO = [(f"mixamorig:{name}", parent and f"mixamorig:{parent}", parts) for name, parent, parts in [
+    ("Hips", None, ("pelvis",)), ("LeftUpLeg", "Hips", ("thigh_l",)), ("LeftLeg", "LeftUpLeg", ("shank_l",)),
+    ("LeftFoot", "LeftLeg", ("foot_l",)), ("LeftToeBase", "LeftFoot", ("toes_l",)),
+    ("RightUpLeg", "Hips", ("thigh_r",)), ("RightLeg", "RightUpLeg", ("shank_r",)),
+    ("RightFoot", "RightLeg", ("foot_r",)), ("RightToeBase", "RightFoot", ("toes_r",)),
+    ("Spine", "Hips", ("lumbar_5", "lumbar_1")), ("Spine1", "Spine", ("thoracic_12", "thoracic_7")),
+    ("Spine2", "Spine1", ("thoracic_6", "thoracic_1")), ("Neck", "Spine2", ("cervical_7", "cervical_1")),
+    ("Head", "Neck", ("head",)), ("LeftShoulder", "Spine2", ("clavicle_l", "scapula_l")),
+    ("LeftArm", "LeftShoulder", ("upper_arm_l",)), ("LeftForeArm", "LeftArm", ("forearm_l",)),
+    ("LeftHand", "LeftForeArm", ("hand_l",)), ("RightShoulder", "Spine2", ("clavicle_r", "scapula_r")),
+    ("RightArm", "RightShoulder", ("upper_arm_r",)), ("RightForeArm", "RightArm", ("forearm_r",)),
+    ("RightHand", "RightForeArm", ("hand_r",))]]
 LEAVES = {"LeftToeBase": "toes_l", "RightToeBase": "toes_r", "Head": "head", "LeftHand": "hand_l",
           "RightHand": "hand_r"}
 
@@ -66,8 +78,8 @@ def test_round_trip_export_import_gives_the_same_joint_angles(scene, tmp_path):
     assert np.abs(result.clip.root - clip.root).max() < 1e-9
 
 
-def other_tool_bvh(poser, clip, order: str, unit: float, turn: float, walk: float) -> str:
-    """The clip as a CMU-named BVH with a T-pose rest, Z up, `order` channels, 1 file unit = `unit` m,
+def other_tool_bvh(poser, clip, order: str, unit: float, turn: float, walk: float, joints=CMU) -> str:
+    """The clip as a BVH of `joints` (CMU names by default) with a T-pose rest, Z up, `order` channels, 1 file unit = `unit` m,
     the whole body turning by `turn` (rad) about the vertical and walking `walk` m forward."""
     sk = poser.skeleton
     clinical_t = {"upper_arm_l.abduction": np.radians(90), "upper_arm_r.abduction": np.radians(90),
@@ -83,15 +95,15 @@ def other_tool_bvh(poser, clip, order: str, unit: float, turn: float, walk: floa
     posed = poser.kinematics.pose(clip.angles, root=root)
     part = {name: sk.index(name) for name in sk.names}
     rest_t = {}  # their rest positions, our world, metres
-    for name, parent, parts in CMU:
+    for name, parent, parts in joints:
         if parts is None:  # the hip's offset bone, halfway to the thigh joint
             side = "thigh_l" if name.startswith("L") else "thigh_r"
             rest_t[name] = 0.5 * (t_pose.joints[0, 0] + t_pose.joints[0, part[side]])
         else:
             rest_t[name] = t_pose.joints[0, part[parts[0]]]
-    children = {name: [c for c, p, _ in CMU if p == name] for name, _, _ in CMU}
-    parts_of = {name: parts for name, _, parts in CMU}
-    parent_of = {name: parent for name, parent, _ in CMU}
+    children = {name: [c for c, p, _ in joints if p == name] for name, _, _ in joints}
+    parts_of = {name: parts for name, _, parts in joints}
+    parent_of = {name: parent for name, parent, _ in joints}
 
     def directions(name, joints, tails):
         """The joint's rest bone directions: to its mapped children, or (a leaf) to its last part's tail."""
@@ -102,7 +114,7 @@ def other_tool_bvh(poser, clip, order: str, unit: float, turn: float, walk: floa
         return [tails[part[parts_of[name][-1]]] - start]
 
     world = {}  # their joints' world rotations per frame, in their world
-    for name, parent, parts in CMU:
+    for name, parent, parts in joints:
         if parts is None:
             world[name] = world[parent]
             continue
@@ -110,7 +122,7 @@ def other_tool_bvh(poser, clip, order: str, unit: float, turn: float, walk: floa
         ours = directions(name, sk.joints, sk.tails)
         # their rest orientation of this bone relative to ours: the rotation taking our rest bones onto theirs
         align = Rotation.align_vectors(np.array(theirs), np.array(ours))[0].as_matrix()
-        motion = posed.rotations[:, part[parts[-1]]] if name != "Hips" else posed.rotations[:, 0]
+        motion = posed.rotations[:, part[parts[-1]]] if parent is not None else posed.rotations[:, 0]
         world[name] = up_z @ motion @ align.T @ up_z.T
     channels = " ".join(f"{axis}rotation" for axis in order)
     lines, columns = ["HIERARCHY"], []
@@ -129,25 +141,28 @@ def other_tool_bvh(poser, clip, order: str, unit: float, turn: float, walk: floa
         columns.append(Rotation.from_matrix(local).as_euler(order.upper(), degrees=True))
         for child in children[name]:
             emit(child, depth + 1)
-        if name in LEAVES:
-            tip = up_z @ (t_pose.tails[0, part[LEAVES[name]]] - t_pose.joints[0, part[LEAVES[name]]]) / unit
+        leaf = LEAVES.get(name.split(":")[-1])
+        if leaf:
+            tip = up_z @ (t_pose.tails[0, part[leaf]] - t_pose.joints[0, part[leaf]]) / unit
             lines.extend([f"{pad}  End Site", f"{pad}  {{",
                           f"{pad}    OFFSET {tip[0]:.6f} {tip[1]:.6f} {tip[2]:.6f}", f"{pad}  }}"])
         lines.append(f"{pad}}}")
 
-    emit("Hips", 0)
+    emit(joints[0][0], 0)
     values = np.hstack(columns)
     lines += ["MOTION", f"Frames: {n}", "Frame Time: 0.05"] + [" ".join(f"{x:.6f}" for x in row) for row in values]
     return "\n".join(lines) + "\n"
 
 
-@pytest.mark.parametrize("order, unit, name", [("zxy", 0.01, "cm"), ("xyz", 0.0254, "in")])
-def test_another_tools_bvh_imports_to_the_joint_angles_it_encodes(scene, order, unit, name):
+@pytest.mark.parametrize("order, unit, name, joints, shipped", [("zxy", 0.01, "cm", CMU, "cmu.toml"),
+                                                                ("xyz", 0.0254, "in", CMU, "cmu.toml"),
+                                                                ("yxz", 1.0, "m", MIXAMO, "mixamo.toml")])
+def test_another_tools_bvh_imports_to_the_joint_angles_it_encodes(scene, order, unit, name, joints, shipped):
     poser, clip = scene
-    text = other_tool_bvh(poser, clip, order, unit, turn=np.radians(30), walk=0.4)
-    bvh = parse_bvh(text, "cmu_like.bvh")
+    text = other_tool_bvh(poser, clip, order, unit, turn=np.radians(30), walk=0.4, joints=joints)
+    bvh = parse_bvh(text, "other_tool.bvh")
     joint_map = choose_joint_map(bvh.names, poser.skeleton)
-    assert joint_map.source.endswith("cmu.toml")
+    assert joint_map.source.endswith(shipped)
     result = retarget(bvh, poser.skeleton, joint_map)
     assert result.unit == name
     limbs = limb_dofs(poser.skeleton)
