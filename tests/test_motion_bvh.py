@@ -79,8 +79,8 @@ def test_round_trip_export_import_gives_the_same_joint_angles(scene, tmp_path):
 
 
 def other_tool_bvh(poser, clip, order: str, unit: float, turn: float, walk: float, joints=CMU) -> str:
-    """The clip as a BVH of `joints` (CMU names by default) with a T-pose rest, Z up, `order` channels, 1 file unit = `unit` m,
-    the whole body turning by `turn` (rad) about the vertical and walking `walk` m forward."""
+    """The clip as a BVH of `joints` (CMU names by default) with a T-pose rest, Z up, `order` channels,
+    1 file unit = `unit` m, the whole body turning by `turn` (rad) about the vertical and walking `walk` m forward."""
     sk = poser.skeleton
     clinical_t = {"upper_arm_l.abduction": np.radians(90), "upper_arm_r.abduction": np.radians(90),
                   "forearm_l.flexion": 0.0, "forearm_r.flexion": 0.0}
