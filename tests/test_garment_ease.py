@@ -64,3 +64,24 @@ def test_ease_command_checks_motions_before_work(tmp_path, capsys):
     assert main(["ease", "--motions", "reach_forward,cartwheel", "--out", str(tmp_path / "e")]) == 2
     assert "--motions: 'cartwheel'; allowed a scenario file (.toml) or arms_crossed" in capsys.readouterr().err
     assert not (tmp_path / "e").exists()
+
+
+def test_pressure_through_sitting(male):
+    from hitogata.garment import Fabric, Garment
+    from hitogata.garment.pressure_motion import pressure_csv, pressure_series
+
+    clip = scenario_clip(load_scenario(shipped_scenarios()["mobility_sit"]), poser_for(male))
+    times, levels = pressure_series(male, Garment(ease=-0.15), Fabric.linear(400.0), clip, rate=2.5)
+    assert np.ptp(levels["ankle"][:, 1]) < 1e-6  # the ankle does not move
+    knee = levels["knee"]
+    assert knee[0, 0] == pytest.approx(0.15 / 0.85) and knee[:, 0].max() > knee[0, 0] + 0.1
+    assert int(np.argmax(knee[:, 2])) not in (0, len(times) - 1)  # the peak is mid-motion, when seated
+    assert pressure_csv({"sit": (times, levels)}).count("\n") == 1 + len(times) * 6
+
+
+def test_ease_command_checks_the_garment_before_work(tmp_path, capsys):
+    assert main(["ease", "--garment-ease=-15%", "--out", str(tmp_path / "e")]) == 2
+    assert "--garment-ease and --fabric: give both" in capsys.readouterr().err
+    assert main(["ease", "--garment-ease=-15%", "--fabric", "400N/mm", "--out", str(tmp_path / "e")]) == 2
+    assert "--fabric modulus '400N/mm'" in capsys.readouterr().err
+    assert not (tmp_path / "e").exists()

@@ -74,11 +74,8 @@ def skinned_surface(body: Body, skinning: str = "dqs") -> Surface:
 def motion_ease(body: Body, name: str, clip: MotionClip, surface: Surface | None = None,
                 rate: float = 5.0) -> MotionEase:
     """Every measurement of one motion, sampled at `rate` frames per second (its first and last frames kept)."""
-    if not (np.isfinite(rate) and rate > 0):
-        raise HitogataError(f"ease sampling rate {rate!r}: allowed frames per second > 0")
     surface = surface or skinned_surface(body)
-    step = max(int(round(clip.rate / rate)), 1)
-    frames = np.unique(np.append(np.arange(0, len(clip.times), step), len(clip.times) - 1))
+    frames = sampled_frames(clip, rate)
     poser = poser_for(body)
     pose = poser.kinematics.pose(clip.angles[frames], root=clip.root[frames])
     vertices = surface(clip.angles[frames], clip.root[frames])
@@ -87,6 +84,14 @@ def motion_ease(body: Body, name: str, clip: MotionClip, surface: Surface | None
                        for k in range(len(frames))])
     standing = _measure(body, body.vertices, body.rig.heads)
     return MotionEase(name, clip.times[frames], values, standing)
+
+
+def sampled_frames(clip: MotionClip, rate: float) -> np.ndarray:
+    """Frame indices about `rate` per second apart, the first and the last always included."""
+    if not (np.isfinite(rate) and rate > 0):
+        raise HitogataError(f"sampling rate {rate!r}: allowed frames per second > 0")
+    step = max(int(round(clip.rate / rate)), 1)
+    return np.unique(np.append(np.arange(0, len(clip.times), step), len(clip.times) - 1))
 
 
 def _measure(body: Body, vertices: np.ndarray, joints: np.ndarray) -> np.ndarray:

@@ -124,3 +124,4 @@ def compression_class(ankle_pressure: float) -> str:
         if low <= mmhg <= high:
             return name
     return "below class I" if mmhg < COMPRESSION_CLASSES[0][1] else "between classes"
+

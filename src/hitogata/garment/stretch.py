@@ -28,7 +28,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from hitogata.body import Body
-from hitogata.garment.ease import Surface, skinned_surface
+from hitogata.garment.ease import Surface, sampled_frames, skinned_surface
 from hitogata.garment.widths import armpit_folds
 from hitogata.measure.landmarks import body_landmarks
 from hitogata.measure.measurements import tape_skin
@@ -158,8 +158,7 @@ def zone_stretch(body: Body, name: str, clip: MotionClip, surface: Surface | Non
     normal = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
     area = 0.5 * np.linalg.norm(normal, axis=1)
     across = np.cross(normal / (2 * area[:, None]), along)
-    step = max(int(round(clip.rate / rate)), 1)
-    frames = np.unique(np.append(np.arange(0, len(clip.times), step), len(clip.times) - 1))
+    frames = sampled_frames(clip, rate)
     posed = surface(clip.angles[frames], clip.root[frames])
     names = tuple(zones)
     out = {key: np.full(len(names), -np.inf) for key in ("l", "c", "p")}
