@@ -26,8 +26,10 @@ from hitogata.errors import HitogataError
 COMMANDS = {
     "body": ("hitogata.commands.body", "build a body from sex, age, stature and mass, and write it"),
     "demo": ("hitogata.commands.demo", "run the main job on the built-in default bodies"),
+    "ease": ("hitogata.commands.ease", "dynamic ease and fabric stretch of a body through mobility motions"),
     "measure": ("hitogata.commands.measure", "apparel measurements of a body (a hitogata .glb or the body options)"),
     "modes": ("hitogata.commands.modes", "the elastic body's lowest vibration modes: CSV, VTU (ParaView), pictures"),
+    "motion": ("hitogata.commands.motion", "import a BVH motion onto the skeleton, or export a scenario's motion as BVH"),
     "pose": ("hitogata.commands.pose", "pose a body by muscle contractions or joint angles and write it"),
     "simulate": ("hitogata.commands.simulate", "run a scenario (TOML) of muscle contractions and joint angles"),
     "skeleton": ("hitogata.commands.skeleton", "draw the posed 65-part skeleton, front and side, optionally in its skin"),

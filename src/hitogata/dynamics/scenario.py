@@ -112,11 +112,16 @@ def parse_scenario(data: dict, source: str) -> Scenario:
     time = Entry(source, "[time]", data.get("time", {}), {"duration", "rate", "substeps"})
     rate = time.quantity("rate", {"": 1.0, "/s": 1.0, "hz": 1.0}, 30.0, 1.0, 240.0, "frames per second, 1..240")
     substeps = time.integer("substeps", 1, 1, 100)
-    timeline_table = Entry(source, "[timeline]", data.get("timeline", {}), {"interpolation", "on_limit"})
+    timeline_table = Entry(source, "[timeline]", data.get("timeline", {}),
+                           {"interpolation", "on_limit", "bvh", "joint_map"})
     default_how = timeline_table.choice("interpolation", INTERPOLATIONS, "smoothstep")
     on_limit = timeline_table.choice("on_limit", ON_LIMIT, "raise")
     entries: list[KeyframeValue] = []
-    keyframes = _keyframes(source, data.get("keyframe", []), default_how, entries)
+    if "bvh" in timeline_table.table:  # the timeline read from a BVH file (docs/motion.md)
+        from hitogata.motion.timeline import bvh_keyframes
+        keyframes = bvh_keyframes(source, data, body)
+    else:
+        keyframes = _keyframes(source, data.get("keyframe", []), default_how, entries)
     timeline = Timeline.from_keyframes(keyframes)
     duration = time.quantity("duration", TIME_UNITS, None, 1e-3, 600.0, "a time in s, up to 600 s")
     duration = duration if duration is not None else max(timeline.end + 1.0, 1.0)

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from hitogata.measure.axes import JointSet, unit
+from hitogata.measure.axes import unit
 from hitogata.measure.sections import tape_girth
 from hitogata.measure.topology import Topology
 

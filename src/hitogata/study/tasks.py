@@ -171,7 +171,7 @@ def frame_times(scenario, frames: int) -> np.ndarray:
 def postures(prep: Prepared, scenario, times: np.ndarray, model: ModelSettings) -> tuple[np.ndarray, np.ndarray]:
     """Skin vertices (T, V, 3) and rig joint centres (T, B, 3) of the body at `times`."""
     from hitogata.dynamics.motion import _angles as timeline_angles
-    from hitogata.measure import posed_rig_heads
+    from hitogata.rig import posed_rig_heads
     from hitogata.skinning import skin_vertices
 
     poser, body = prep.poser, prep.body
@@ -192,7 +192,7 @@ def _elastic_postures(prep: Prepared, scenario, times: np.ndarray) -> tuple[np.n
     """The elastic body simulated at the scenario's rate (its own [model]), taken at the nearest frames."""
     from hitogata.dynamics.motion import simulate
     from hitogata.dynamics.run import build_dynamics
-    from hitogata.measure import posed_rig_heads
+    from hitogata.rig import posed_rig_heads
 
     dynamics = build_dynamics(prep.body, scenario)
     motion = simulate(dynamics, scenario.timeline, scenario.duration, scenario.rate, scenario.substeps,

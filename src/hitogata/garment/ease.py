@@ -1,0 +1,154 @@
+"""Dynamic ease: how much each girth and length grows and shrinks through a set of motions.
+
+For a body and motions (skeleton clips), every sampled frame's surface (a
+parameter: the skinned surface by default, or any function of the joint
+angles and root motion — the elastic body's when it is ready) is measured
+with `hitogata.measure` (the twelve ISO 8559-1 measurements) plus the across-
+back and across-front widths (`garment.widths`). Against the standing body:
+the largest increase (the least ease a woven garment needs there) and the
+largest decrease, with when they happen, per motion and over all motions.
+Tables here; the plot is in `garment.ease_plot` (computation never imports it).
+"""
+
+from __future__ import annotations
+
+import json
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass
+
+import numpy as np
+
+from hitogata.body import Body
+from hitogata.errors import HitogataError
+from hitogata.garment.widths import WIDTHS, across_widths
+from hitogata.measure.axes import JointSet
+from hitogata.measure.geodesic import SurfaceGeodesics
+from hitogata.measure.landmarks import body_landmarks
+from hitogata.measure.measurements import MEASUREMENT_NAMES, measure_surface, posture_arrays, tape_skin
+from hitogata.rig import posed_rig_heads
+from hitogata.motion.clip import MotionClip
+from hitogata.pose import poser_for
+
+NAMES = MEASUREMENT_NAMES + WIDTHS
+HEIGHTS = ("stature", "inside_leg")  # vertical heights: they change with the posture by definition
+Surface = Callable[[np.ndarray, np.ndarray], np.ndarray]  # (F, D) angles, (F, 4, 4) root → (F, V, 3) vertices
+
+
+@dataclass(frozen=True)
+class MotionEase:
+    """One motion: sampled times (T,), values (T, M) in metres, the standing values (M,)."""
+
+    motion: str
+    times: np.ndarray
+    values: np.ndarray
+    standing: np.ndarray
+
+    @property
+    def change(self) -> np.ndarray:
+        """(T, M) change from standing, metres."""
+        return self.values - self.standing
+
+    def largest(self) -> list[dict]:
+        """Per measurement: standing, largest increase and decrease (cm, %) and when (s)."""
+        rows = []
+        for m, name in enumerate(NAMES):
+            change = self.change[:, m]
+            up, down = int(np.nanargmax(change)), int(np.nanargmin(change))
+            standing = self.standing[m]
+            rows.append({"motion": self.motion, "measurement": name, "standing_cm": 100 * standing,
+                         "increase_cm": max(100 * change[up], 0.0),
+                         "increase_pct": max(100 * change[up] / standing, 0.0),
+                         "increase_at_s": float(self.times[up]),
+                         "decrease_cm": min(100 * change[down], 0.0),
+                         "decrease_pct": min(100 * change[down] / standing, 0.0),
+                         "decrease_at_s": float(self.times[down])})
+        return rows
+
+
+def skinned_surface(body: Body, skinning: str = "dqs") -> Surface:
+    """The surface source: the body skinned onto the posed skeleton ('dqs' or 'lbs')."""
+    poser = poser_for(body)
+    return lambda angles, root: poser.pose_many(angles, skinning, root)
+
+
+def motion_ease(body: Body, name: str, clip: MotionClip, surface: Surface | None = None,
+                rate: float = 5.0) -> MotionEase:
+    """Every measurement of one motion, sampled at `rate` frames per second (its first and last frames kept)."""
+    surface = surface or skinned_surface(body)
+    frames = sampled_frames(clip, rate)
+    poser = poser_for(body)
+    pose = poser.kinematics.pose(clip.angles[frames], root=clip.root[frames])
+    vertices = surface(clip.angles[frames], clip.root[frames])
+    values = np.array([_measure(body, vertices[k], posed_rig_heads(body.rig.heads, poser.skeleton.joints,
+                                                                    pose.rotations[k], pose.translations[k]))
+                       for k in range(len(frames))])
+    standing = _measure(body, body.vertices, body.rig.heads)
+    return MotionEase(name, clip.times[frames], values, standing)
+
+
+def sampled_frames(clip: MotionClip, rate: float) -> np.ndarray:
+    """Frame indices about `rate` per second apart, the first and the last always included."""
+    if not (np.isfinite(rate) and rate > 0):
+        raise HitogataError(f"sampling rate {rate!r}: allowed frames per second > 0")
+    step = max(int(round(clip.rate / rate)), 1)
+    return np.unique(np.append(np.arange(0, len(clip.times), step), len(clip.times) - 1))
+
+
+def _measure(body: Body, vertices: np.ndarray, joints: np.ndarray) -> np.ndarray:
+    v, posed = posture_arrays(body, vertices, joints)
+    rest = JointSet(body.rig.names, body.rig.heads)
+    m = measure_surface(v, body.faces, body_landmarks(body), rest, posed, tape_skin(body))
+    widths = across_widths(body, v, SurfaceGeodesics(v, body.faces))
+    return np.array([m.get(n) for n in MEASUREMENT_NAMES] + [widths[n] for n in WIDTHS])
+
+
+def dynamic_ease(body: Body, motions: Mapping[str, MotionClip], surface: Surface | None = None,
+                 rate: float = 5.0) -> list[MotionEase]:
+    """`motion_ease` for each named motion."""
+    if not motions:
+        raise HitogataError("dynamic ease: no motions given")
+    surface = surface or skinned_surface(body)
+    return [motion_ease(body, name, clip, surface, rate) for name, clip in motions.items()]
+
+
+def overall(results: list[MotionEase]) -> list[dict]:
+    """Per measurement over all motions: the largest increase and decrease and the motion of each."""
+    rows = [r for e in results for r in e.largest()]
+    out = []
+    for name in NAMES:
+        mine = [r for r in rows if r["measurement"] == name]
+        up = max(mine, key=lambda r: r["increase_cm"])
+        down = min(mine, key=lambda r: r["decrease_cm"])
+        out.append({"motion": "all", "measurement": name, "standing_cm": up["standing_cm"],
+                    "increase_cm": up["increase_cm"], "increase_pct": up["increase_pct"], "increase_in": up["motion"],
+                    "decrease_cm": down["decrease_cm"], "decrease_pct": down["decrease_pct"],
+                    "decrease_in": down["motion"]})
+    return out
+
+
+COLUMNS = ("motion", "measurement", "standing_cm", "increase_cm", "increase_pct", "increase_at_s", "increase_in",
+           "decrease_cm", "decrease_pct", "decrease_at_s", "decrease_in")
+
+
+def ease_csv(results: list[MotionEase]) -> str:
+    """One row per motion and measurement, then the 'all' rows; cm, %, s."""
+    rows = [r for e in results for r in e.largest()] + overall(results)
+    lines = [",".join(COLUMNS)]
+    for r in rows:
+        lines.append(",".join(_cell(r.get(c, "")) for c in COLUMNS))
+    return "\n".join(lines) + "\n"
+
+
+def ease_json(results: list[MotionEase]) -> str:
+    """The same table as JSON, with the sampled series (cm) for plots."""
+    doc = {"units": {"lengths": "cm", "times": "s"}, "measurements": list(NAMES),
+           "motions": {e.motion: {"times_s": e.times.round(4).tolist(),
+                                  "values_cm": (100 * e.values).round(3).tolist(),
+                                  "standing_cm": (100 * e.standing).round(3).tolist(),
+                                  "largest": e.largest()} for e in results},
+           "all": overall(results)}
+    return json.dumps(doc, indent=1)
+
+
+def _cell(value) -> str:
+    return f"{value:.4g}" if isinstance(value, float) else str(value)

@@ -1,0 +1,87 @@
+"""Dynamic ease: zero on a rigid motion, the across-back widens and the across-front narrows on reach-forward."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from scipy.spatial.transform import Rotation
+
+from hitogata.cli import main
+from hitogata.dynamics.scenario import load_scenario, shipped_scenarios
+from hitogata.garment.ease import HEIGHTS, NAMES, ease_csv, ease_json, motion_ease, overall
+from hitogata.garment.ease_plot import ease_plot
+from hitogata.garment.widths import across_widths, armpit_folds
+from hitogata.motion.clip import MotionClip, scenario_clip
+from hitogata.pose import poser_for
+
+
+def rigid_clip(n_dofs: int) -> MotionClip:
+    turns = Rotation.from_euler("yxz", [[0, 0, 0], [40, 10, 0], [-90, -15, 20]], degrees=True).as_matrix()
+    root = np.tile(np.eye(4), (3, 1, 1))
+    root[:, :3, :3] = turns
+    root[:, :3, 3] = [[0, 0, 0], [0.3, 0.1, -0.2], [-1.0, 0.5, 2.0]]
+    return MotionClip(np.array([0.0, 0.5, 1.0]), np.zeros((3, n_dofs)), root)
+
+
+@pytest.mark.parametrize("sex", ["female", "male"])
+def test_a_rigid_motion_changes_no_girth_or_length(request, sex):
+    body = request.getfixturevalue(sex)
+    ease = motion_ease(body, "rigid", rigid_clip(poser_for(body).skeleton.n_dofs), rate=2.0)
+    assert len(ease.times) == 3
+    kept = [k for k, n in enumerate(NAMES) if n not in HEIGHTS]
+    assert np.abs(ease.change[:, kept]).max() < 1e-5  # metres (a geodesic may settle on a near-equal path: 7 µm)
+
+
+@pytest.mark.parametrize("sex, back, front", [("female", 4.3, -8.1), ("male", 13.6, -7.2)])
+def test_reach_forward_widens_the_back_and_narrows_the_front(request, sex, back, front):
+    body = request.getfixturevalue(sex)
+    clip = scenario_clip(load_scenario(shipped_scenarios()["mobility_reach_forward"]), poser_for(body))
+    ease = motion_ease(body, "reach_forward", clip, rate=2.5)
+    rows = {r["measurement"]: r for r in ease.largest()}
+    assert rows["across_back_width"]["increase_cm"] == pytest.approx(back, abs=0.3)
+    assert rows["across_back_width"]["decrease_cm"] > -0.1
+    assert rows["across_front_width"]["decrease_cm"] == pytest.approx(front, abs=0.3)
+    assert rows["across_front_width"]["increase_cm"] < 0.1
+    assert rows["shoulder_width"]["increase_cm"] > 3  # over the back, between the acromia
+    table = ease_csv([ease])
+    assert table.splitlines()[0].startswith("motion,measurement,standing_cm,increase_cm")
+    assert len(table.splitlines()) == 1 + 2 * len(NAMES)
+    assert '"all"' in ease_json([ease]) and overall([ease])[0]["increase_in"] == "reach_forward"
+    assert ease_plot([ease]).startswith(b"\x89PNG")
+
+
+def test_armpit_folds_lie_behind_and_before_the_sides(female, male):
+    for body in (female, male):
+        folds = armpit_folds(body)
+        v = body.vertices
+        assert v[folds.back_right, 0] < -0.1 < 0.1 < v[folds.back_left, 0]
+        assert v[folds.back_right, 2] < v[folds.front_right, 2]
+        widths = across_widths(body)
+        assert 0.30 < widths["across_back_width"] < 0.45
+
+
+def test_ease_command_checks_motions_before_work(tmp_path, capsys):
+    assert main(["ease", "--motions", "reach_forward,cartwheel", "--out", str(tmp_path / "e")]) == 2
+    assert "--motions: 'cartwheel'; allowed a scenario file (.toml) or arms_crossed" in capsys.readouterr().err
+    assert not (tmp_path / "e").exists()
+
+
+def test_pressure_through_sitting(male):
+    from hitogata.garment import Fabric, Garment
+    from hitogata.garment.pressure_motion import pressure_csv, pressure_series
+
+    clip = scenario_clip(load_scenario(shipped_scenarios()["mobility_sit"]), poser_for(male))
+    times, levels = pressure_series(male, Garment(ease=-0.15), Fabric.linear(400.0), clip, rate=2.5)
+    assert np.ptp(levels["ankle"][:, 1]) < 1e-6  # the ankle does not move
+    knee = levels["knee"]
+    assert knee[0, 0] == pytest.approx(0.15 / 0.85) and knee[:, 0].max() > knee[0, 0] + 0.1
+    assert int(np.argmax(knee[:, 2])) not in (0, len(times) - 1)  # the peak is mid-motion, when seated
+    assert pressure_csv({"sit": (times, levels)}).count("\n") == 1 + len(times) * 6
+
+
+def test_ease_command_checks_the_garment_before_work(tmp_path, capsys):
+    assert main(["ease", "--garment-ease=-15%", "--out", str(tmp_path / "e")]) == 2
+    assert "--garment-ease and --fabric: give both" in capsys.readouterr().err
+    assert main(["ease", "--garment-ease=-15%", "--fabric", "400N/mm", "--out", str(tmp_path / "e")]) == 2
+    assert "--fabric modulus '400N/mm'" in capsys.readouterr().err
+    assert not (tmp_path / "e").exists()
