@@ -191,3 +191,11 @@ def test_progress_line_rewrites_a_terminal_and_does_not_flood_a_log():
     assert log[-1] == "110/110 tasks (10 done before), 1 failed, 100.0 tasks/min"
     terminal = run(_Stream(True), 0.0)  # a terminal: rewritten in place, a newline at the end only
     assert terminal.count("\r") == 100 and terminal.count("\n") == 1 and terminal.endswith("1 failed, 100.0 tasks/min\n")
+
+
+def test_dynamic_ease_is_the_largest_increase_and_decrease_over_standing():
+    from hitogata.study.tasks import dynamic_ease
+
+    assert dynamic_ease(1.0, np.array([1.0, 1.02, np.nan, 0.99])) == pytest.approx((0.02, -0.01))
+    assert dynamic_ease(1.0, np.array([1.01, 1.03])) == pytest.approx((0.03, 0.0))  # never below standing
+    assert all(np.isnan(dynamic_ease(1.0, np.array([np.nan, np.nan]))))
