@@ -86,6 +86,9 @@ def main() -> None:
     ratio = results[2]["summary"].rate_per_minute / results[1]["summary"].rate_per_minute
     print(f"2 workers / 1 worker: {ratio:.2f}× (goal ≥ 1.7×); 1 worker / serial loop: "
           f"{results[1]['summary'].rate_per_minute / serial.rate_per_minute:.2f}×")
+    both = results[2]
+    print(f"with a free core per worker, 2 workers would give {2 * 60 / (both['cpu'] + both['overhead']):.1f} "
+          f"tasks/min (CPU per task + overhead); this run's CPU share shows how far the machine is from that")
     print(f"10,000 bodies × {len(spec.motions)} motions at {cpu:.2f} CPU s per task: "
           f"{10_000 * len(spec.motions) * cpu / 3600:.1f} core-hours")
 

@@ -145,3 +145,28 @@ def test_rerun_after_an_interruption_computes_only_the_missing_tasks(study_file,
     # Nothing left: a third run computes nothing.
     assert run_on_client(spec, tmp_path, client).skipped == TASKS
     assert json.loads(next((tmp_path / FAILED).glob("*.json")).read_text())["body"] == "XL-8"
+
+
+def test_cli_runs_a_study_writes_its_tables_and_a_rerun_computes_nothing(tmp_path, capsys):
+    from hitogata.cli import main
+
+    (tmp_path / "chart.csv").write_text("size,sex,stature_cm,mass_kg\nM,male,178,78\n", encoding="utf-8")
+    study = tmp_path / "s.toml"
+    study.write_text(f'title = "one body"\nmotions = ["{STUDIES / "sit.toml"}"]\n[bodies]\nchart = "chart.csv"\n'
+                     '[model]\nframes = 2\n', encoding="utf-8")
+    out = tmp_path / "out"
+    with dask.config.set({"distributed.comm.timeouts.connect": "300s"}):
+        assert main(["study", str(study), "--out", str(out), "--workers", "1", "--memory-limit", "1GiB"]) == 0
+    printed = capsys.readouterr()
+    assert printed.out.startswith("one body: 1 bodies × 1 motions = 1 tasks, 0 done before; size chart chart.csv")
+    assert "dask: 1 workers on tcp://" in printed.out and "memory limit per worker 1.0 GiB; dashboard http" in printed.out
+    assert "computed 1 tasks, 0 failed" in printed.out
+    assert printed.err.startswith("1/1 tasks, 0 failed")  # not a terminal: one line per tenth, no \r
+    assert "\r" not in printed.err
+    assert sorted(p.name for p in out.iterdir()) == ["bands_sit.png", "failed.csv", "percentiles.csv", "rows"]
+    table = (out / "percentiles.csv").read_text(encoding="utf-8").splitlines()
+    assert table[0] == "group,motion,kind,name,quantity,unit,n,p5,p50,p95"
+    assert any(line.startswith("M,sit,zone,seat,required_stretch,%,1,") for line in table)
+    assert main(["study", str(study), "--out", str(out)]) == 0
+    again = capsys.readouterr().out
+    assert "1 tasks, 1 done before" in again and "dask:" not in again  # no cluster started for nothing

@@ -80,7 +80,9 @@ source = {source}
     (SAMPLED.format(r=0.5, source='""'), "", "s.toml: [bodies.women].source = '': allowed the published survey"),
     (SAMPLED.format(r=0.5, source='"x"').replace('"6cm"', '"6kg"'), "",
      "s.toml: [bodies.women].stature_sd = '6kg': allowed a length like 163cm"),
-    ("sampled = 10\nfemale = 0.0", "", "s.toml: [bodies.men]: missing"),
+    ("sampled = 10\nfemale = 0.0", "", "s.toml: [bodies.men]: missing; allowed a table of correlation, mass_mean"),
+    (SAMPLED.format(r=0.5, source='"x"').replace('mass_sd = "11kg"', ""), "",
+     "s.toml: [bodies.women].mass_sd: missing; it has no default"),
     ('sampled = 3\nchart = "x.csv"', "", "s.toml: [bodies]: sampled and chart given; allowed exactly one"),
     ("", "", "s.toml: [bodies]: none given; allowed exactly one"),
     ("sampled = 0", "", "s.toml: [bodies].sampled = 0: allowed a whole number 1..1000000"),
@@ -137,3 +139,65 @@ def test_cli_bad_scheduler_address_exits_2(tmp_path, capsys):
     assert capsys.readouterr().err.strip() == (
         "hitogata: error: --scheduler 'http://x:1': allowed an address like tcp://host:8786")
     assert not (tmp_path / "out").exists()
+
+
+def test_a_folder_of_body_files_gives_their_shapes(tmp_path):
+    from hitogata.body import Body
+    from hitogata.export.body_files import write_body
+    from hitogata.study.tasks import prepared
+
+    (tmp_path / "bodies").mkdir()
+    body = Body.from_measurements("male", 40, 1.85, 95.0)
+    write_body(tmp_path / "bodies" / "tall.glb", body)
+    (definition,) = load_study(_study(tmp_path, 'folder = "bodies"')).bodies
+    assert (definition.id, definition.group, definition.sex, definition.age) == ("tall", "male", "male", 40.0)
+    rebuilt = prepared(definition).body
+    assert rebuilt.params == body.params and np.array_equal(rebuilt.vertices, body.vertices)
+
+
+def test_an_empty_body_folder_is_one_line(tmp_path):
+    (tmp_path / "bodies").mkdir()
+    with pytest.raises(HitogataError, match=r"s.toml: \[bodies\].folder = '.*bodies': allowed a folder holding "
+                                            r"\.glb files written by `hitogata body`$"):
+        load_study(_study(tmp_path, 'folder = "bodies"'))
+
+
+class _Stream:
+    def __init__(self, tty: bool) -> None:
+        self.tty, self.text = tty, ""
+
+    def isatty(self) -> bool:
+        return self.tty
+
+    def write(self, text: str) -> None:
+        self.text += text
+
+    def flush(self) -> None:
+        pass
+
+
+def test_progress_line_rewrites_a_terminal_and_does_not_flood_a_log():
+    from hitogata.study.progress import ProgressLine
+    from hitogata.study.runner import RunSummary
+
+    def run(stream, interval):
+        progress = ProgressLine(stream, interval)
+        for k in range(1, 101):
+            progress(RunSummary(total=110, skipped=10, done=k - (k > 50), failed=int(k > 50), wall_seconds=k * 0.6))
+        return stream.text
+
+    log = run(_Stream(False), 1e9).splitlines()  # a log: the first line, one per tenth of the study, the last
+    assert len(log) == 11 and "\r" not in "".join(log)
+    assert log[:2] == ["11/110 tasks (10 done before), 0 failed, 100.0 tasks/min, 0 min 59 s left",
+                       "20/110 tasks (10 done before), 0 failed, 100.0 tasks/min, 0 min 54 s left"]
+    assert log[-1] == "110/110 tasks (10 done before), 1 failed, 100.0 tasks/min"
+    terminal = run(_Stream(True), 0.0)  # a terminal: rewritten in place, a newline at the end only
+    assert terminal.count("\r") == 100 and terminal.count("\n") == 1 and terminal.endswith("1 failed, 100.0 tasks/min\n")
+
+
+def test_dynamic_ease_is_the_largest_increase_and_decrease_over_standing():
+    from hitogata.study.tasks import dynamic_ease
+
+    assert dynamic_ease(1.0, np.array([1.0, 1.02, np.nan, 0.99])) == pytest.approx((0.02, -0.01))
+    assert dynamic_ease(1.0, np.array([1.01, 1.03])) == pytest.approx((0.03, 0.0))  # never below standing
+    assert all(np.isnan(dynamic_ease(1.0, np.array([np.nan, np.nan]))))

@@ -83,6 +83,11 @@ def run(args: argparse.Namespace) -> None:
                   f"{', '.join(f'{m / 2**30:.1f} GiB' for m in sorted(limit))}; dashboard {client.dashboard_link}")
             progress = None if args.quiet else ProgressLine(sys.stderr)
             summary = run_on_client(spec, out, client, progress, args.retry_failed)
+        except KeyboardInterrupt:
+            done = len(tasks) - len(pending(tasks, out, args.retry_failed))
+            print(f"\ninterrupted: {done} of {len(tasks)} tasks recorded in {out}/; the same command resumes",
+                  file=sys.stderr)
+            raise SystemExit(130) from None
         finally:
             client.close()
             if cluster is not None:

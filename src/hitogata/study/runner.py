@@ -30,7 +30,7 @@ from hitogata.export.atomic import write_bytes_atomically
 from hitogata.study.spec import StudySpec
 from hitogata.study.tasks import COLUMNS, Outcome, Task, execute, warm
 
-MEMORY_LIMIT = "2GiB"  # per worker: a skinning task peaks near 0.6 GB (docs/study.md); the elastic body needs more
+MEMORY_LIMIT = "2GiB"  # per worker: posing by skinning peaks at 0.35 GiB (docs/study.md); the elastic body needs more
 ROWS, FAILED = "rows", "failed"
 # The files hold every column but the motion, which the dataset's partitioning (motion=<name>) gives.
 SCHEMA = pa.schema([(name, pa.string() if kind == "str" else pa.float64()) for name, kind in COLUMNS.items()
@@ -129,11 +129,10 @@ def run_on_client(spec: StudySpec, out: str | os.PathLike, client, progress: Pro
     try:
         for future in as_completed(futures):
             task = by_key[future.key]
-            if future.status == "error":
-                error = future.exception()
-                outcome = Outcome(task.key, None, f"{type(error).__name__}: {' '.join(str(error).split())}", 0.0)
-            else:
+            try:
                 outcome = future.result()
+            except Exception as error:  # the engine gave up on it (KilledWorker: it killed 3 workers), or cancelled
+                outcome = Outcome(task.key, None, f"{type(error).__name__}: {' '.join(str(error).split())}", 0.0)
             future.release()
             _count(summary, out, task, outcome, start, progress)
     finally:

@@ -91,14 +91,12 @@ class _Table:
 
     def required(self, key: str) -> Any:
         if key not in self.table:
-            raise HitogataError(f"{self.source}: {self.entry}.{key}: missing")
+            raise HitogataError(f"{self.source}: {self.entry}.{key}: missing; it has no default")
         return self.table[key]
 
     def quantity(self, key: str, table: dict[str, float], low: float, high: float, allowed: str,
                  default: float | None = None) -> float:
-        value = self.table[key] if key in self.table or default is None else default
-        if key not in self.table and default is None:
-            self.required(key)
+        value = self.required(key) if default is None else self.table.get(key, default)
         if isinstance(value, bool):
             raise self.fail(key, value, allowed)
         try:
@@ -110,9 +108,7 @@ class _Table:
         return number
 
     def integer(self, key: str, default: int | None, low: int, high: int) -> int:
-        value = self.table[key] if key in self.table or default is None else default
-        if key not in self.table and default is None:
-            self.required(key)
+        value = self.required(key) if default is None else self.table.get(key, default)
         if isinstance(value, bool) or not isinstance(value, int) or not low <= value <= high:
             raise self.fail(key, value, f"a whole number {low}..{high}")
         return value

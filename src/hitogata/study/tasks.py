@@ -31,7 +31,7 @@ from threadpoolctl import threadpool_limits
 
 from hitogata.study.spec import BodyDef, ModelSettings, MotionDef
 
-ROWS_VERSION = 1  # part of every task's hash: bump when a row's meaning changes, so old rows are not reused
+ROWS_VERSION = 2  # part of every task's hash: bump when a row's meaning changes, so old rows are not reused
 # Figures are stored rounded to this many decimals (nanometres, 1e-9 %): the last bit of a sum in
 # numpy depends on the memory alignment of its array (SIMD blocks), so the same task gave a thigh
 # girth of 0.5735926758767658 m in one process and ...657 in another; rounded, the bits agree.
@@ -205,14 +205,15 @@ def _elastic_postures(prep: Prepared, scenario, times: np.ndarray) -> tuple[np.n
 
 
 def dynamic_ease(standing: float, values: np.ndarray) -> tuple[float, float]:
-    """The largest increase and the largest decrease of a measurement over its standing value (m).
+    """The largest increase (≥ 0) and the largest decrease (≤ 0) of a measurement over standing (m).
 
-    The garment package's ease, when it exists, computes the same from the same series.
+    The same definition as the garment package's dynamic ease (`garment.ease`, which also
+    measures the across-back and across-front widths); this is where a study can call it.
     """
     if not np.isfinite(values).any():
         return float("nan"), float("nan")
     change = values - standing
-    return float(np.nanmax(change)), float(np.nanmin(change))
+    return max(float(np.nanmax(change)), 0.0), min(float(np.nanmin(change)), 0.0)
 
 
 def task_rows(task: Task) -> dict[str, list]:
