@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from hitogata.elastic.mapping import body_piece, face_pieces, skin_vertex_map
-from hitogata.fem.box_mesh import box_mesh
+from hitogata.fem.verify.box_mesh import box_mesh
 
 
 def two_legs():
