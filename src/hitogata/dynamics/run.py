@@ -70,12 +70,12 @@ class Summary:
             f"  largest skin displacement by the elastic body: {f['largest_elastic_mm']:.1f} mm "
             f"at t = {f['largest_elastic_time_s']:.2f} s on the {f['largest_elastic_part']} "
             f"(from rest, skinning included: {f['largest_total_mm']:.0f} mm)",
-            f"  skin surface: {s['folds_beyond_skinning']} folded and {s['self_intersections_beyond_skinning']} "
-            f"crossing triangle pairs beyond skinning's (new since rest: {s['new_folds']}, "
-            f"{s['new_self_intersections']}); {s['below_floor']} vertices below the floor "
-            f"(lowest {s['lowest_m'] * 1e3:.1f} mm); fastest vertex {s['largest_speed_m_s']:.2f} m/s; "
-            f"elastic displacement changes at most {s['largest_elastic_jump_m'] * 1e3:.1f} mm a frame "
-            f"({s['largest_elastic_jump_speed_m_s']:.2f} m/s)",
+            (f"  skin surface: {s['folds_beyond_skinning']} folded and {s['self_intersections_beyond_skinning']} "
+             f"crossing triangle pairs beyond skinning's (new since rest: {s['new_folds']}, "
+             f"{s['new_self_intersections']}); {s['below_floor']} vertices below the floor "
+             f"(lowest {s['lowest_m'] * 1e3:.1f} mm); fastest vertex {s['largest_speed_m_s']:.2f} m/s; "
+             f"elastic displacement changes at most {s['largest_elastic_jump_m'] * 1e3:.1f} mm a frame "
+             f"({s['largest_elastic_jump_speed_m_s']:.2f} m/s)"),
             "  regions moved most (peak mean elastic displacement): "
             + ", ".join(f"{k} {v:.1f} mm" for k, v in f["region_motion_mm"].items()),
             f"  tissue: inverted elements at most {f['inverted_max']}; region volumes within "

@@ -34,10 +34,10 @@ from hitogata.fem.elements import TET_FACES, element_order, shape_values, tet_ge
 from hitogata.volume.surface import closest_points_on_triangles
 
 DEFAULT_FADE = 0.05  # m: the elastic displacement fades out over 5 cm past `reach`
-# Full weight reaches a quarter element past the mesh at most: where the mesh holds a part its
-# boundary lies that close to the skin (male whole body at 40 mm: trunk vertices within 3 mm,
-# limbs 1.8 mm median, 99 % within 8 mm); further off the mesh does not hold the part.
-REACH = 0.25
+# Full weight reaches half an element past the mesh at most: where the mesh holds a part its
+# boundary lies that close to the skin (the default bodies' torso skin, trunk or whole body:
+# within 9-14 mm at 40 mm, 13-17 mm at 60 mm); further off the mesh does not hold the part.
+REACH = 0.5
 # Least share of part weight each corner of a tet has in common with a vertex bound to it
 # (sum over parts of min(w_vertex, w_node)): 0 for a tet reaching another limb, ~0.5 for a
 # vertex halfway along a joint and a corner on the bone of one side.
