@@ -70,17 +70,6 @@ def body_piece(tets: np.ndarray) -> np.ndarray:
     return piece == np.bincount(piece).argmax()
 
 
-def locate(points: np.ndarray, nodes: np.ndarray, tets: np.ndarray, tree: cKDTree,
-           k: int = _CANDIDATES) -> tuple[np.ndarray, np.ndarray]:
-    """The best tet (P,) for each point among the k with nearest centroids, and the point's
-    barycentric coordinates (P, 4) in it: the tet where the smallest coordinate is largest
-    (>= 0 when a candidate contains the point)."""
-    near, bary = _candidates(points, nodes, tets, tree, k)
-    best = bary.min(axis=2).argmax(axis=1)
-    rows = np.arange(len(points))
-    return near[rows, best], bary[rows, best]
-
-
 def skin_vertex_map(vertices: np.ndarray, points: np.ndarray, elements: np.ndarray, reach: float,
                     fade: float = DEFAULT_FADE, vertex_weights: sp.spmatrix | np.ndarray | None = None,
                     node_weights: sp.spmatrix | np.ndarray | None = None) -> sp.csr_matrix:
