@@ -59,7 +59,9 @@ def test_the_ankle_no_longer_tears(elbow):
 # Sampled at 10 frames/s instead of the scenarios' 25-30 (the demo's 20): folds and crossings
 # belong to a pose and the keyframed poses change over 0.3-1.2 s, so every pose a defect needs
 # lies within 0.05 s of a sampled one (the peaks at 0.9 s and 1.2 s are sampled exactly); the
-# jump is judged per second, so the rate does not hide it.
+# jump is judged per second, so the rate does not hide it. One thing it does change: the
+# quasi-statics take at most 6 warm-started iterations a frame, so fewer frames settle the tissue
+# less (the elbow crease's elastic displacement: 5 mm at 10 frames/s, 49 mm at 25).
 RATE = 10.0
 
 
@@ -79,8 +81,8 @@ def demo(female):
 @pytest.mark.parametrize("name", [
     "rectus_stretch",
     pytest.param("trunk_flexion_arms_raised", marks=pytest.mark.xfail(strict=True, reason=(
-        "arms raised 110° with the trunk flexed 56°: 16 triangle pairs fold and 26 cross at the armpits "
-        "(elastic displacement up to 50 mm there) at t = 1.1-1.2 s; no tear, no jump"))),
+        "arms raised 110° with the trunk flexed 56°: 3 triangle pairs fold and 3 cross by the armpits "
+        "(elastic displacement up to 44 mm there) at t = 1.0-1.2 s; no tear, no jump"))),
 ])
 def test_the_demo_keeps_the_skin_whole(demo, female, name):
     scenario = dataclasses.replace(load_scenario(shipped_scenarios()[name]), rate=RATE)
@@ -88,8 +90,9 @@ def test_the_demo_keeps_the_skin_whole(demo, female, name):
 
 
 @pytest.mark.xfail(strict=True, reason=(
-    "elbow at 150°: 6 triangle pairs fold and 46 cross in the elbow crease (tissue of the forearm and "
-    "the upper arm pass through each other: no contact yet) at t = 0.8-0.9 s; no tear, no jump"))
+    "elbow at 150°: 1 triangle pair folds and 9 cross in the elbow crease at 10 frames/s (6 and 46 at "
+    "the scenario's 25): tissue of the forearm and the upper arm pass through each other, no contact "
+    "yet; no tear, no jump"))
 def test_elbow_flexion_keeps_the_skin_whole(elbow):
     body, scenario, dyn = elbow
     assert whole(dyn, body, scenario) == []
