@@ -81,7 +81,7 @@ class Summary:
             f"  tissue: inverted elements at most {f['inverted_max']}; region volumes within "
             f"{f['volume_change_max_percent']:.2f}% of rest",
             f"  time: model {f['seconds']['model']:.1f} s, simulation {f['seconds']['simulation']:.1f} s, "
-            f"files {f['seconds']['files']:.1f} s",
+            f"files {f['seconds']['files']:.1f} s, checks {f['seconds'].get('checks', 0.0):.1f} s",
         ]
         return "\n".join(lines) + "\n"
 
@@ -199,7 +199,9 @@ def run_scenario(scenario: Scenario, out: str | Path, progress: bool = False, bo
         written.append(files.write_gif(out / f"{name}.gif", motion, o.views, size, o.gif_rate,
                                        progress=_bar("gif", progress)))
     clock["files"] = time.perf_counter() - start
+    start = time.perf_counter()
     figs = figures(motion, scenario)
+    clock["checks"] = time.perf_counter() - start
     figs["seconds"] = clock
     summary = Summary(scenario.title, figs, [str(p) for p in written])
     write_bytes_atomically(out / f"{name}_summary.txt", summary.text().encode())
