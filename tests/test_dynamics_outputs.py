@@ -124,6 +124,12 @@ def test_simulate_command_writes_files_and_a_summary(tmp_path, capsys):
     figures = json.loads((out / "motion_summary.json").read_text())
     assert figures["inverted_max"] == 0 and figures["volume_change_max_percent"] < 3
     assert figures["largest_elastic_mm"] > 0.1
+    # the whole body (the default extent) stays whole: the summary says so and warns of nothing
+    surface = figures["surface"]
+    assert surface["folds_beyond_skinning"] == 0 and surface["self_intersections_beyond_skinning"] == 0
+    assert surface["below_floor"] == 0 and surface["largest_elastic_m"] * 1e3 == pytest.approx(
+        figures["largest_elastic_mm"], rel=1e-5)
+    assert "skin surface: 0 folded and 0 crossing" in printed and "WARNING" not in printed
 
 
 def test_simulate_command_reports_a_bad_scenario_in_one_line(tmp_path, capsys):

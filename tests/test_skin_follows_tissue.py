@@ -51,3 +51,46 @@ def test_the_ankle_no_longer_tears(elbow):
     assert worst["largest_elastic_jump_speed_m_s"] < JUMP_SPEED
     low = body.vertices[:, 1] < 0.15  # feet and ankles: far from the elbow, they barely move
     assert np.linalg.norm(motion.skin - motion.skinned_skin, axis=2)[:, low].max() < 0.002
+
+
+# The acceptance: the shipped scenarios and the demo keep the skin whole (`run.surface_problems`:
+# no fold or crossing beyond skinning's at the same pose, nothing below the floor, no jump).
+# Sampled at 10 frames/s instead of the scenarios' 25-30 (the demo's 20): folds and crossings
+# belong to a pose and the keyframed poses change over 0.3-1.2 s, so every pose a defect needs
+# lies within 0.05 s of a sampled one (the peaks at 0.9 s and 1.2 s are sampled exactly); the
+# jump is judged per second, so the rate does not hide it. The elbow at its own 25 frames/s
+# measured the same: 1 fold, 9 crossings, 5.2 mm.
+RATE = 10.0
+
+
+def whole(dyn, body, scenario) -> list[str]:
+    motion = simulate(dyn, scenario.timeline, scenario.duration, RATE, 1, scenario.model.gravity, scenario.on_limit)
+    worst = surface_integrity(body.vertices, body.faces, motion.skin, motion.times, motion.skinned_skin).worst()
+    print(scenario.title, worst)
+    return surface_problems(worst)
+
+
+@pytest.fixture(scope="module")
+def demo(female):
+    """The demo's model: the whole default female body, as `dynamics.demo` builds it."""
+    return build_dynamics(female, load_scenario(shipped_scenarios()["rectus_stretch"]))
+
+
+@pytest.mark.parametrize("name", [
+    "rectus_stretch",
+    pytest.param("trunk_flexion_arms_raised", marks=pytest.mark.xfail(strict=True, reason=(
+        "arms raised 110° with the trunk flexed 56°: 3 triangle pairs fold and 3 cross by the armpits "
+        "(elastic displacement up to 44 mm there) at t = 1.0-1.2 s; no tear, no jump"))),
+])
+def test_the_demo_keeps_the_skin_whole(demo, female, name):
+    scenario = dataclasses.replace(load_scenario(shipped_scenarios()[name]), rate=RATE)
+    assert whole(demo, female, scenario) == []
+
+
+@pytest.mark.xfail(strict=True, reason=(
+    "elbow at 150°: 1 triangle pair folds and 9 cross in the elbow crease (also at the scenario's 25 "
+    "frames/s): tissue of the forearm and the upper arm pass through each other, no contact yet; "
+    "no tear, no jump"))
+def test_elbow_flexion_keeps_the_skin_whole(elbow):
+    body, scenario, dyn = elbow
+    assert whole(dyn, body, scenario) == []

@@ -81,3 +81,22 @@ def test_broad_phase_finds_every_overlapping_box_pair_of_the_body(female):
     i, j = box_pairs(lo, hi, active)
     expected = {(p, q) for p, q in zip(a.tolist(), b.tolist()) if active[p] or active[q]}
     assert set(zip(i.tolist(), j.tolist())) == expected
+
+
+def test_a_torn_run_warns_in_one_line_before_its_figures():
+    from hitogata.dynamics.run import Summary, surface_problems
+
+    v, f = grid()
+    torn = v.copy()
+    torn[:5, 1] = -0.24  # a row thrown 240 mm below the floor in one 40 ms frame
+    surface = surface_integrity(v, f, np.stack([v, torn]), np.array([0.0, 0.04]), np.stack([v, v])).worst()
+    problems = surface_problems(surface)
+    assert any("below the floor" in p for p in problems) and any("jump of 740 mm" in p for p in problems)
+    figures = {"body": "b", "model": "m", "frequencies_hz": [1.0], "damping_ratios": [0.2], "largest_elastic_mm": 740.0,
+               "largest_elastic_time_s": 0.04, "largest_elastic_part": "shank_r", "largest_total_mm": 740.0,
+               "region_motion_mm": {}, "inverted_max": 0, "volume_change_max_percent": 0.0,
+               "seconds": {"model": 0.0, "simulation": 0.0, "files": 0.0}, "surface": surface}
+    lines = Summary("t", figures).text().splitlines()
+    warnings = [k for k, line in enumerate(lines) if "WARNING" in line]
+    assert len(warnings) == 1 and "largest skin displacement" in lines[warnings[0] + 1]
+    assert "not results" in lines[warnings[0]]

@@ -70,18 +70,18 @@ class Summary:
             f"  largest skin displacement by the elastic body: {f['largest_elastic_mm']:.1f} mm "
             f"at t = {f['largest_elastic_time_s']:.2f} s on the {f['largest_elastic_part']} "
             f"(from rest, skinning included: {f['largest_total_mm']:.0f} mm)",
-            f"  skin surface: {s['folds_beyond_skinning']} folded and {s['self_intersections_beyond_skinning']} "
-            f"crossing triangle pairs beyond skinning's (new since rest: {s['new_folds']}, "
-            f"{s['new_self_intersections']}); {s['below_floor']} vertices below the floor "
-            f"(lowest {s['lowest_m'] * 1e3:.1f} mm); fastest vertex {s['largest_speed_m_s']:.2f} m/s; "
-            f"elastic displacement changes at most {s['largest_elastic_jump_m'] * 1e3:.1f} mm a frame "
-            f"({s['largest_elastic_jump_speed_m_s']:.2f} m/s)",
+            (f"  skin surface: {s['folds_beyond_skinning']} folded and {s['self_intersections_beyond_skinning']} "
+             f"crossing triangle pairs beyond skinning's (new since rest: {s['new_folds']}, "
+             f"{s['new_self_intersections']}); {s['below_floor']} vertices below the floor "
+             f"(lowest {s['lowest_m'] * 1e3:.1f} mm); fastest vertex {s['largest_speed_m_s']:.2f} m/s; "
+             f"elastic displacement changes at most {s['largest_elastic_jump_m'] * 1e3:.1f} mm a frame "
+             f"({s['largest_elastic_jump_speed_m_s']:.2f} m/s)"),
             "  regions moved most (peak mean elastic displacement): "
             + ", ".join(f"{k} {v:.1f} mm" for k, v in f["region_motion_mm"].items()),
             f"  tissue: inverted elements at most {f['inverted_max']}; region volumes within "
             f"{f['volume_change_max_percent']:.2f}% of rest",
             f"  time: model {f['seconds']['model']:.1f} s, simulation {f['seconds']['simulation']:.1f} s, "
-            f"files {f['seconds']['files']:.1f} s",
+            f"files {f['seconds']['files']:.1f} s, checks {f['seconds'].get('checks', 0.0):.1f} s",
         ]
         return "\n".join(lines) + "\n"
 
@@ -199,7 +199,9 @@ def run_scenario(scenario: Scenario, out: str | Path, progress: bool = False, bo
         written.append(files.write_gif(out / f"{name}.gif", motion, o.views, size, o.gif_rate,
                                        progress=_bar("gif", progress)))
     clock["files"] = time.perf_counter() - start
+    start = time.perf_counter()
     figs = figures(motion, scenario)
+    clock["checks"] = time.perf_counter() - start
     figs["seconds"] = clock
     summary = Summary(scenario.title, figs, [str(Path(p).relative_to(out)) for p in written])  # relative: the folder may move
     write_bytes_atomically(out / f"{name}_summary.txt", summary.text().encode())

@@ -35,10 +35,10 @@ from hitogata.geometry.tets import TET_FACES
 from hitogata.volume.surface import closest_points_on_triangles
 
 DEFAULT_FADE = 0.05  # m: the elastic displacement fades out over 5 cm past `reach`
-# Full weight reaches a quarter element past the mesh at most: where the mesh holds a part its
-# boundary lies that close to the skin (male whole body at 40 mm: trunk vertices within 3 mm,
-# limbs 1.8 mm median, 99 % within 8 mm); further off the mesh does not hold the part.
-REACH = 0.25
+# Full weight reaches half an element past the mesh at most: where the mesh holds a part its
+# boundary lies that close to the skin (the default bodies' torso skin, trunk or whole body:
+# within 9-14 mm at 40 mm, 13-17 mm at 60 mm); further off the mesh does not hold the part.
+REACH = 0.5
 # Least share of part weight each corner of a tet has in common with a vertex bound to it
 # (sum over parts of min(w_vertex, w_node)): 0 for a tet reaching another limb, ~0.5 for a
 # vertex halfway along a joint and a corner on the bone of one side.
@@ -69,17 +69,6 @@ def body_piece(tets: np.ndarray) -> np.ndarray:
     """(T,) bool: the tets of the largest face-connected piece (by count)."""
     piece = face_pieces(tets)
     return piece == np.bincount(piece).argmax()
-
-
-def locate(points: np.ndarray, nodes: np.ndarray, tets: np.ndarray, tree: cKDTree,
-           k: int = _CANDIDATES) -> tuple[np.ndarray, np.ndarray]:
-    """The best tet (P,) for each point among the k with nearest centroids, and the point's
-    barycentric coordinates (P, 4) in it: the tet where the smallest coordinate is largest
-    (>= 0 when a candidate contains the point)."""
-    near, bary = _candidates(points, nodes, tets, tree, k)
-    best = bary.min(axis=2).argmax(axis=1)
-    rows = np.arange(len(points))
-    return near[rows, best], bary[rows, best]
 
 
 def skin_vertex_map(vertices: np.ndarray, points: np.ndarray, elements: np.ndarray, reach: float,
