@@ -96,7 +96,7 @@ def measure_report(
         "measurements_cm": {k: None if x is None else round(x * 100, 2) for k, x in _json_values(values).items()},
         "landmark_vertices": asdict(body_landmarks(body)),
     }
-    paths = tuple(measurement_paths(body, v, heads).values())
+    paths = measurement_paths(body, v, heads)  # name → polyline: the picture labels each tape
     picture = render_png(v, body.faces, ("front", "side", "back"), title=title, overlays=paths)
     if posed:
         rest = measure(body)
