@@ -7,7 +7,7 @@ STAMP := $(VENV)/.installed-stamp
 .PHONY: demo test bench install clean system-render system-test
 
 demo: system-render $(STAMP)
-	$(VENV)/bin/hitogata demo --out demo
+	$(VENV)/bin/hitogata demo --out demo --force  # a second run replaces the first one's files
 
 test: system-test $(STAMP) tools/node_modules/.package-lock.json
 	$(PY) -m pytest -q
