@@ -114,7 +114,7 @@ FILE_COMMANDS = {
 def test_a_folder_output_naming_an_existing_file_is_refused(here, capsys, no_model, command):
     (here / "taken").write_text("mine")
     line = mistake([*FOLDER_COMMANDS[command], "--out", "taken"], capsys)
-    assert line == f"hitogata: error: --out taken: is a file; allowed a folder (new, empty, or with --force)"
+    assert line == "hitogata: error: --out taken: is a file; allowed a folder (new, empty, or with --force)"
     assert files_in(here) == ["taken"] and (here / "taken").read_text() == "mine"
 
 
@@ -161,7 +161,8 @@ def test_a_folder_given_as_the_scenario_is_refused(here, capsys):
      "s.toml: [[keyframe]] 1.contractions.rectus_abdominus_l = '5%': no muscle 'rectus_abdominus_l'; "
      "did you mean rectus_abdominis_l"),
     ("angles = { \"knee_r.flexon\" = \"20deg\" }",
-     "s.toml: [[keyframe]] 1.angles.knee_r.flexon = '20deg': no joint angle 'knee_r.flexon'; did you mean knee_r.flexion"),
+     "s.toml: [[keyframe]] 1.angles.knee_r.flexon = '20deg': no joint angle 'knee_r.flexon'; "
+     "did you mean knee_r.flexion"),
     ("angles = { knee_r.flexion = \"200deg\" }",
      "s.toml: [[keyframe]] 1.angles.knee_r.flexion = '200deg': beyond the joint's range (shank_r.flexion); allowed"),
     ("contractions = { biceps_brachii_l = 25 }",

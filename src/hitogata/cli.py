@@ -30,7 +30,8 @@ COMMANDS = {
     "modes": ("hitogata.commands.modes", "the elastic body's lowest vibration modes: CSV, VTU (ParaView), pictures"),
     "pose": ("hitogata.commands.pose", "pose a body by muscle contractions or joint angles and write it"),
     "simulate": ("hitogata.commands.simulate", "run a scenario (TOML) of muscle contractions and joint angles"),
-    "skeleton": ("hitogata.commands.skeleton", "draw the posed 65-part skeleton, front and side, optionally in its skin"),
+    "skeleton": ("hitogata.commands.skeleton",
+                 "draw the posed 65-part skeleton, front and side, optionally in its skin"),
     "view": ("hitogata.commands.view", "open the interactive web viewer: pose the body by its muscles"),
 }
 NEGATIVE_VALUE = re.compile(r"^-\.?\d")  # '-5kg', '-.5': a value, not an option

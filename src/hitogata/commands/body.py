@@ -31,7 +31,8 @@ def body_from_args(args: argparse.Namespace) -> Body:
     from hitogata.body import Body
 
     stature, mass = units.length(args.stature, "--stature"), units.mass(args.mass, "--mass")
-    for option, text, value, example in (("--stature", args.stature, stature, "165cm"), ("--mass", args.mass, mass, "58kg")):
+    given = (("--stature", args.stature, stature, "165cm"), ("--mass", args.mass, mass, "58kg"))
+    for option, text, value, example in given:
         if value <= 0:
             raise HitogataError(f"{option} {text}: allowed a positive {option[2:]}, e.g. {example}")
     return Body.from_measurements(
