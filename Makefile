@@ -7,7 +7,7 @@ STAMP := $(VENV)/.installed-stamp
 .PHONY: demo test lint bench install clean system-render system-test
 
 demo: system-render $(STAMP)
-	$(VENV)/bin/hitogata demo --out demo
+	$(VENV)/bin/hitogata demo --out demo --force  # a second run replaces the first one's files
 
 # The linter and the type checker (configured in pyproject.toml) before the tests.
 # Deselect what a machine cannot run: make test PYTEST_ARGS='-m "not browser"'

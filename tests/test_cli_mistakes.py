@@ -161,7 +161,8 @@ def test_a_folder_given_as_the_scenario_is_refused(here, capsys):
      "s.toml: [[keyframe]] 1.contractions.rectus_abdominus_l = '5%': no muscle 'rectus_abdominus_l'; "
      "did you mean rectus_abdominis_l"),
     ("angles = { \"knee_r.flexon\" = \"20deg\" }",
-     "s.toml: [[keyframe]] 1.angles.knee_r.flexon = '20deg': no joint angle 'knee_r.flexon'; did you mean knee_r.flexion"),
+     "s.toml: [[keyframe]] 1.angles.knee_r.flexon = '20deg': no joint angle 'knee_r.flexon'; "
+     "did you mean knee_r.flexion"),
     ("angles = { knee_r.flexion = \"200deg\" }",
      "s.toml: [[keyframe]] 1.angles.knee_r.flexion = '200deg': beyond the joint's range (shank_r.flexion); allowed"),
     ("contractions = { biceps_brachii_l = 25 }",

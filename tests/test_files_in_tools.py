@@ -44,3 +44,24 @@ def test_the_body_glb_passes_the_khronos_validator(body_glb):
     report, code = validate_gltf(body_glb)
     assert report["issues"]["numErrors"] == 0 and report["issues"]["numWarnings"] == 0, report["issues"]["messages"]
     assert code == 0
+
+
+def test_the_tape_picture_names_its_tapes(female):
+    """measurements.png: a named tape gets its label (text right of the body), an unnamed one none."""
+    import io
+
+    from PIL import Image
+
+    from hitogata.measure.measurements import measurement_paths
+    from hitogata.measure.render import render_png
+
+    waist = measurement_paths(female)["waist_girth"]
+
+    def pixels(overlays) -> np.ndarray:
+        png = render_png(female.vertices, female.faces, ("front",), overlays=overlays)
+        return np.asarray(Image.open(io.BytesIO(png)).convert("L"), dtype=int)
+
+    named, plain = pixels({"waist_girth": waist}), pixels((waist,))
+    changed = np.abs(named - plain) > 64
+    columns = np.flatnonzero(changed.any(axis=0))
+    assert changed.sum() > 50 and columns.min() > named.shape[1] // 2  # the label, right of the body's centre

@@ -32,7 +32,8 @@ COMMANDS = {
     "motion": ("hitogata.commands.motion", "import a BVH motion onto the skeleton, or export a scenario's motion as BVH"),
     "pose": ("hitogata.commands.pose", "pose a body by muscle contractions or joint angles and write it"),
     "simulate": ("hitogata.commands.simulate", "run a scenario (TOML) of muscle contractions and joint angles"),
-    "skeleton": ("hitogata.commands.skeleton", "draw the posed 65-part skeleton, front and side, optionally in its skin"),
+    "skeleton": ("hitogata.commands.skeleton",
+                 "draw the posed 65-part skeleton, front and side, optionally in its skin"),
     "study": ("hitogata.commands.study", "run a population study (bodies x motions) on dask.distributed"),
     "view": ("hitogata.commands.view", "open the interactive web viewer: pose the body by its muscles"),
 }

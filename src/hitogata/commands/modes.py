@@ -104,7 +104,8 @@ def register(sub: argparse._SubParsersAction) -> None:
     parser.add_argument("--element-size", default=None,
                         help="lattice spacing, e.g. 30mm; default " +
                              ", ".join(f"{v:g}mm for {k}" for k, v in DEFAULT_ELEMENT_SIZES.items()))
-    parser.add_argument("--materials", default=None, type=input_path("file", suffixes=(".toml",)), help="a materials TOML file; default the shipped presets")
+    parser.add_argument("--materials", default=None, type=input_path("file", suffixes=(".toml",)),
+                        help="a materials TOML file; default the shipped presets")
     parser.add_argument("--bone", choices=BONE_MODES, default="rigid",
                         help="rigid: bone follows the skeleton (default); elastic: bone deforms too")
     parser.add_argument("--cuts", choices=CUT_MODES, default="free",

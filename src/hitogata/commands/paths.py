@@ -107,7 +107,8 @@ def check_output(out: str | None, spec: Output, force: bool) -> Path:
     path = Path(out)
     if spec.kind == "file":
         if spec.suffixes and path.suffix.lower() not in spec.suffixes:
-            raise HitogataError(f"--out {out}: unknown file suffix {path.suffix!r}; allowed: {', '.join(spec.suffixes)}")
+            allowed = ", ".join(spec.suffixes)
+            raise HitogataError(f"--out {out}: unknown file suffix {path.suffix!r}; allowed: {allowed}")
         if path.is_dir():
             raise HitogataError(f"--out {out}: is a folder; allowed {spec.allowed()}")
         if path.exists() and not force:

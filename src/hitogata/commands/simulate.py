@@ -22,7 +22,8 @@ def run(args: argparse.Namespace) -> None:
 def register(sub: argparse._SubParsersAction) -> None:
     names = ", ".join(sorted(shipped_scenarios()))
     parser = sub.add_parser("simulate", help="run a scenario (TOML) of muscle contractions and joint angles")
-    parser.add_argument("scenario", type=input_path("file", suffixes=(".toml",), names=shipped_scenarios), help=f"a scenario file (docs/scenarios.md) or a shipped one: {names}")
+    parser.add_argument("scenario", type=input_path("file", suffixes=(".toml",), names=shipped_scenarios),
+                        help=f"a scenario file (docs/scenarios.md) or a shipped one: {names}")
     add_output(parser, "folder", "output folder; default ./results (a new or empty folder)", default="results")
     parser.add_argument("--quiet", action="store_true", help="no progress bars")
     parser.set_defaults(run=run)

@@ -139,7 +139,8 @@ def _body(source: str, table: Any) -> BodySpec:
     stature = r.quantity("stature", units.LENGTH_UNITS, None, 0.5, 2.5, "a length like 165cm")
     mass = r.quantity("mass", units.MASS_UNITS, None, 20.0, 250.0, "a mass like 62kg")
     if (stature is None) != (mass is None):
-        raise r.error("give stature and mass together (or neither: the default body)", "stature" if stature is None else "mass")
+        raise r.error("give stature and mass together (or neither: the default body)",
+                      "stature" if stature is None else "mass")
     return BodySpec(sex, age, stature, mass)
 
 

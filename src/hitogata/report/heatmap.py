@@ -23,10 +23,12 @@ def strain_heatmap(vertices: np.ndarray, faces: np.ndarray, strain: SkinStrain, 
     strained = np.abs(values[np.isfinite(values)])
     strained = strained[strained > STRAINED]
     reach = max(MIN_RANGE, float(np.percentile(strained, 95.0))) if len(strained) else MIN_RANGE
+    finite = np.abs(values[np.isfinite(values)])
+    beyond = 100.0 * float(np.mean(finite > reach)) if len(finite) else 0.0
     colouring = Colouring(
         values=np.nan_to_num(values),
         cmap="RdBu_r",
         norm=TwoSlopeNorm(vcenter=0.0, vmin=-reach, vmax=reach),
-        label="largest principal strain (%)",
+        label=f"largest principal strain (%); colours saturate beyond ±{reach:.0f} % ({beyond:.1f} % of faces)",
     )
     return render_png(vertices, faces, ("front", "back"), colouring, title=title)

@@ -104,8 +104,8 @@ def measure_report(
         "measurements_cm": {k: None if x is None else round(x * 100, 2) for k, x in _json_values(values).items()},
         "landmarks_m": {k: p.tolist() for k, p in landmark_positions(body_landmarks(body), v).items()},
     }
-    paths = tuple(measurement_paths(body, v, heads).values())
-    picture = render_png(v, body.faces, ("front", "right", "back"), title=title, overlays=paths)  # the tapes are on the right
+    paths = measurement_paths(body, v, heads)  # name → polyline: the picture labels each tape
+    picture = render_png(v, body.faces, ("front", "right", "back"), title=title, overlays=paths)  # tapes on the right
     if posed:
         rest = measure(body)
         fine = fine_skin(body)

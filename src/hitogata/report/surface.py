@@ -10,6 +10,7 @@ made without pyplot, so importing this module changes no matplotlib backend.
 from __future__ import annotations
 
 import io
+from collections.abc import Mapping
 from dataclasses import dataclass
 
 import matplotlib
@@ -75,16 +76,24 @@ def render_png(
     views: tuple[str, ...],
     colouring: Colouring | None = None,
     title: str = "",
-    overlays: tuple[np.ndarray, ...] = (),
+    overlays: Mapping[str, np.ndarray] | tuple[np.ndarray, ...] = (),
 ) -> bytes:
-    """PNG bytes showing the surface from each view, with optional polylines drawn on top."""
+    """PNG bytes showing the surface from each view, with optional polylines drawn on top.
+
+    Named overlays (a mapping) are labelled in the first view, each at its end
+    furthest to the viewer's right, so a tape line says which measurement it is.
+    """
+    named = overlays if isinstance(overlays, Mapping) else {}
+    lines = list(overlays.values()) if isinstance(overlays, Mapping) else list(overlays)
     fig = Figure(figsize=(3.2 * len(views) + (1.2 if colouring else 0), 6.4))
     axes = np.atleast_1d(fig.subplots(1, len(views)))
     for ax, view in zip(axes, views):
         draw_view(ax, vertices, faces, view, colouring)
         right, _ = VIEWS[view]
-        for line in overlays:
+        for line in lines:
             ax.plot(line @ right, line[:, 1], lw=1.0, color="k")
+    if named:
+        _label_lines(axes[0], named, VIEWS[views[0]][0])
     _same_scale(axes)
     if colouring is not None:
         mappable = ScalarMappable(norm=colouring.norm, cmap=colouring.cmap)
@@ -94,6 +103,24 @@ def render_png(
     buffer = io.BytesIO()
     fig.savefig(buffer, format="png", dpi=110)
     return buffer.getvalue()
+
+
+GAP = 0.055  # m: the least height between two labels
+
+
+def _label_lines(ax, lines: Mapping[str, np.ndarray], right: np.ndarray) -> None:
+    """Each line's name in a column right of the body, a leader to the line's rightmost point, spread apart."""
+    column = ax.get_xlim()[1] + 0.02
+    used: list[float] = []
+    for name, line in sorted(lines.items(), key=lambda item: -float(item[1][:, 1].max())):
+        x = line @ right
+        k = int(np.argmax(x))
+        y = float(line[k, 1])
+        y = min([y, *(u - GAP for u in used if u - y < GAP)])  # below the label above, if too close
+        used.append(y)
+        ax.annotate(name.replace("_", " "), (float(x[k]), float(line[k, 1])), xytext=(column, y),
+                    fontsize=6, color="k", va="center", ha="left", annotation_clip=False,
+                    arrowprops={"arrowstyle": "-", "lw": 0.4, "color": "0.45"})
 
 
 def _same_scale(axes) -> None:
