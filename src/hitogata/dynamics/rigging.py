@@ -20,6 +20,8 @@ uses): the local frame in which the elastic correction is computed.
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 from dataclasses import dataclass
 
 import numpy as np
@@ -34,6 +36,9 @@ from hitogata.options import Skinning
 from hitogata.pose import Poser
 from hitogata.skeleton.weights import part_weights
 from hitogata.skinning import Skin, dual_quaternions, prepare_skin, skin_vertices
+
+if TYPE_CHECKING:
+    from hitogata.elastic import ElasticModel
 
 SKIN_NEIGHBOURS = 4
 RIGID = 0.99  # a bone node whose largest part weight reaches this moves with that part alone
@@ -149,7 +154,7 @@ def joint_nodes(weights: sp.csr_matrix, elements: np.ndarray, fixed_nodes: np.nd
     return np.unique(mixed[rigid[mixed]])
 
 
-def node_rig(poser: Poser, model, method: Skinning = "dqs") -> NodeRig:
+def node_rig(poser: Poser, model: ElasticModel, method: Skinning = "dqs") -> NodeRig:
     """The elastic model's nodes prepared for skinning by the poser's skeleton ('lbs' or 'dqs')."""
     if method not in ("lbs", "dqs"):
         raise HitogataError(f"skinning = {method!r}: allowed lbs, dqs")
