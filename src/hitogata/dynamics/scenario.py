@@ -19,7 +19,17 @@ from typing import Any
 from hitogata import units
 from hitogata.dynamics.timeline import INTERPOLATIONS, Keyframe, Timeline
 from hitogata.errors import HitogataError
-from hitogata.options import ON_LIMIT, OUTPUT_FILES as FILES, VIEW_NAMES as VIEWS, OnLimit, Skinning
+from hitogata.options import (
+    ELEMENTS,
+    EXTENTS,
+    ON_LIMIT,
+    OUTPUT_FILES as FILES,
+    SEXES,
+    SKINNING,
+    VIEW_NAMES as VIEWS,
+    OnLimit,
+    Skinning,
+)
 
 TIME_UNITS = {"s": 1.0, "ms": 1e-3, "": 1.0}
 FREQUENCY_UNITS = {"hz": 1.0}
@@ -160,7 +170,7 @@ def _body(source: str, table: Any) -> BodySpec:
     r = _Reader(source, "[body]", table, {"sex", "age", "stature", "mass"})
     sex = table.get("sex", "female")
     number = isinstance(sex, (int, float)) and not isinstance(sex, bool)
-    if not (sex in ("female", "male") or (number and 0 <= sex <= 1)):
+    if not (sex in SEXES or (number and 0 <= sex <= 1)):
         raise r.fail("sex", f"{sex!r}; allowed female, male or a number 0 (female) … 1 (male)")
     age = r.quantity("age", {"": 1.0, "years": 1.0, "y": 1.0}, 30.0, 18.0, 90.0, "years, 18..90")
     stature = r.quantity("stature", units.LENGTH_UNITS, None, 0.5, 2.5, "a length like 165cm")
@@ -200,8 +210,8 @@ def _model(source: str, table: Any) -> ModelSpec:
     gravity = table.get("gravity", True)
     if not isinstance(gravity, bool):
         raise r.fail("gravity", f"{gravity!r}; allowed true or false")
-    return ModelSpec(r.choice("extent", ("trunk", "body"), "trunk"), size, r.choice("element", ("P2", "P1"), "P2"),
-                     r.integer("modes", 40, 1, 400), ratios, alpha_beta, r.choice("skinning", ("dqs", "lbs"), "dqs"),
+    return ModelSpec(r.choice("extent", EXTENTS, "trunk"), size, r.choice("element", ELEMENTS, "P2"),
+                     r.integer("modes", 40, 1, 400), ratios, alpha_beta, r.choice("skinning", SKINNING, "dqs"),
                      gravity)
 
 
