@@ -18,7 +18,8 @@ from pathlib import Path
 
 REPEAT = 7
 SRC = Path(__file__).resolve().parents[1] / "src"
-PACKAGES = ["body", "pose", "volume", "fem", "elastic", "dynamics", "measure", "report", "render", "export"]
+PACKAGES = ["body", "pose", "volume", "fem", "elastic", "dynamics", "dynamics.scenario", "measure", "report", "render",
+            "export"]
 
 
 def wall(args: list[str]) -> float:

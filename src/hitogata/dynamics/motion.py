@@ -47,6 +47,7 @@ from hitogata.pose import Poser, poser_for
 from hitogata.skinning import skin_vertices
 
 if TYPE_CHECKING:
+    from hitogata.body import Body
     from hitogata.elastic import ElasticModel
 
 CARTILAGE = 10.0
@@ -75,7 +76,7 @@ class BodyDynamics:
     skin_fade: np.ndarray  # (V,) share of the elastic displacement a skin vertex takes (0 at a cut)
 
     @classmethod
-    def build(cls, body, model, skinning: Skinning = "dqs", poser: Poser | None = None) -> BodyDynamics:
+    def build(cls, body: Body, model: ElasticModel, skinning: Skinning = "dqs", poser: Poser | None = None) -> BodyDynamics:
         """Prepare a body and its elastic model (`hitogata.elastic.build_elastic_model`)."""
         poser = poser or poser_for(body)
         rig = node_rig(poser, model, skinning)
@@ -168,7 +169,7 @@ class BodyDynamics:
         return delta, size
 
 
-def cut_fade(vertices: np.ndarray, model) -> np.ndarray:
+def cut_fade(vertices: np.ndarray, model: ElasticModel) -> np.ndarray:
     """(V,) 0 → 1 over CUT_FADE elements from the model's cut faces (neck, hips, arms of a trunk), else 1.
 
     Beyond a cut the skin moves by skinning alone; fading the elastic

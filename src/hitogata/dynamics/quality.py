@@ -15,6 +15,8 @@ correction). Measures:
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 from dataclasses import dataclass
 
 import numpy as np
@@ -22,6 +24,9 @@ import numpy as np
 from hitogata.dynamics.motion import BodyDynamics
 from hitogata.dynamics.quasistatic import corner_volumes, rotate
 from hitogata.dynamics.rigging import node_rig
+
+if TYPE_CHECKING:
+    from hitogata.elastic import ElasticModel
 
 STATIC_ITERATIONS = 40
 
@@ -53,7 +58,7 @@ def log_stretches(rest: np.ndarray, posed: np.ndarray) -> np.ndarray:
     return np.sqrt((0.25 * np.log(np.maximum(ev, 1e-12)) ** 2).sum(axis=1))
 
 
-def pose_quality(model, x: np.ndarray, method: str) -> PoseQuality:
+def pose_quality(model: ElasticModel, x: np.ndarray, method: str) -> PoseQuality:
     """Figures of node positions x (N, 3) of an elastic model."""
     rest = model.points
     v0, v = corner_volumes(rest, model.elements), corner_volumes(x, model.elements)

@@ -25,6 +25,8 @@ uses): the local frame in which the elastic correction is computed.
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 from dataclasses import dataclass
 
 import numpy as np
@@ -40,6 +42,9 @@ from hitogata.options import Skinning
 from hitogata.pose import Poser
 from hitogata.skeleton.weights import part_weights
 from hitogata.skinning import Skin, dual_quaternions, prepare_skin, skin_vertices
+
+if TYPE_CHECKING:
+    from hitogata.elastic import ElasticModel
 
 SKIN_NEIGHBOURS = 4
 # For binding the skin, the vertebrae within this many places along the spine chain count as
@@ -159,7 +164,7 @@ def joint_nodes(weights: sp.csr_matrix, elements: np.ndarray, fixed_nodes: np.nd
     return np.unique(mixed[rigid[mixed]])
 
 
-def node_rig(poser: Poser, model, method: Skinning = "dqs", bind_skin: bool = True) -> NodeRig:
+def node_rig(poser: Poser, model: ElasticModel, method: Skinning = "dqs", bind_skin: bool = True) -> NodeRig:
     """The elastic model's nodes prepared for skinning by the poser's skeleton ('lbs' or 'dqs');
     bind_skin: also bind the body's skin to the nodes that move with its parts (`skin_map`)."""
     if method not in ("lbs", "dqs"):

@@ -19,7 +19,18 @@ from hitogata import units
 from hitogata.config import Entry, read_toml
 from hitogata.dynamics.timeline import Keyframe, Timeline
 from hitogata.errors import HitogataError
-from hitogata.options import ELEMENTS, EXTENTS, INTERPOLATIONS, ON_LIMIT, OUTPUT_FILES as FILES, SKINNING, VIEW_NAMES as VIEWS, OnLimit, Skinning
+from hitogata.options import (
+    ELEMENTS,
+    EXTENTS,
+    INTERPOLATIONS,
+    ON_LIMIT,
+    OUTPUT_FILES as FILES,
+    SEXES,
+    SKINNING,
+    VIEW_NAMES as VIEWS,
+    OnLimit,
+    Skinning,
+)
 
 TIME_UNITS = {"s": 1.0, "ms": 1e-3, "": 1.0}
 FREQUENCY_UNITS = {"hz": 1.0}
@@ -133,7 +144,7 @@ def _body(source: str, table: Any) -> BodySpec:
     r = Entry(source, "[body]", table, {"sex", "age", "stature", "mass"})
     sex = table.get("sex", "female")
     number = isinstance(sex, (int, float)) and not isinstance(sex, bool)
-    if not (sex in ("female", "male") or (number and 0 <= sex <= 1)):
+    if not (sex in SEXES or (number and 0 <= sex <= 1)):
         raise r.error(f"{sex!r}; allowed female, male or a number 0 (female) … 1 (male)", "sex")
     age = r.quantity("age", {"": 1.0, "years": 1.0, "y": 1.0}, 30.0, 18.0, 90.0, "years, 18..90")
     stature = r.quantity("stature", units.LENGTH_UNITS, None, 0.5, 2.5, "a length like 165cm")

@@ -8,6 +8,8 @@ shapes quadratically. All writes are atomic.
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import io
 import os
 from pathlib import Path
@@ -21,6 +23,9 @@ from hitogata.export.atomic import write_bytes_atomically
 from hitogata.export.vtu import label_arrays
 from hitogata.export.vtu import write_vtu as write_mesh_vtu
 from hitogata.render import Layer, render_views
+
+if TYPE_CHECKING:
+    from hitogata.body import Body
 
 PICTURE_AMPLITUDE = 0.03  # m: the largest skin displacement drawn in a mode picture
 
@@ -86,7 +91,7 @@ def write_vtu(path: str | os.PathLike, model: ElasticModel, n_shapes: int | None
     return write_mesh_vtu(path, vtu_mesh(model, n_shapes), vtu_field_data(model))
 
 
-def mode_picture(model: ElasticModel, body, mode: int, size: tuple[int, int] = (360, 540)) -> bytes:
+def mode_picture(model: ElasticModel, body: Body, mode: int, size: tuple[int, int] = (360, 540)) -> bytes:
     """PNG of one mode on the body's skin, front and side, coloured by displacement.
 
     The shape is scaled so that its largest skin displacement is `PICTURE_AMPLITUDE`.
@@ -108,7 +113,7 @@ def mode_picture(model: ElasticModel, body, mode: int, size: tuple[int, int] = (
     return buffer.getvalue()
 
 
-def write_mode_pictures(folder: str | os.PathLike, model: ElasticModel, body, count: int) -> list[Path]:
+def write_mode_pictures(folder: str | os.PathLike, model: ElasticModel, body: Body, count: int) -> list[Path]:
     """`mode_01.png`... for the first `count` modes (see `mode_picture`)."""
     folder = Path(folder)
     return [write_bytes_atomically(folder / f"mode_{k + 1:02d}.png", mode_picture(model, body, k))

@@ -9,6 +9,8 @@ size alone is in millimetres, like the volume model's.
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import time
 from collections.abc import Mapping
 from dataclasses import dataclass
@@ -41,6 +43,9 @@ from hitogata.options import BONE_MODES, BoneMode, CUT_MODES, CutMode, Dilatatio
 from hitogata.volume import VolumeModel, build_volume_model
 from hitogata.volume.integrity import MIN_HOLD_WIDTH, face_pieces, hold_width
 from hitogata.volume.trunk import segment_distance
+
+if TYPE_CHECKING:
+    from hitogata.body import Body
 
 # Default lattice spacing (mm) per element type. P2 at 40 mm: the largest trunk model whose 40
 # modes solve within the 10 s budget; with the soft tissue meshed round the bone capsules its 40
@@ -158,7 +163,7 @@ class ElasticModel(ElasticSystem):
         return self.skin_vertex_map @ np.asarray(u, dtype=float).reshape(len(self.points), 3)
 
 
-def build_elastic_model(body, *, extent: Extent = "trunk", element_size: float | None = None, element: Element = "P2",
+def build_elastic_model(body: Body, *, extent: Extent = "trunk", element_size: float | None = None, element: Element = "P2",
                         n_modes: int = 40, materials: str | Path | Materials | None = None, bone: BoneMode = "rigid",
                         cuts: CutMode = "free", dilatation: Dilatation = "mean",
                         damping_ratios: tuple[tuple[float, float], tuple[float, float]] | None = None,

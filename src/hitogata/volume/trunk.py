@@ -26,9 +26,12 @@ from hitogata.volume.domain import Domain, HalfSpace, ImplicitDomain, Intersecti
 class RigLike(Protocol):
     """Bone names with head and tail positions (m): `hitogata.rig.Rig` is one."""
 
-    names: tuple[str, ...]
-    heads: np.ndarray
-    tails: np.ndarray
+    @property
+    def names(self) -> tuple[str, ...]: ...
+    @property
+    def heads(self) -> np.ndarray: ...
+    @property
+    def tails(self) -> np.ndarray: ...
 
 
 def segment_distance(points: np.ndarray, heads: np.ndarray, tails: np.ndarray) -> np.ndarray:
