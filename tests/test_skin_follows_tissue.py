@@ -8,13 +8,14 @@ hinged tets swing at the first quasi-static solve of any pose, so a few
 coarse frames show it as well as the scenario's 51.
 """
 
+import dataclasses
 
 import numpy as np
 import pytest
 
 from hitogata.body import Body
 from hitogata.dynamics.motion import simulate
-from hitogata.dynamics.run import JUMP_SPEED, build_dynamics
+from hitogata.dynamics.run import JUMP_SPEED, build_dynamics, surface_problems
 from hitogata.dynamics.scenario import load_scenario, shipped_scenarios
 from hitogata.elastic.mapping import body_piece
 from hitogata.geometry import surface_integrity
