@@ -44,9 +44,10 @@ BODY_SIZE_MM = 40.0  # the elastic body's default (P2)
 # corners of the supported range (stature 150-195 cm, BMI 18-35; women to 33: docs/body.md).
 GRID = [("cli female 165 cm 60 kg", "female", 1.65, 60.0), ("default female", "female", None, None),
         ("default male", "male", None, None)] + [
-    (f"{sex} {s * 100:.0f} cm BMI {bmi:.0f}", sex, s, bmi * s * s)
+    (f"{sex} {s * 100:.0f} cm BMI {bmi:.0f}", sex, s, round(bmi * s * s, 1))
     for sex, bmis in (("female", (18.0, 33.0)), ("male", (18.0, 35.0))) for s in (1.50, 1.95) for bmi in bmis
-] + [("female 165 cm BMI 26", "female", 1.65, 26.0 * 1.65 ** 2), ("male 178 cm BMI 30", "male", 1.78, 30.0 * 1.78 ** 2)]
+] + [("female 165 cm BMI 26", "female", 1.65, round(26.0 * 1.65 ** 2, 1)),
+     ("male 178 cm BMI 30", "male", 1.78, round(30.0 * 1.78 ** 2, 1))]
 
 
 def grid_body(sex: str, stature: float | None, mass: float | None) -> Body:
