@@ -35,7 +35,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.spatial import cKDTree
 
-from hitogata.dynamics.quasistatic import QuasiStatic, rotate, unrotate
+from hitogata.dynamics.quasistatic import QuasiStatic, WarmStart, rotate, unrotate
 from hitogata.dynamics.rigging import NodeRig, joint_nodes, node_rig
 from hitogata.dynamics.timeline import Timeline
 from hitogata.errors import HitogataError
@@ -145,15 +145,18 @@ class BodyDynamics:
         return world
 
     def quasi_static(self, skinned: np.ndarray, node_rotations: np.ndarray, loads: np.ndarray | None,
-                     start: np.ndarray | None = None, iterations: int = ITERATIONS) -> tuple[np.ndarray, float]:
+                     start: np.ndarray | None = None, iterations: int = ITERATIONS,
+                     warm: WarmStart | None = None) -> tuple[np.ndarray, float]:
         """Local correction δ_qs (N, 3) of the equilibrium about the skinned nodes, and the last step (m).
 
-        Solved on the corner nodes (start: a previous δ), lifted to mid-edge nodes as their edge's mean.
+        Solved on the corner nodes from a previous δ (`start`) and the previous solve's rotations
+        (`warm`, from `statics.warm_start()`, updated in place; None for both: from rest), lifted
+        to mid-edge nodes as their edge's mean.
         """
         c = len(self.statics.points)
         g, R = skinned[:c], node_rotations[:c]
         x = g if start is None else g + rotate(R, start[:c])
-        x, size = self.statics.solve(x, None if loads is None else loads[:c], iterations)
+        x, size = self.statics.solve(x, None if loads is None else loads[:c], iterations, warm=warm)
         delta = np.zeros((self.n_nodes, 3))
         delta[:c] = unrotate(R, x - g)
         elements = self.model.elements
@@ -229,6 +232,7 @@ def simulate(dynamics: BodyDynamics, timeline: Timeline, duration: float, rate: 
     r_out = np.zeros((n_frames, n_nodes, 3, 3))
     dqs_out = np.zeros((n_frames, n_nodes, 3))
     delta, s_now, previous, size = None, None, None, np.inf
+    warm = dynamics.statics.warm_start()  # this run's own: each pose starts from the previous one's answer
 
     def skinned(n: int) -> tuple[np.ndarray, np.ndarray]:
         n = min(n, n_steps - 1)  # the skeleton holds still after the end (and before 0)
@@ -248,7 +252,7 @@ def simulate(dynamics: BodyDynamics, timeline: Timeline, duration: float, rate: 
             s_now = np.zeros(k)
         elif state != previous or size > TOLERANCE:  # a held pose and load keep a converged answer
             delta, size = dynamics.quasi_static(g_now, r_now, dynamics.loads(r_now, c_now, gravity), delta,
-                                                iterations)
+                                                iterations, warm)
             s_now = dynamics.modal(delta)
         previous = state
         s_all[n] = s_now

@@ -20,7 +20,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from hitogata.dynamics.motion import BodyDynamics
-from hitogata.dynamics.quasistatic import corner_volumes, rotate
+from hitogata.dynamics.quasistatic import rotate
+from hitogata.dynamics.volumes import corner_volumes
 from hitogata.dynamics.rigging import node_rig
 
 STATIC_ITERATIONS = 40
@@ -80,7 +81,6 @@ def compare_pose(dynamics: BodyDynamics, angles: np.ndarray,
         g, R = rig.pose(pose.rotations, pose.translations)
         out[method] = measure(dynamics.model, g[0], method)
         if rig is dynamics.rig:
-            dynamics.statics.quaternions[:] = (1.0, 0.0, 0.0, 0.0)  # from rest, whatever was solved before
-            delta, _ = dynamics.quasi_static(g[0], R[0], None, None, iterations)
+            delta, _ = dynamics.quasi_static(g[0], R[0], None, None, iterations)  # from rest
             out["elastic"] = measure(dynamics.model, g[0] + rotate(R[0], delta), "elastic")
     return out
