@@ -149,98 +149,169 @@ def region_surfaces(motion: Motion) -> dict[str, np.ndarray]:
     return dict(sorted(surfaces.items(), key=lambda item: model.region_names.index(item[0])))
 
 
-def smoothed(points: np.ndarray, faces: np.ndarray, steps: int = SMOOTHING) -> np.ndarray:
-    """Taubin-smoothed vertex positions of a surface (display only: the tets' staircase interfaces)."""
-    used = np.unique(faces)
+def smoothing_operator(n: int, faces: np.ndarray) -> sp.csr_matrix:
+    """(n, n) one averaging step over a surface's edges: (A x)/degree − x on its vertices, 0 elsewhere."""
+    used = np.zeros(n, dtype=bool)
+    used[faces.ravel()] = True
     edges = np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]])
-    n = len(points)
     rows, cols = np.r_[edges[:, 0], edges[:, 1]], np.r_[edges[:, 1], edges[:, 0]]
     adjacency = sp.csr_matrix((np.ones(len(rows)), (rows, cols)), shape=(n, n))
     adjacency.data[:] = 1.0
     degree = np.maximum(np.asarray(adjacency.sum(axis=1)).ravel(), 1.0)
+    return (sp.diags(used / degree) @ adjacency - sp.diags(used.astype(float))).tocsr()
+
+
+def smoothed(points: np.ndarray, operator: sp.csr_matrix, steps: int = SMOOTHING) -> np.ndarray:
+    """Taubin-smoothed vertex positions of a surface (display only: the tets' staircase interfaces);
+    `operator` from `smoothing_operator`."""
     out = points.copy()
     for _ in range(steps):
         for factor in (0.5, -0.53):
-            move = (adjacency @ out) / degree[:, None] - out
-            out[used] += factor * move[used]
+            out += factor * (operator @ out)
     return out
 
 
-def frame_items(motion: Motion, k: int, surfaces: dict[str, np.ndarray], bounds: np.ndarray,
-                colour_by_elastic: bool = False) -> list:
-    """Render items of frame k: the skeleton, translucent region surfaces (or the skin coloured by the
-    elastic displacement in mm), and invisible bounds that fix the framing over frames."""
-    from hitogata.render import Layer, Lines, Points
+class MotionPictures:
+    """The pictures of one motion: each frame's views rendered once, in one live offscreen window.
 
-    pose = motion.dynamics.poser.kinematics.pose(motion.angles[k])
-    bones = np.stack([pose.joints[0], pose.tails[0]], axis=1)
-    items = [Lines(bones, color="#4a4a4a", radius=0.005), Points(pose.joints[0], color="#8e2f25", radius=0.008)]
-    nodes = motion.nodes[k].astype(np.float64)
-    if colour_by_elastic:
-        model = motion.dynamics.model
-        outer = model.volume.boundary_faces[model.volume.boundary_on_skin]
-        mm = np.linalg.norm(motion.elastic[k], axis=1).astype(np.float64) * 1e3
-        top = float(np.linalg.norm(motion.elastic, axis=2).max() * 1e3)
-        items.append(Layer(nodes, outer, scalars=mm, colormap="viridis", clim=(0.0, max(top, 1e-3)),
-                           scalar_title="elastic displacement (mm)", opacity=1.0))
-    else:
-        for name in ("bone", "viscera", "muscle", "skin"):
-            if name in surfaces:
-                color, opacity = REGION_STYLE[name]
-                items.append(Layer(smoothed(nodes, surfaces[name]), surfaces[name], color=color, opacity=opacity))
-    items.append(Points(bounds, color="white", size=1.0, opacity=0.0))
-    return items
+    Frame k (`frame(k)`): the skeleton and the translucent region surfaces
+    (the paper's Fig. 3(b)); `elastic()`: the body's skin at the frame of
+    its largest elastic displacement, coloured by it in mm on a scale that
+    ends at that largest value (the figure the run's summary prints). Every
+    picture is titled with `title` and its time; all share one framing (the
+    box of the whole motion). A frame asked for again (a snapshot that is
+    also a GIF frame) is not rendered again. Close it (or use `with`).
+    """
+
+    def __init__(self, motion: Motion, views, size, title: str = "") -> None:
+        from hitogata.render import Renderer
+
+        self.motion, self.views, self.size, self.title = motion, tuple(views), tuple(size), title
+        self.surfaces = region_surfaces(motion)
+        n = len(motion.dynamics.model.points)
+        self._smoothing = {name: smoothing_operator(n, faces) for name, faces in self.surfaces.items()}
+        self.bounds = motion_bounds(motion)
+        self._renderer = Renderer()
+        self._frames: dict[int, np.ndarray] = {}
+
+    def __enter__(self) -> MotionPictures:
+        return self
+
+    def __exit__(self, *_: object) -> None:
+        self.close()
+
+    def close(self) -> None:
+        self._renderer.close()
+
+    def _caption(self, k: int) -> str:
+        time = f"t = {self.motion.times[k]:.2f} s"
+        return f"{self.title}, {time}" if self.title else time
+
+    def _render(self, items: list, k: int) -> np.ndarray:
+        from hitogata.render import side_by_side, titled
+        from hitogata.render.images import TITLE_PIXELS
+
+        size = (self.size[0], self.size[1] - TITLE_PIXELS)
+        return titled(side_by_side(self._renderer.render(items, views=self.views, size=size)), self._caption(k))
+
+    def _skeleton(self, k: int) -> list:
+        from hitogata.render import Lines, Points
+
+        pose = self.motion.dynamics.poser.kinematics.pose(self.motion.angles[k])
+        bones = np.stack([pose.joints[0], pose.tails[0]], axis=1)
+        return [Lines(bones, color="#4a4a4a", radius=0.005), Points(pose.joints[0], color="#8e2f25", radius=0.008),
+                Points(self.bounds, color="white", size=1.0, opacity=0.0)]  # fixes the framing over frames
+
+    def frame(self, k: int) -> np.ndarray:
+        """(H, W, 3) RGB: frame k's views side by side, region surfaces translucent, skeleton inside."""
+        if k not in self._frames:
+            from hitogata.render import Layer
+
+            nodes = self.motion.nodes[k].astype(np.float64)
+            items = self._skeleton(k)
+            for name in ("bone", "viscera", "muscle", "skin"):
+                if name in self.surfaces:
+                    color, opacity = REGION_STYLE[name]
+                    items.append(Layer(smoothed(nodes, self._smoothing[name]), self.surfaces[name], color=color,
+                                       opacity=opacity))
+            self._frames[k] = self._render(items, k)
+        return self._frames[k]
+
+    def elastic(self) -> np.ndarray:
+        """(H, W, 3) RGB: the skin coloured by its elastic displacement (mm) at the frame of its largest."""
+        from hitogata.render import Layer
+
+        motion = self.motion
+        mm = np.linalg.norm(motion.skin - motion.skinned_skin, axis=2) * 1e3  # (F, V), as the summary's
+        k = int(np.argmax(mm.max(axis=1)))
+        top = float(mm[k].max())
+        body = motion.dynamics.poser.body
+        items = self._skeleton(k) + [Layer(motion.skin[k].astype(np.float64), body.faces, scalars=mm[k].astype(float),
+                                           colormap="viridis", clim=(0.0, max(top, 1e-3)), opacity=1.0,
+                                           scalar_title="elastic displacement (mm)")]
+        return self._render(items, k)
 
 
 def motion_bounds(motion: Motion) -> np.ndarray:
-    """(2, 3) corners of the box holding the nodes and joints over all frames."""
+    """(2, 3) corners of the box holding the nodes, the skin and the joints over all frames."""
     joints = motion.dynamics.poser.kinematics.pose(motion.angles).joints
-    pts = np.concatenate([motion.nodes.reshape(-1, 3), joints.reshape(-1, 3)])
+    pts = np.concatenate([motion.nodes.reshape(-1, 3), motion.skin.reshape(-1, 3), joints.reshape(-1, 3)])
     return np.stack([pts.min(axis=0), pts.max(axis=0)]).astype(np.float64)
 
 
-def render_frame(motion: Motion, k: int, views, size, surfaces=None, bounds=None,
-                 colour_by_elastic: bool = False) -> np.ndarray:
-    """One RGB image (H, W, 3): the views of frame k side by side."""
-    from hitogata.render import render_views, side_by_side
-
-    surfaces = region_surfaces(motion) if surfaces is None else surfaces
-    bounds = motion_bounds(motion) if bounds is None else bounds
-    items = frame_items(motion, k, surfaces, bounds, colour_by_elastic)
-    return side_by_side(render_views(items, views=views, size=size))
+def nearest_frame(motion: Motion, t: float) -> int:
+    """Index of the output frame nearest time t."""
+    return int(np.argmin(np.abs(motion.times - t)))
 
 
-def write_pictures(folder: str | os.PathLike, motion: Motion, times, views, size, name: str = "motion") -> list[Path]:
+def write_pictures(folder: str | os.PathLike, motion: Motion, times, views, size, name: str = "motion",
+                   title: str = "", pictures: MotionPictures | None = None) -> list[Path]:
     """PNG of the views at the frames nearest each time (`<name>_<t>s.png`), and of the frame of
-    largest elastic motion with the skin coloured by it (`<name>_elastic.png`)."""
+    largest elastic skin displacement with the skin coloured by it (`<name>_elastic.png`).
+
+    pictures: a `MotionPictures` of this motion at `size` to render with (and to share frames with
+    the GIF); by default one of its own, titled `title`."""
     from hitogata.render import save_png
 
-    surfaces, bounds = region_surfaces(motion), motion_bounds(motion)
-    out = []
-    for t in times:
-        k = int(np.argmin(np.abs(motion.times - t)))
-        out.append(save_png(Path(folder) / f"{name}_{motion.times[k]:.2f}s.png",
-                            render_frame(motion, k, views, size, surfaces, bounds)))
-    peak = int(np.argmax(np.linalg.norm(motion.elastic, axis=2).max(axis=1)))
-    out.append(save_png(Path(folder) / f"{name}_elastic.png",
-                        render_frame(motion, peak, views, size, surfaces, bounds, colour_by_elastic=True)))
-    return out
+    own = pictures is None
+    pictures = MotionPictures(motion, views, size, title) if own else pictures
+    try:
+        out = []
+        for t in times:
+            k = nearest_frame(motion, t)
+            out.append(save_png(Path(folder) / f"{name}_{motion.times[k]:.2f}s.png", pictures.frame(k)))
+        out.append(save_png(Path(folder) / f"{name}_elastic.png", pictures.elastic()))
+        return out
+    finally:
+        if own:
+            pictures.close()
 
 
-def write_gif(path: str | os.PathLike, motion: Motion, views, size, rate: float, progress=None) -> Path:
-    """An animated GIF of the views at `rate` frames per second (looping)."""
+def write_gif(path: str | os.PathLike, motion: Motion, views, size, rate: float, progress=None, title: str = "",
+              pictures: MotionPictures | None = None) -> Path:
+    """An animated GIF of the views at `rate` frames per second (looping), each frame `size` per view.
+
+    pictures: a `MotionPictures` of this motion to take the frames from (scaled to `size` when it
+    renders another size: the snapshots' frames are then not rendered twice); by default its own."""
     from PIL import Image
 
-    surfaces, bounds = region_surfaces(motion), motion_bounds(motion)
+    own = pictures is None
+    pictures = MotionPictures(motion, views, size, title) if own else pictures
     span = motion.times[-1] - motion.times[0]
     count = max(2, int(round(span * rate)) + 1)
-    wanted = np.linspace(motion.times[0], motion.times[-1], count)
-    picks = np.unique([int(np.argmin(np.abs(motion.times - t))) for t in wanted])
+    picks = np.unique([nearest_frame(motion, t) for t in np.linspace(motion.times[0], motion.times[-1], count)])
     images = []
-    for i, k in enumerate(picks):
-        images.append(Image.fromarray(render_frame(motion, k, views, size, surfaces, bounds)))
-        if progress is not None:
-            progress(i + 1, len(picks))
+    try:
+        for i, k in enumerate(picks):
+            image = Image.fromarray(pictures.frame(int(k)))
+            if pictures.size != tuple(size):
+                image = image.resize((len(pictures.views) * size[0], size[1]), Image.Resampling.LANCZOS)
+            images.append(image)
+            if progress is not None:
+                progress(i + 1, len(picks))
+    finally:
+        if own:
+            pictures.close()
     buffer = io.BytesIO()
     step = 1000.0 * span / max(len(picks) - 1, 1)
     images[0].save(buffer, format="GIF", save_all=True, append_images=images[1:], duration=int(round(step)), loop=0)

@@ -69,8 +69,12 @@ class BodyDynamics:
     skin_fade: np.ndarray  # (V,) share of the elastic displacement a skin vertex takes (0 at a cut)
 
     @classmethod
-    def build(cls, body, model, skinning: str = "dqs", poser: Poser | None = None) -> BodyDynamics:
-        """Prepare a body and its elastic model (`hitogata.elastic.build_elastic_model`)."""
+    def build(cls, body, model, skinning: str = "dqs", poser: Poser | None = None,
+              solver: type[QuasiStatic] = QuasiStatic) -> BodyDynamics:
+        """Prepare a body and its elastic model (`hitogata.elastic.build_elastic_model`).
+
+        solver: the quasi-statics' class (its constructor's); another is for comparisons
+        (`benchmarks/bench_dynamics.py` runs the solver of an earlier commit this way)."""
         poser = poser or poser_for(body)
         rig = node_rig(poser, model, skinning)
         held = np.setdiff1d(model.fixed_nodes, joint_nodes(rig.weights, model.elements, model.fixed_nodes))
@@ -81,7 +85,7 @@ class BodyDynamics:
         # they act as cartilage, so no stiffer than CARTILAGE x the stiffest soft tissue (GPa bone
         # against kPa tissue would stall the iteration).
         E = np.minimum(model.E, CARTILAGE * model.E[np.isin(model.region, soft)].max())
-        statics = QuasiStatic(model.points[:corners], model.elements[:, :4], E, model.nu,
+        statics = solver(model.points[:corners], model.elements[:, :4], E, model.nu,
                               held[held < corners], model.region, soft)
         loads = {name: model.muscle_load(name, 1.0).reshape(-1, 3) for name in model.muscle_names
                  if len(model.muscle_elements(name))}

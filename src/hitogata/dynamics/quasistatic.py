@@ -69,7 +69,7 @@ from threadpoolctl import threadpool_limits
 
 from hitogata.dynamics.rotations import extract_rotations
 from hitogata.dynamics.untangle import Untangler
-from hitogata.dynamics.volumes import corner_gradients, corner_volumes
+from hitogata.dynamics.volumes import corner_gradients, corner_volumes, volumes_and_gradients
 from hitogata.fem.elements import element_order, quadrature, shape_gradients, tet_geometry
 from hitogata.fem.factor import factorize
 from hitogata.fem.materials import lame, per_element
@@ -169,10 +169,12 @@ class QuasiStatic:
         v = corner_volumes(x, self.elements)
         return np.bincount(self._region_index, v, minlength=len(self.constrained) + 1)[:len(self.constrained)]
 
-    def _volume_gradients(self, x: np.ndarray) -> np.ndarray:
-        """(regions, free nodes, 3): derivative of each constrained region's volume by the free nodes' positions."""
-        g = corner_gradients(x, self.elements)
-        return np.stack([self._region_gather @ g[k].ravel() for k in range(3)], axis=-1).reshape(
+    def _volume_gradients(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Each constrained region's volume (regions,) at x and its derivative by the free nodes'
+        positions (regions, free nodes, 3)."""
+        v, g = volumes_and_gradients(x, self.elements)
+        volumes = np.bincount(self._region_index, v, minlength=len(self.constrained) + 1)[:len(self.constrained)]
+        return volumes, np.stack([self._region_gather @ g[k].ravel() for k in range(3)], axis=-1).reshape(
             len(self.constrained), len(self.free), 3)
 
     def _local(self, x: np.ndarray, warm: WarmStart) -> np.ndarray:
@@ -210,8 +212,11 @@ class QuasiStatic:
         held = 0 if active is None else len(active)
         if not self.constrained and not held:
             return new, active
-        grads = [self._volume_gradients(new)] if self.constrained else []
-        targets = [self.rest_volumes - self.region_volumes(new)] if self.constrained else []
+        grads, targets = [], []
+        if self.constrained:
+            volumes, gradients = self._volume_gradients(new)
+            grads.append(gradients)
+            targets.append(self.rest_volumes - volumes)
         if held:
             grads.append(self._element_volume_gradients(new, active))
             targets.append(FLOOR * self.rest_element_volumes[active] - corner_volumes(new, self.elements[active]))
@@ -230,11 +235,11 @@ class QuasiStatic:
             move *= min(1.0, STEP_CAP / max(float(np.abs(move).max()), 1e-30))  # more than STEP_CAP,
             new[self.free] += move
             if self.constrained:  # and the regions' volumes are then restored exactly
-                grads = self._volume_gradients(new)
+                volumes, grads = self._volume_gradients(new)
                 basis = self._solve(np.ascontiguousarray(grads.transpose(1, 2, 0).reshape(len(self.free), -1)))
                 basis = basis.reshape(len(self.free), 3, -1).transpose(2, 0, 1)
                 coupling = np.einsum("rfk,sfk->rs", grads, basis)
-                p = np.linalg.solve(coupling, self.rest_volumes - self.region_volumes(new))
+                p = np.linalg.solve(coupling, self.rest_volumes - volumes)
                 new[self.free] += np.einsum("r,rfk->fk", p, basis)
             return new, active
         new[self.free] += move

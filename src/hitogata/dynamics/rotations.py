@@ -28,14 +28,17 @@ def quaternion_matrices(q: np.ndarray) -> np.ndarray:
 
 def soa_quaternion_matrices(q: np.ndarray) -> np.ndarray:
     """Rotation matrices (3, 3, ...) of unit quaternions (4, ...) as (w, x, y, z)."""
+    return np.array(_rows(q))
+
+
+def _rows(q: np.ndarray) -> tuple[tuple[np.ndarray, ...], ...]:
+    """The nine entries of the rotation matrices of quaternions (4, ...), row by row, unstacked."""
     w, x, y, z = q
     xx, yy, zz, xy, xz, yz = x * x, y * y, z * z, x * y, x * z, y * z
     wx, wy, wz = w * x, w * y, w * z
-    return np.array([
-        [1.0 - 2.0 * (yy + zz), 2.0 * (xy - wz), 2.0 * (xz + wy)],
-        [2.0 * (xy + wz), 1.0 - 2.0 * (xx + zz), 2.0 * (yz - wx)],
-        [2.0 * (xz - wy), 2.0 * (yz + wx), 1.0 - 2.0 * (xx + yy)],
-    ])
+    return ((1.0 - 2.0 * (yy + zz), 2.0 * (xy - wz), 2.0 * (xz + wy)),
+            (2.0 * (xy + wz), 1.0 - 2.0 * (xx + zz), 2.0 * (yz - wx)),
+            (2.0 * (xz - wy), 2.0 * (yz + wx), 1.0 - 2.0 * (xx + yy)))
 
 
 def extract_rotations(F: np.ndarray, q: np.ndarray, steps: int = STEPS) -> np.ndarray:
@@ -43,7 +46,7 @@ def extract_rotations(F: np.ndarray, q: np.ndarray, steps: int = STEPS) -> np.nd
     quaternions q (4, M), which are updated in place (the next call's warm start)."""
     (f00, f01, f02), (f10, f11, f12), (f20, f21, f22) = F
     for _ in range(steps):
-        (r00, r01, r02), (r10, r11, r12), (r20, r21, r22) = soa_quaternion_matrices(q)
+        (r00, r01, r02), (r10, r11, r12), (r20, r21, r22) = _rows(q)
         # Σ_i r_i × f_i over the columns i, and tr(Rᵀ F)
         tx = r10 * f20 - r20 * f10 + r11 * f21 - r21 * f11 + r12 * f22 - r22 * f12
         ty = r20 * f00 - r00 * f20 + r21 * f01 - r01 * f21 + r22 * f02 - r02 * f22

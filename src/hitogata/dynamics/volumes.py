@@ -29,6 +29,11 @@ def corner_gradients(x: np.ndarray, elements: np.ndarray) -> np.ndarray:
     """(3, 4, T): the derivative of each element's corner volume by its corners' positions, by
     component and corner: with e_k = x_k − x_0, 6 ∂v/∂x_1 = e_2 × e_3 (and cyclic), and
     ∂v/∂x_0 = −Σ_k ∂v/∂x_k."""
+    return volumes_and_gradients(x, elements)[1]
+
+
+def volumes_and_gradients(x: np.ndarray, elements: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """`corner_volumes` and `corner_gradients` from one gather of the corners (v = e_1 · ∂v/∂x_1)."""
     (ax, bx, cx), (ay, by, cy), (az, bz, cz) = _edges(x, elements)
     out = np.empty((3, 4, len(elements)))
     out[0, 1], out[1, 1], out[2, 1] = by * cz - bz * cy, bz * cx - bx * cz, bx * cy - by * cx
@@ -36,4 +41,4 @@ def corner_gradients(x: np.ndarray, elements: np.ndarray) -> np.ndarray:
     out[0, 3], out[1, 3], out[2, 3] = ay * bz - az * by, az * bx - ax * bz, ax * by - ay * bx
     out[:, 0] = -out[:, 1:].sum(axis=1)
     out /= 6.0
-    return out
+    return ax * out[0, 1] + ay * out[1, 1] + az * out[2, 1], out

@@ -1,7 +1,9 @@
 """Render items from several views into RGB images, offscreen, with pyvista (VTK).
 
 One VTK window serves all views of a call: the items are added once and the
-camera moves. Translucent items are sorted per pixel by depth peeling, which
+camera moves; a `Renderer` keeps that window open from call to call (an
+animation's frames: opening an EGL window and compiling its shaders costs
+more than drawing a frame). Translucent items are sorted per pixel by depth peeling, which
 needs multisampling off (with it, nested translucent surfaces silently
 vanish); pyvista offers no FXAA with EGL, so edges are smoothed by
 supersampling: rendering at twice the size and averaging.
@@ -144,59 +146,87 @@ def _size(size: Sequence[int | None]) -> tuple[int | None, int]:
     return (None if size[0] is None else int(size[0])), int(size[1])
 
 
-def render_views(
-    items: Sequence[Item],
-    *,
-    views: Sequence[str | View] = ("front", "side"),
-    size: Sequence[int | None] = (600, 900),
-    background: Color = "white",
-    margin: float = 0.04,
-    labels: bool = False,
-    label_color: Color = "#333333",
-) -> list[np.ndarray]:
-    """One (height, width, 3) uint8 RGB image per view of the items (see `hitogata.render`).
+class Renderer:
+    """An offscreen window kept alive across pictures: `render(items, ...)` as `render_views`.
 
-    All views share one scale and centre fitted to the items with `margin`
-    (a fraction) to spare; `labels` writes each view's name at its top.
-    `size` is (width, height) in pixels; a width of None makes the height
-    alone set the scale and each image as wide as its view's content (a side
-    view of a standing body is narrower than its front view).
+    Opening a VTK window on EGL and compiling its shaders costs more than
+    drawing a frame; a sequence of pictures (an animation's frames) reuses
+    one window, clearing its actors between calls and resizing it only when
+    a picture's size changes. Use as a context manager, or `close()` it.
     """
-    items = list(items)
-    if not items:
-        raise HitogataError("render_views: nothing to draw (give at least one Layer, Lines or Points)")
-    cameras = [view(v) for v in views]
-    if not cameras:
-        raise HitogataError("render_views: views is empty; allowed names: front, side, back, right, top")
-    width, height = _size(size)
-    if not 0.0 <= margin < 1.0:
-        raise HitogataError(f"margin = {margin!r}: allowed 0 ≤ margin < 1")
-    background_rgb, text_rgb = rgb(background, "background"), rgb(label_color, "label_color")
-    ensure_offscreen_gl()
-    pv = _pyvista()
-    meshes = [_polydata(pv, item) for item in items]
-    top = LABEL_ROOM * LABEL_POINTS / height if labels else 0.0
-    bars = any(isinstance(i, Layer) and i.scalars is not None and i.scalar_title is not None for i in items)
-    bottom = BAR_PIXELS / height if bars else 0.0
-    if top + bottom > 0.5:
-        least = int(np.ceil(2 * (top + bottom) * height))
-        raise HitogataError(f"size = {tuple(size)!r}: too low for the labels and colour bar; allowed height ≥ {least}")
-    everything = np.vstack([m.points for m in meshes])
-    framing = frame_views(everything, cameras, width / height if width else None, margin, top, bottom)
-    widths = [
-        int(np.clip(np.ceil(w / framing.half_height * height), 16, MAX_PIXELS)) if width is None else width
-        for w in framing.half_widths
-    ]
-    window = max(widths)
 
-    plotter = pv.Plotter(off_screen=True, window_size=(window * SUPERSAMPLE, height * SUPERSAMPLE))
-    try:
-        plotter.ren_win.SetMultiSamples(0)
+    def __init__(self) -> None:
+        self._plotter: pyvista.Plotter | None = None
+
+    def __enter__(self) -> Renderer:
+        return self
+
+    def __exit__(self, *_: object) -> None:
+        self.close()
+
+    def close(self) -> None:
+        """Release the window (a later `render` opens a new one)."""
+        if self._plotter is not None:
+            self._plotter.close()
+            self._plotter = None
+
+    def _window(self, pv: ModuleType, size: tuple[int, int]) -> pyvista.Plotter:
+        """The live plotter, cleared, at `size` pixels."""
+        if self._plotter is None:
+            self._plotter = pv.Plotter(off_screen=True, window_size=size)
+            self._plotter.ren_win.SetMultiSamples(0)
+        else:
+            self._plotter.clear()
+            if tuple(self._plotter.window_size) != size:
+                self._plotter.window_size = size
+        return self._plotter
+
+    def render(
+        self,
+        items: Sequence[Item],
+        *,
+        views: Sequence[str | View] = ("front", "side"),
+        size: Sequence[int | None] = (600, 900),
+        background: Color = "white",
+        margin: float = 0.04,
+        labels: bool = False,
+        label_color: Color = "#333333",
+    ) -> list[np.ndarray]:
+        """One (height, width, 3) uint8 RGB image per view of the items (see `render_views`)."""
+        items = list(items)
+        if not items:
+            raise HitogataError("render_views: nothing to draw (give at least one Layer, Lines or Points)")
+        cameras = [view(v) for v in views]
+        if not cameras:
+            raise HitogataError("render_views: views is empty; allowed names: front, side, back, right, top")
+        width, height = _size(size)
+        if not 0.0 <= margin < 1.0:
+            raise HitogataError(f"margin = {margin!r}: allowed 0 ≤ margin < 1")
+        background_rgb, text_rgb = rgb(background, "background"), rgb(label_color, "label_color")
+        ensure_offscreen_gl()
+        pv = _pyvista()
+        meshes = [_polydata(pv, item) for item in items]
+        top = LABEL_ROOM * LABEL_POINTS / height if labels else 0.0
+        bars = any(isinstance(i, Layer) and i.scalars is not None and i.scalar_title is not None for i in items)
+        bottom = BAR_PIXELS / height if bars else 0.0
+        if top + bottom > 0.5:
+            least = int(np.ceil(2 * (top + bottom) * height))
+            raise HitogataError(
+                f"size = {tuple(size)!r}: too low for the labels and colour bar; allowed height ≥ {least}")
+        everything = np.vstack([m.points for m in meshes])
+        framing = frame_views(everything, cameras, width / height if width else None, margin, top, bottom)
+        widths = [
+            int(np.clip(np.ceil(w / framing.half_height * height), 16, MAX_PIXELS)) if width is None else width
+            for w in framing.half_widths
+        ]
+        window = max(widths)
+        plotter = self._window(pv, (window * SUPERSAMPLE, height * SUPERSAMPLE))
         plotter.set_background(background_rgb)
         for item, mesh in zip(items, meshes):
             _add(plotter, item, mesh)
-        if any(item.opacity < 1.0 for item in items):
-            plotter.renderer.SetUseDepthPeeling(True)
+        peel = any(item.opacity < 1.0 for item in items)
+        plotter.renderer.SetUseDepthPeeling(peel)
+        if peel:
             plotter.renderer.SetMaximumNumberOfPeels(PEELS)
             plotter.renderer.SetOcclusionRatio(0.0)
         plotter.enable_parallel_projection()
@@ -214,5 +244,28 @@ def render_views(
             left = (window - keep) // 2
             images.append(image[:, left : left + keep])
         return images
-    finally:
-        plotter.close()
+
+
+def render_views(
+    items: Sequence[Item],
+    *,
+    views: Sequence[str | View] = ("front", "side"),
+    size: Sequence[int | None] = (600, 900),
+    background: Color = "white",
+    margin: float = 0.04,
+    labels: bool = False,
+    label_color: Color = "#333333",
+) -> list[np.ndarray]:
+    """One (height, width, 3) uint8 RGB image per view of the items (see `hitogata.render`).
+
+    All views share one scale and centre fitted to the items with `margin`
+    (a fraction) to spare; `labels` writes each view's name at its top.
+    `size` is (width, height) in
+    pixels; a width of None makes the height alone set the scale and each
+    image as wide as its view's content (a side view of a standing body is
+    narrower than its front view). For many pictures in a row, a `Renderer`
+    keeps one window open.
+    """
+    with Renderer() as renderer:
+        return renderer.render(items, views=views, size=size, background=background, margin=margin,
+                               labels=labels, label_color=label_color)
