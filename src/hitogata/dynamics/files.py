@@ -172,15 +172,18 @@ def smoothed(points: np.ndarray, operator: sp.csr_matrix, steps: int = SMOOTHING
 
 
 class MotionPictures:
-    """The pictures of one motion: each frame's views rendered once, in one live offscreen window.
+    """The pictures of one motion, all from one live offscreen window, each frame at each size once.
 
     Frame k (`frame(k)`): the skeleton and the translucent region surfaces
     (the paper's Fig. 3(b)); `elastic()`: the body's skin at the frame of
     its largest elastic displacement, coloured by it in mm on a scale that
     ends at that largest value (the figure the run's summary prints). Every
     picture is titled with `title` and its time; all share one framing (the
-    box of the whole motion). A frame asked for again (a snapshot that is
-    also a GIF frame) is not rendered again. Close it (or use `with`).
+    box of the whole motion). `size` is per view; a frame asked for again
+    at the same size is not rendered again. (A GIF frame is rendered at
+    the GIF's size, not scaled down from a snapshot's: software OpenGL's
+    cost goes with the pixels, so that is cheaper than sharing the few
+    frames that coincide.) Close it (or use `with`).
     """
 
     def __init__(self, motion: Motion, views, size, title: str = "") -> None:
@@ -192,7 +195,7 @@ class MotionPictures:
         self._smoothing = {name: smoothing_operator(n, faces) for name, faces in self.surfaces.items()}
         self.bounds = motion_bounds(motion)
         self._renderer = Renderer()
-        self._frames: dict[int, np.ndarray] = {}
+        self._frames: dict[tuple[int, tuple[int, int]], np.ndarray] = {}
 
     def __enter__(self) -> MotionPictures:
         return self
@@ -207,12 +210,12 @@ class MotionPictures:
         time = f"t = {self.motion.times[k]:.2f} s"
         return f"{self.title}, {time}" if self.title else time
 
-    def _render(self, items: list, k: int) -> np.ndarray:
+    def _render(self, items: list, k: int, size: tuple[int, int]) -> np.ndarray:
         from hitogata.render import side_by_side, titled
         from hitogata.render.images import TITLE_PIXELS
 
-        size = (self.size[0], self.size[1] - TITLE_PIXELS)
-        return titled(side_by_side(self._renderer.render(items, views=self.views, size=size)), self._caption(k))
+        views = self._renderer.render(items, views=self.views, size=(size[0], size[1] - TITLE_PIXELS))
+        return titled(side_by_side(views), self._caption(k))
 
     def _skeleton(self, k: int) -> list:
         from hitogata.render import Lines, Points
@@ -222,9 +225,11 @@ class MotionPictures:
         return [Lines(bones, color="#4a4a4a", radius=0.005), Points(pose.joints[0], color="#8e2f25", radius=0.008),
                 Points(self.bounds, color="white", size=1.0, opacity=0.0)]  # fixes the framing over frames
 
-    def frame(self, k: int) -> np.ndarray:
-        """(H, W, 3) RGB: frame k's views side by side, region surfaces translucent, skeleton inside."""
-        if k not in self._frames:
+    def frame(self, k: int, size: tuple[int, int] | None = None) -> np.ndarray:
+        """(H, W, 3) RGB: frame k's views side by side, region surfaces translucent, skeleton inside;
+        `size` per view (default: the pictures')."""
+        size = self.size if size is None else tuple(size)
+        if (k, size) not in self._frames:
             from hitogata.render import Layer
 
             nodes = self.motion.nodes[k].astype(np.float64)
@@ -234,8 +239,8 @@ class MotionPictures:
                     color, opacity = REGION_STYLE[name]
                     items.append(Layer(smoothed(nodes, self._smoothing[name]), self.surfaces[name], color=color,
                                        opacity=opacity))
-            self._frames[k] = self._render(items, k)
-        return self._frames[k]
+            self._frames[k, size] = self._render(items, k, size)
+        return self._frames[k, size]
 
     def elastic(self) -> np.ndarray:
         """(H, W, 3) RGB: the skin coloured by its elastic displacement (mm) at the frame of its largest."""
@@ -249,7 +254,7 @@ class MotionPictures:
         items = self._skeleton(k) + [Layer(motion.skin[k].astype(np.float64), body.faces, scalars=mm[k].astype(float),
                                            colormap="viridis", clim=(0.0, max(top, 1e-3)), opacity=1.0,
                                            scalar_title="elastic displacement (mm)")]
-        return self._render(items, k)
+        return self._render(items, k, self.size)
 
 
 def motion_bounds(motion: Motion) -> np.ndarray:
@@ -291,8 +296,7 @@ def write_gif(path: str | os.PathLike, motion: Motion, views, size, rate: float,
               pictures: MotionPictures | None = None) -> Path:
     """An animated GIF of the views at `rate` frames per second (looping), each frame `size` per view.
 
-    pictures: a `MotionPictures` of this motion to take the frames from (scaled to `size` when it
-    renders another size: the snapshots' frames are then not rendered twice); by default its own."""
+    pictures: a `MotionPictures` of this motion to render with (its window reused); by default its own."""
     from PIL import Image
 
     own = pictures is None
@@ -303,10 +307,7 @@ def write_gif(path: str | os.PathLike, motion: Motion, views, size, rate: float,
     images = []
     try:
         for i, k in enumerate(picks):
-            image = Image.fromarray(pictures.frame(int(k)))
-            if pictures.size != tuple(size):
-                image = image.resize((len(pictures.views) * size[0], size[1]), Image.Resampling.LANCZOS)
-            images.append(image)
+            images.append(Image.fromarray(pictures.frame(int(k), size)))
             if progress is not None:
                 progress(i + 1, len(picks))
     finally:

@@ -61,7 +61,7 @@ def _polydata(pv: ModuleType, item: Item) -> pyvista.PolyData:
 
 def _add(plotter: pyvista.Plotter, item: Item, mesh: pyvista.PolyData) -> None:
     """Add one item's mesh with its style."""
-    common = {"opacity": item.opacity, "specular": SPECULAR}
+    common = {"opacity": item.opacity, "specular": SPECULAR, "render": False}  # drawn once, when all are in
     if isinstance(item, Layer) and not item.backfaces:
         common["culling"] = "back"
     if isinstance(item, Layer) and item.scalars is not None:
@@ -84,7 +84,8 @@ def _add(plotter: pyvista.Plotter, item: Item, mesh: pyvista.PolyData) -> None:
         plotter.add_mesh(mesh, color=rgb(item.color, "color"), smooth_shading=item.smooth, **common)
     elif isinstance(item, Lines) and item.radius is None:
         plotter.add_mesh(
-            mesh, color=rgb(item.color, "color"), line_width=item.width * SUPERSAMPLE, opacity=item.opacity
+            mesh, color=rgb(item.color, "color"), line_width=item.width * SUPERSAMPLE, opacity=item.opacity,
+            render=False,
         )
     elif isinstance(item, Points) and item.radius is None:
         plotter.add_mesh(
@@ -94,6 +95,7 @@ def _add(plotter: pyvista.Plotter, item: Item, mesh: pyvista.PolyData) -> None:
             point_size=item.size * SUPERSAMPLE,
             render_points_as_spheres=True,
             opacity=item.opacity,
+            render=False,
         )
     else:
         plotter.add_mesh(mesh, color=rgb(item.color, "color"), smooth_shading=True, **common)
@@ -113,6 +115,7 @@ def _bar_style(title: str, window_height: int) -> dict:
         "fmt": "%.3g",
         "title_font_size": BAR_POINTS * SUPERSAMPLE,
         "label_font_size": BAR_POINTS * SUPERSAMPLE,
+        "render": False,
     }
 
 
@@ -120,7 +123,8 @@ def _label(plotter: pyvista.Plotter, color: tuple[float, float, float]) -> pyvis
     """A text actor centred at the top of the picture; its text is set per view."""
     width, height = plotter.window_size
     points = LABEL_POINTS * SUPERSAMPLE
-    actor = plotter.add_text(" ", position=(width / 2, height - points / 2), font_size=points, color=color)
+    actor = plotter.add_text(" ", position=(width / 2, height - points / 2), font_size=points, color=color,
+                             render=False)
     actor.GetTextProperty().SetJustificationToCentered()
     actor.GetTextProperty().SetVerticalJustificationToTop()
     return actor
@@ -130,7 +134,8 @@ def _downsample(image: np.ndarray) -> np.ndarray:
     """Average SUPERSAMPLE × SUPERSAMPLE blocks of an RGB image into one uint8 pixel."""
     h, w = image.shape[0] // SUPERSAMPLE, image.shape[1] // SUPERSAMPLE
     blocks = image[: h * SUPERSAMPLE, : w * SUPERSAMPLE].reshape(h, SUPERSAMPLE, w, SUPERSAMPLE, 3)
-    return np.round(blocks.mean(axis=(1, 3))).astype(np.uint8)
+    n = SUPERSAMPLE * SUPERSAMPLE
+    return ((blocks.sum(axis=(1, 3), dtype=np.uint32) + n // 2) // n).astype(np.uint8)  # rounded mean
 
 
 def _size(size: Sequence[int | None]) -> tuple[int | None, int]:
