@@ -157,21 +157,21 @@ def quasi_statics(body, model, repeat: int) -> None:
               f"{1e3 * old_cpu[1:].mean():.0f} ms (BLAS on 2 threads)")
         print(f"  ratio {BASELINE} / new: wall {old_wall[1:].mean() / wall[1:].mean():.1f}x, "
               f"CPU {old_cpu[1:].mean() / cpu[1:].mean():.1f}x; largest difference of the answers "
-              f"{1e3 * np.linalg.norm(old_answers - answers, axis=2).max():.4f} mm")
+              f"{1e6 * np.linalg.norm(old_answers - answers, axis=2).max():.3f} µm")
     print(f"quasi-statics from rest, 40 steps, best of {repeat} ({load()}):")
     for i, (delta, w, c) in zip(picks, cold_new):
         line = f"  pose {i}: new {1e3 * w:.0f} ms wall, {1e3 * c:.0f} ms CPU (goal <= 1 s)"
         if Baseline is not None:
             old_delta, old_w, old_c = cold(old, frames[i], 1)
             line += (f"; {BASELINE} {1e3 * old_w:.0f} ms wall ({old_w / w:.1f}x), {1e3 * old_c:.0f} ms CPU; "
-                     f"difference {1e3 * np.linalg.norm(old_delta - delta, axis=1).max():.4f} mm")
+                     f"difference {1e6 * np.linalg.norm(old_delta - delta, axis=1).max():.3f} µm")
         print(line)
     update(new, frames[-1], answers[-1], max(20, 10 * repeat))
 
 
 def update(dyn: BodyDynamics, frame, delta: np.ndarray, repeat: int) -> None:
     """The per-frame elastic update (superposition, node rotations, skin map, the skin's own DQS)."""
-    g, R, _ = frame
+    _, R, _ = frame
     q = np.zeros(dyn.poser.skeleton.n_dofs)
     pose = dyn.poser.kinematics.pose(q)
     rot, tra = pose.rotations[0], pose.translations[0]

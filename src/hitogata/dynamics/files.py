@@ -20,6 +20,7 @@ import os
 import secrets
 import zipfile
 from pathlib import Path
+from typing import Self
 from xml.sax.saxutils import quoteattr
 
 import meshio
@@ -27,10 +28,10 @@ import numpy as np
 import pygltflib as gl
 import scipy.sparse as sp
 
-from hitogata.dynamics.motion import Motion
-from hitogata.export.atomic import write_bytes_atomically
 from hitogata.body import Body
+from hitogata.dynamics.motion import Motion
 from hitogata.errors import HitogataError
+from hitogata.export.atomic import write_bytes_atomically
 from hitogata.export.body_files import body_from_extras, shape_extras
 from hitogata.export.gltf import GlbBuilder
 from hitogata.fem.elements import boundary_faces
@@ -197,7 +198,7 @@ class MotionPictures:
         self._renderer = Renderer()
         self._frames: dict[tuple[int, tuple[int, int]], np.ndarray] = {}
 
-    def __enter__(self) -> MotionPictures:
+    def __enter__(self) -> Self:
         return self
 
     def __exit__(self, *_: object) -> None:
@@ -302,7 +303,7 @@ def write_gif(path: str | os.PathLike, motion: Motion, views, size, rate: float,
     own = pictures is None
     pictures = MotionPictures(motion, views, size, title) if own else pictures
     span = motion.times[-1] - motion.times[0]
-    count = max(2, int(round(span * rate)) + 1)
+    count = max(2, round(span * rate) + 1)
     picks = np.unique([nearest_frame(motion, t) for t in np.linspace(motion.times[0], motion.times[-1], count)])
     images = []
     try:
@@ -315,7 +316,7 @@ def write_gif(path: str | os.PathLike, motion: Motion, views, size, rate: float,
             pictures.close()
     buffer = io.BytesIO()
     step = 1000.0 * span / max(len(picks) - 1, 1)
-    images[0].save(buffer, format="GIF", save_all=True, append_images=images[1:], duration=int(round(step)), loop=0)
+    images[0].save(buffer, format="GIF", save_all=True, append_images=images[1:], duration=round(step), loop=0)
     return write_bytes_atomically(path, buffer.getvalue())
 
 

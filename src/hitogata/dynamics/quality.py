@@ -21,8 +21,8 @@ import numpy as np
 
 from hitogata.dynamics.motion import BodyDynamics
 from hitogata.dynamics.quasistatic import rotate
-from hitogata.dynamics.volumes import corner_volumes
 from hitogata.dynamics.rigging import node_rig
+from hitogata.dynamics.volumes import corner_volumes
 
 STATIC_ITERATIONS = 40
 

@@ -48,8 +48,8 @@ def titled(image: np.ndarray, title: str, background: Color = "white", color: Co
     from PIL import Image, ImageDraw, ImageFont
 
     a = _image(image, "titled image")[..., :3]
-    fill = tuple(int(round(c * 255)) for c in rgb(background, "background"))
-    ink = tuple(int(round(c * 255)) for c in rgb(color, "title color"))
+    fill = tuple(round(c * 255) for c in rgb(background, "background"))
+    ink = tuple(round(c * 255) for c in rgb(color, "title color"))
     band = Image.new("RGB", (a.shape[1], TITLE_PIXELS), fill)
     draw = ImageDraw.Draw(band)
     font = ImageFont.load_default(size=TITLE_POINTS)
