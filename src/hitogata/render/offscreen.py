@@ -180,8 +180,10 @@ class Renderer:
         if self._plotter is None:
             self._plotter = pv.Plotter(off_screen=True, window_size=size)
             self._plotter.ren_win.SetMultiSamples(0)
-        else:
-            self._plotter.clear()
+        else:  # the last picture's actors and colour bars go; the lights stay (`clear()` would drop them)
+            for title in list(self._plotter.scalar_bars.keys()):
+                self._plotter.remove_scalar_bar(title, render=False)
+            self._plotter.clear_actors()
             if tuple(self._plotter.window_size) != size:
                 self._plotter.window_size = size
         return self._plotter
