@@ -26,8 +26,9 @@ Describe what to draw as plain data, render it from named views, save PNGs::
 - Views (body frame: +Y up, +Z front, +X the body's left): "front" looks along −Z,
   "side" shows the body's left side (front on the picture's left), "back",
   "right", "top"; or any `View(name, direction, up)`.
-- `Renderer()`: `render(items, ...)` as `render_views`, keeping one window open
-  from call to call (an animation's frames); close it or use `with`.
+- `Renderer()`: `render(items, ..., supersample=2)` as `render_views`, keeping one
+  window open from call to call (an animation's frames); close it or use `with`.
+  `supersample=1` skips the edge smoothing (~2.6x cheaper on software OpenGL).
 - `side_by_side(images, gap, background)`, `titled(image, title)` (a band with a
   centred title on top), `save_png(path, image)` (atomic).
 - `hitogata.render.figures.skeleton_items(posed, skin=, muscles=, other_muscles=)`:
