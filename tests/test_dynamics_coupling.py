@@ -97,3 +97,27 @@ def test_bone_nodes_follow_their_parts(dynamics, model):
     expected = np.einsum("nij,nj->ni", motion.rotations[-1, part], model.points[rigid]) + motion.translations[-1, part]
     # At 60 mm the bone capsules' surfaces carry few nodes: a dozen of them follow one part alone.
     assert len(rigid) >= 10 and np.abs(motion.nodes[-1, rigid] - expected).max() < 1e-6
+
+
+def test_a_run_does_not_depend_on_what_was_solved_before(dynamics):
+    """The quasi-statics' warm start belongs to a run (`simulate` makes its own), not to the model:
+    the same run gives the same motion before and after another run and a lone solve."""
+    k = dynamics.poser.skeleton.dof_index("upper_arm_l.abduction")
+    rest = dynamics.poser.skeleton.rest[k]
+    raise_arm = Timeline.from_keyframes([Keyframe(0.0, {}), Keyframe(0.3, {("clinical", "upper_arm_l.abduction"): rest + 0.6})])
+    first = simulate(dynamics, raise_arm, duration=0.4, rate=20)
+    simulate(dynamics, ramp_and_hold(-0.08), duration=0.4, rate=20)
+    pose = dynamics.poser.kinematics.pose(first.angles[-1] * 1.5)
+    g, R = dynamics.rig.pose(pose.rotations, pose.translations)
+    dynamics.quasi_static(g[0], R[0], None, None, 10)
+    again = simulate(dynamics, raise_arm, duration=0.4, rate=20)
+    assert np.abs(first.elastic).max() > 1e-4  # the arm's raise moves the tissue
+    np.testing.assert_array_equal(again.nodes, first.nodes)
+    # A solve with a warm start carries it on; one without starts from rest each time.
+    warm = dynamics.statics.warm_start()
+    a, _ = dynamics.quasi_static(g[0], R[0], None, None, 3)
+    dynamics.quasi_static(g[0], R[0], None, None, 3, warm)
+    b, _ = dynamics.quasi_static(g[0], R[0], None, None, 3)
+    c, _ = dynamics.quasi_static(g[0], R[0], None, None, 3, warm)
+    np.testing.assert_array_equal(a, b)
+    assert np.abs(c - a).max() > 0.0

@@ -12,7 +12,7 @@ from matplotlib.image import imread
 pytest.importorskip("pyvista")
 
 from hitogata.errors import HitogataError  # noqa: E402
-from hitogata.render import Layer, Lines, Points, View, render_views, save_png, side_by_side  # noqa: E402
+from hitogata.render import Layer, Lines, Points, Renderer, View, render_views, save_png, side_by_side, titled  # noqa: E402
 from hitogata.render.shapes import spheres  # noqa: E402
 
 SIZE = (160, 160)
@@ -160,3 +160,25 @@ def test_pixel_lines_and_dots() -> None:
     dark = (image < 100).all(axis=2)
     assert dark[SIZE[1] // 2, SIZE[0] // 2] and dark.sum() > 300  # the cross, through the centre
     assert column_of(image, (255, 0, 0)) == pytest.approx(SIZE[0] / 2, abs=3)
+
+
+def test_a_live_renderer_draws_what_a_fresh_window_draws() -> None:
+    """An animation reuses one window: after other pictures (another size, a colour bar) the same
+    items give the same pixels as in a window of their own (lights, bars and actors not carried over)."""
+    scene = [sphere(opacity=0.4, color="#b5473a"), Lines(np.array([[[0, -1.5, 0], [0, 1.5, 0]]]), radius=0.05)]
+    other = [sphere((0.3, 0.0, 0.0), scalars=sphere().vertices[:, 1], scalar_title="height (m)")]
+    fresh = render_views(scene, size=(120, 180))
+    with Renderer() as renderer:
+        renderer.render(other, size=(120, 180))
+        renderer.render(scene, size=(100, 150))
+        renderer.render(other, size=(120, 180))
+        live = renderer.render(scene, size=(120, 180))
+    for a, b in zip(fresh, live):
+        np.testing.assert_array_equal(a, b)
+
+
+def test_a_title_band_goes_on_top() -> None:
+    image = np.full((50, 300, 3), 200, dtype=np.uint8)
+    out = titled(image, "trunk flexion with the arms raised, t = 1.20 s")
+    assert out.shape == (50 + 22, 300, 3) and np.array_equal(out[22:], image)
+    assert (out[:22] < 128).any() and (out[:22] == 255).mean() > 0.5  # dark text on white

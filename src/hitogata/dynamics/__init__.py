@@ -20,8 +20,10 @@ or from a scenario file: `run_scenario(load_scenario("s.toml"), "results/")`
 (`hitogata simulate s.toml --out results/`; format in docs/scenarios.md).
 
 Modules: `rigging` (skinning weights at the FE nodes), `rotations`,
-`quasistatic` (the tissue's rotation-invariant equilibrium on one
-prefactored matrix), `motion` (coupling and modal dynamics), `timeline`,
+`volumes` (tet volumes and their gradients, fast), `quasistatic` (the
+tissue's rotation-invariant equilibrium on one prefactored matrix, warm-started
+by a `WarmStart` its caller hands on), `untangle`, `motion` (coupling and
+modal dynamics), `timeline`,
 `scenario`, `quality` (inversions, volumes, distortion vs skinning),
 `files` (GLB, VTU/PVD, PNG, GIF), `run`, `demo`.
 

@@ -19,23 +19,28 @@ import json
 import os
 import zipfile
 from pathlib import Path
+from typing import Self
 from xml.sax.saxutils import quoteattr
 
 import meshio
 import numpy as np
 import pygltflib as gl
 
-from hitogata.dynamics.motion import Motion
-from hitogata.export.atomic import write_bytes_atomically
 from hitogata.body import Body
+from hitogata.dynamics.motion import Motion
 from hitogata.errors import HitogataError
+from hitogata.export.atomic import write_bytes_atomically
 from hitogata.export.body_files import body_from_extras, shape_extras
 from hitogata.export.gltf import GlbBuilder, add_material, named_node, vertex_normals
 from hitogata.export.vtu import label_arrays, write_vtu
-from hitogata.geometry.shells import region_boundary, taubin_smooth
+from hitogata.geometry.shells import region_boundary, smoothing_operator, taubin_smooth
 
 SMOOTHING = 4  # Taubin steps on the pictures' region surfaces
 SKIN_OPACITY = 0.35  # the skin over the regions in the motion GLB: see-through, so the tissue shows
+SUPERSAMPLE = 2  # snapshots: rendered at twice the size and averaged (smooth edges)
+# GIF frames: at their size (a 256-colour animation's edges gain little; 2.6x cheaper per frame on
+# software OpenGL, and the GIF's frames are most of the pictures' time)
+GIF_SUPERSAMPLE = 1
 MAX_TARGETS = 120  # morph targets in a GLB: frames beyond are subsampled evenly
 REGION_STYLE = {  # colour, opacity: translucent nested surfaces as in the paper's figure
     "skin": ("#e3b899", 0.22),
@@ -141,84 +146,152 @@ def region_surfaces(motion: Motion) -> dict[str, np.ndarray]:
     return {name: faces for name, faces in surfaces.items() if len(faces)}
 
 
-def frame_items(motion: Motion, k: int, surfaces: dict[str, np.ndarray], bounds: np.ndarray,
-                colour_by_elastic: bool = False) -> list:
-    """Render items of frame k: the skeleton, translucent region surfaces (or the skin coloured by the
-    elastic displacement in mm), and invisible bounds that fix the framing over frames."""
-    from hitogata.render import Layer, Lines, Points
+class MotionPictures:
+    """The pictures of one motion, all from one live offscreen window, each frame at each size once.
 
-    pose = motion.dynamics.poser.kinematics.pose(motion.angles[k])
-    bones = np.stack([pose.joints[0], pose.tails[0]], axis=1)
-    items = [Lines(bones, color="#4a4a4a", radius=0.005), Points(pose.joints[0], color="#8e2f25", radius=0.008)]
-    nodes = motion.nodes[k].astype(np.float64)
-    if colour_by_elastic:
-        model = motion.dynamics.model
-        outer = model.volume.boundary_faces[model.volume.boundary_on_skin]
-        mm = np.linalg.norm(motion.elastic[k], axis=1).astype(np.float64) * 1e3
-        top = float(np.linalg.norm(motion.elastic, axis=2).max() * 1e3)
-        items.append(Layer(nodes, outer, scalars=mm, colormap="viridis", clim=(0.0, max(top, 1e-3)),
-                           scalar_title="elastic displacement (mm)", opacity=1.0))
-    else:
-        for name in ("bone", "viscera", "muscle", "skin"):
-            if name in surfaces:
-                color, opacity = REGION_STYLE[name]
-                items.append(Layer(taubin_smooth(nodes, surfaces[name], SMOOTHING), surfaces[name], color=color, opacity=opacity))
-    items.append(Points(bounds, color="white", size=1.0, opacity=0.0))
-    return items
+    Frame k (`frame(k)`): the skeleton and the translucent region surfaces
+    (the paper's Fig. 3(b)); `elastic()`: the body's skin at the frame of
+    its largest elastic displacement, coloured by it in mm on a scale that
+    ends at that largest value (the figure the run's summary prints). Every
+    picture is titled with `title` and its time; all share one framing (the
+    box of the whole motion). `size` is per view; a frame asked for again
+    at the same size is not rendered again. (A GIF frame is rendered at
+    the GIF's size without supersampling, not scaled down from a
+    snapshot's: software OpenGL's cost goes with the pixels, so that is
+    cheaper than sharing the few frames that coincide.) Close it (or use `with`).
+    """
+
+    def __init__(self, motion: Motion, views, size, title: str = "") -> None:
+        from hitogata.render import Renderer
+
+        self.motion, self.views, self.size, self.title = motion, tuple(views), tuple(size), title
+        self.surfaces = region_surfaces(motion)
+        n = len(motion.dynamics.model.points)
+        self._smoothing = {name: smoothing_operator(n, faces) for name, faces in self.surfaces.items()}
+        self.bounds = motion_bounds(motion)
+        self._renderer = Renderer()
+        self._frames: dict[tuple[int, tuple[int, int], int], np.ndarray] = {}
+
+    def __enter__(self) -> Self:
+        return self
+
+    def __exit__(self, *_: object) -> None:
+        self.close()
+
+    def close(self) -> None:
+        self._renderer.close()
+
+    def _caption(self, k: int) -> str:
+        time = f"t = {self.motion.times[k]:.2f} s"
+        return f"{self.title}, {time}" if self.title else time
+
+    def _render(self, items: list, k: int, size: tuple[int, int], supersample: int = SUPERSAMPLE) -> np.ndarray:
+        from hitogata.render import side_by_side, titled
+        from hitogata.render.images import TITLE_PIXELS
+
+        views = self._renderer.render(items, views=self.views, size=(size[0], size[1] - TITLE_PIXELS),
+                                      supersample=supersample)
+        return titled(side_by_side(views), self._caption(k))
+
+    def _skeleton(self, k: int) -> list:
+        from hitogata.render import Lines, Points
+
+        pose = self.motion.dynamics.poser.kinematics.pose(self.motion.angles[k])
+        bones = np.stack([pose.joints[0], pose.tails[0]], axis=1)
+        return [Lines(bones, color="#4a4a4a", radius=0.005), Points(pose.joints[0], color="#8e2f25", radius=0.008),
+                Points(self.bounds, color="white", size=1.0, opacity=0.0)]  # fixes the framing over frames
+
+    def frame(self, k: int, size: tuple[int, int] | None = None, supersample: int = SUPERSAMPLE) -> np.ndarray:
+        """(H, W, 3) RGB: frame k's views side by side, region surfaces translucent, skeleton inside;
+        `size` per view (default: the pictures'), `supersample` as in `render.Renderer.render`."""
+        size = self.size if size is None else tuple(size)
+        if (k, size, supersample) not in self._frames:
+            from hitogata.render import Layer
+
+            nodes = self.motion.nodes[k].astype(np.float64)
+            items = self._skeleton(k)
+            for name in ("bone", "viscera", "muscle", "skin"):
+                if name in self.surfaces:
+                    color, opacity = REGION_STYLE[name]
+                    items.append(Layer(taubin_smooth(nodes, self.surfaces[name], SMOOTHING, self._smoothing[name]), self.surfaces[name], color=color,
+                                       opacity=opacity))
+            self._frames[k, size, supersample] = self._render(items, k, size, supersample)
+        return self._frames[k, size, supersample]
+
+    def elastic(self) -> np.ndarray:
+        """(H, W, 3) RGB: the skin coloured by its elastic displacement (mm) at the frame of its largest."""
+        from hitogata.render import Layer
+
+        motion = self.motion
+        mm = np.linalg.norm(motion.skin - motion.skinned_skin, axis=2) * 1e3  # (F, V), as the summary's
+        k = int(np.argmax(mm.max(axis=1)))
+        top = float(mm[k].max())
+        body = motion.dynamics.poser.body
+        items = self._skeleton(k) + [Layer(motion.skin[k].astype(np.float64), body.faces, scalars=mm[k].astype(float),
+                                           colormap="viridis", clim=(0.0, max(top, 1e-3)), opacity=1.0,
+                                           scalar_title="elastic displacement (mm)")]
+        return self._render(items, k, self.size)
 
 
 def motion_bounds(motion: Motion) -> np.ndarray:
-    """(2, 3) corners of the box holding the nodes and joints over all frames."""
+    """(2, 3) corners of the box holding the nodes, the skin and the joints over all frames."""
     joints = motion.dynamics.poser.kinematics.pose(motion.angles).joints
-    pts = np.concatenate([motion.nodes.reshape(-1, 3), joints.reshape(-1, 3)])
+    pts = np.concatenate([motion.nodes.reshape(-1, 3), motion.skin.reshape(-1, 3), joints.reshape(-1, 3)])
     return np.stack([pts.min(axis=0), pts.max(axis=0)]).astype(np.float64)
 
 
-def render_frame(motion: Motion, k: int, views, size, surfaces=None, bounds=None,
-                 colour_by_elastic: bool = False) -> np.ndarray:
-    """One RGB image (H, W, 3): the views of frame k side by side."""
-    from hitogata.render import render_views, side_by_side
-
-    surfaces = region_surfaces(motion) if surfaces is None else surfaces
-    bounds = motion_bounds(motion) if bounds is None else bounds
-    items = frame_items(motion, k, surfaces, bounds, colour_by_elastic)
-    return side_by_side(render_views(items, views=views, size=size))
+def nearest_frame(motion: Motion, t: float) -> int:
+    """Index of the output frame nearest time t."""
+    return int(np.argmin(np.abs(motion.times - t)))
 
 
-def write_pictures(folder: str | os.PathLike, motion: Motion, times, views, size, name: str = "motion") -> list[Path]:
+def write_pictures(folder: str | os.PathLike, motion: Motion, times, views, size, name: str = "motion",
+                   title: str = "", pictures: MotionPictures | None = None) -> list[Path]:
     """PNG of the views at the frames nearest each time (`<name>_<t>s.png`), and of the frame of
-    largest elastic motion with the skin coloured by it (`<name>_elastic.png`)."""
+    largest elastic skin displacement with the skin coloured by it (`<name>_elastic.png`).
+
+    pictures: a `MotionPictures` of this motion at `size` to render with (and to share frames with
+    the GIF); by default one of its own, titled `title`."""
     from hitogata.render import save_png
 
-    surfaces, bounds = region_surfaces(motion), motion_bounds(motion)
-    out = []
-    for t in times:
-        k = int(np.argmin(np.abs(motion.times - t)))
-        out.append(save_png(Path(folder) / f"{name}_{motion.times[k]:.2f}s.png",
-                            render_frame(motion, k, views, size, surfaces, bounds)))
-    peak = int(np.argmax(np.linalg.norm(motion.elastic, axis=2).max(axis=1)))
-    out.append(save_png(Path(folder) / f"{name}_elastic.png",
-                        render_frame(motion, peak, views, size, surfaces, bounds, colour_by_elastic=True)))
-    return out
+    own = pictures is None
+    pictures = MotionPictures(motion, views, size, title) if own else pictures
+    try:
+        out = []
+        for t in times:
+            k = nearest_frame(motion, t)
+            out.append(save_png(Path(folder) / f"{name}_{motion.times[k]:.2f}s.png", pictures.frame(k)))
+        out.append(save_png(Path(folder) / f"{name}_elastic.png", pictures.elastic()))
+        return out
+    finally:
+        if own:
+            pictures.close()
 
 
-def write_gif(path: str | os.PathLike, motion: Motion, views, size, rate: float, progress=None) -> Path:
-    """An animated GIF of the views at `rate` frames per second (looping)."""
+def write_gif(path: str | os.PathLike, motion: Motion, views, size, rate: float, progress=None, title: str = "",
+              pictures: MotionPictures | None = None) -> Path:
+    """An animated GIF of the views at `rate` frames per second (looping), each frame `size` per view.
+
+    pictures: a `MotionPictures` of this motion to render with (its window reused); by default its own."""
     from PIL import Image
 
-    surfaces, bounds = region_surfaces(motion), motion_bounds(motion)
+    own = pictures is None
+    pictures = MotionPictures(motion, views, size, title) if own else pictures
     span = motion.times[-1] - motion.times[0]
-    count = max(2, int(round(span * rate)) + 1)
-    wanted = np.linspace(motion.times[0], motion.times[-1], count)
-    picks = np.unique([int(np.argmin(np.abs(motion.times - t))) for t in wanted])
+    count = max(2, round(span * rate) + 1)
+    picks = np.unique([nearest_frame(motion, t) for t in np.linspace(motion.times[0], motion.times[-1], count)])
     images = []
-    for i, k in enumerate(picks):
-        images.append(Image.fromarray(render_frame(motion, k, views, size, surfaces, bounds)))
-        if progress is not None:
-            progress(i + 1, len(picks))
+    try:
+        for i, k in enumerate(picks):
+            images.append(Image.fromarray(pictures.frame(int(k), size, GIF_SUPERSAMPLE)))
+            if progress is not None:
+                progress(i + 1, len(picks))
+    finally:
+        if own:
+            pictures.close()
     buffer = io.BytesIO()
     step = 1000.0 * span / max(len(picks) - 1, 1)
-    images[0].save(buffer, format="GIF", save_all=True, append_images=images[1:], duration=int(round(step)), loop=0)
+    images[0].save(buffer, format="GIF", save_all=True, append_images=images[1:], duration=round(step), loop=0)
     return write_bytes_atomically(path, buffer.getvalue())
 
 

@@ -36,7 +36,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 from scipy.spatial import cKDTree
 
-from hitogata.dynamics.quasistatic import QuasiStatic, rotate, unrotate
+from hitogata.dynamics.quasistatic import QuasiStatic, WarmStart, rotate, unrotate
 from hitogata.dynamics.rigging import NodeRig, joint_nodes, node_rig
 from hitogata.dynamics.timeline import Timeline
 from hitogata.errors import HitogataError
@@ -76,8 +76,12 @@ class BodyDynamics:
     skin_fade: np.ndarray  # (V,) share of the elastic displacement a skin vertex takes (0 at a cut)
 
     @classmethod
-    def build(cls, body: Body, model: ElasticModel, skinning: Skinning = "dqs", poser: Poser | None = None) -> BodyDynamics:
-        """Prepare a body and its elastic model (`hitogata.elastic.build_elastic_model`)."""
+    def build(cls, body: Body, model: ElasticModel, skinning: Skinning = "dqs", poser: Poser | None = None,
+              solver: type[QuasiStatic] = QuasiStatic) -> BodyDynamics:
+        """Prepare a body and its elastic model (`hitogata.elastic.build_elastic_model`).
+
+        solver: the quasi-statics' class (its constructor's); another is for comparisons
+        (`benchmarks/bench_dynamics.py` runs the solver of an earlier commit this way)."""
         poser = poser or poser_for(body)
         rig = node_rig(poser, model, skinning)
         held = np.setdiff1d(model.fixed_nodes, joint_nodes(rig.weights, model.elements, model.fixed_nodes))
@@ -88,7 +92,7 @@ class BodyDynamics:
         # they act as cartilage, so no stiffer than CARTILAGE x the stiffest soft tissue (GPa bone
         # against kPa tissue would stall the iteration).
         E = np.minimum(model.E, CARTILAGE * model.E[np.isin(model.region, soft)].max())
-        statics = QuasiStatic(model.points[:corners], model.elements[:, :4], E, model.nu,
+        statics = solver(model.points[:corners], model.elements[:, :4], E, model.nu,
                               held[held < corners], model.region, soft)
         loads = {name: model.muscle_load(name, 1.0).reshape(-1, 3) for name in model.muscle_names
                  if len(model.muscle_elements(name))}
@@ -152,15 +156,18 @@ class BodyDynamics:
         return world
 
     def quasi_static(self, skinned: np.ndarray, node_rotations: np.ndarray, loads: np.ndarray | None,
-                     start: np.ndarray | None = None, iterations: int = ITERATIONS) -> tuple[np.ndarray, float]:
+                     start: np.ndarray | None = None, iterations: int = ITERATIONS,
+                     warm: WarmStart | None = None) -> tuple[np.ndarray, float]:
         """Local correction δ_qs (N, 3) of the equilibrium about the skinned nodes, and the last step (m).
 
-        Solved on the corner nodes (start: a previous δ), lifted to mid-edge nodes as their edge's mean.
+        Solved on the corner nodes from a previous δ (`start`) and the previous solve's rotations
+        (`warm`, from `statics.warm_start()`, updated in place; None for both: from rest), lifted
+        to mid-edge nodes as their edge's mean.
         """
         c = len(self.statics.points)
         g, R = skinned[:c], node_rotations[:c]
         x = g if start is None else g + rotate(R, start[:c])
-        x, size = self.statics.solve(x, None if loads is None else loads[:c], iterations)
+        x, size = self.statics.solve(x, None if loads is None else loads[:c], iterations, warm=warm)
         delta = np.zeros((self.n_nodes, 3))
         delta[:c] = unrotate(R, x - g)
         elements = self.model.elements
@@ -244,6 +251,7 @@ def simulate(dynamics: BodyDynamics, timeline: Timeline, duration: float, rate: 
     r_out = np.zeros((n_frames, n_nodes, 3, 3))
     dqs_out = np.zeros((n_frames, n_nodes, 3))
     delta, s_now, previous, size = None, None, None, np.inf
+    warm = dynamics.statics.warm_start()  # this run's own: each pose starts from the previous one's answer
 
     def skinned(n: int) -> tuple[np.ndarray, np.ndarray]:
         n = min(n, n_steps - 1)  # the skeleton holds still after the end (and before 0)
@@ -263,7 +271,7 @@ def simulate(dynamics: BodyDynamics, timeline: Timeline, duration: float, rate: 
             s_now = np.zeros(k)
         elif state != previous or size > TOLERANCE:  # a held pose and load keep a converged answer
             delta, size = dynamics.quasi_static(g_now, r_now, dynamics.loads(r_now, c_now, gravity), delta,
-                                                iterations)
+                                                iterations, warm)
             s_now = dynamics.modal(delta)
         previous = state
         s_all[n] = s_now

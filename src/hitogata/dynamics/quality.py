@@ -22,8 +22,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from hitogata.dynamics.motion import BodyDynamics
-from hitogata.dynamics.quasistatic import corner_volumes, rotate
+from hitogata.dynamics.quasistatic import rotate
 from hitogata.dynamics.rigging import node_rig
+from hitogata.dynamics.volumes import corner_volumes
 
 if TYPE_CHECKING:
     from hitogata.elastic import ElasticModel
@@ -85,7 +86,6 @@ def compare_pose(dynamics: BodyDynamics, angles: np.ndarray,
         g, R = rig.pose(pose.rotations, pose.translations)
         out[method] = pose_quality(dynamics.model, g[0], method)
         if rig is dynamics.rig:
-            dynamics.statics.quaternions[:] = (1.0, 0.0, 0.0, 0.0)  # from rest, whatever was solved before
-            delta, _ = dynamics.quasi_static(g[0], R[0], None, None, iterations)
+            delta, _ = dynamics.quasi_static(g[0], R[0], None, None, iterations)  # from rest
             out["elastic"] = pose_quality(dynamics.model, g[0] + rotate(R[0], delta), "elastic")
     return out

@@ -7,6 +7,11 @@ towards F by the axis-angle Σ rᵢ × fᵢ / |Σ rᵢ · fᵢ| (columns). Warm-
 from the previous solve it needs a few cheap steps where an SVD per matrix
 costs ~20x more, and it always returns a proper rotation, also for an
 inverted F (where it is the SVD's rotation with the smallest direction flipped).
+It works on component arrays ("structure of arrays": F as (3, 3, M),
+quaternions as (4, M)), so that every operation runs on contiguous length-M
+vectors with no stacking or axis moves: 3.6 ms for 4 steps on the whole
+body's 11k elements, against 12–40 ms for the same iteration on (M, 3, 3)
+arrays (the quasi-statics run it once per local/global step).
 """
 
 from __future__ import annotations
@@ -18,38 +23,54 @@ STEPS = 4  # extraction steps per call (warm-started)
 
 def quaternion_matrices(q: np.ndarray) -> np.ndarray:
     """Rotation matrices (..., 3, 3) of unit quaternions (..., 4) as (w, x, y, z)."""
-    w, x, y, z = np.moveaxis(q, -1, 0)
-    return np.stack([
-        np.stack([1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)], axis=-1),
-        np.stack([2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)], axis=-1),
-        np.stack([2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)], axis=-1),
-    ], axis=-2)
+    return np.moveaxis(soa_quaternion_matrices(np.moveaxis(q, -1, 0)), (0, 1), (-2, -1))
 
 
-def quaternion_product(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """Hamilton products a ⊗ b of quaternions (..., 4)."""
-    aw, ax, ay, az = np.moveaxis(a, -1, 0)
-    bw, bx, by, bz = np.moveaxis(b, -1, 0)
-    return np.stack([
-        aw * bw - ax * bx - ay * by - az * bz,
-        aw * bx + ax * bw + ay * bz - az * by,
-        aw * by - ax * bz + ay * bw + az * bx,
-        aw * bz + ax * by - ay * bx + az * bw,
-    ], axis=-1)
+def soa_quaternion_matrices(q: np.ndarray) -> np.ndarray:
+    """Rotation matrices (3, 3, ...) of unit quaternions (4, ...) as (w, x, y, z)."""
+    return np.array(_rows(q))
 
 
-def extract_rotations(F: np.ndarray, start: np.ndarray, steps: int = STEPS) -> tuple[np.ndarray, np.ndarray]:
-    """Rotations (M, 3, 3) nearest to F (M, 3, 3) and their quaternions (M, 4), from start quaternions (M, 4)."""
-    q = start
+def _rows(q: np.ndarray) -> tuple[tuple[np.ndarray, ...], ...]:
+    """The nine entries of the rotation matrices of quaternions (4, ...), row by row, unstacked."""
+    w, x, y, z = q
+    xx, yy, zz, xy, xz, yz = x * x, y * y, z * z, x * y, x * z, y * z
+    wx, wy, wz = w * x, w * y, w * z
+    return ((1.0 - 2.0 * (yy + zz), 2.0 * (xy - wz), 2.0 * (xz + wy)),
+            (2.0 * (xy + wz), 1.0 - 2.0 * (xx + zz), 2.0 * (yz - wx)),
+            (2.0 * (xz - wy), 2.0 * (yz + wx), 1.0 - 2.0 * (xx + yy)))
+
+
+def extract_rotations(F: np.ndarray, q: np.ndarray, steps: int = STEPS) -> np.ndarray:
+    """Rotations (3, 3, M) nearest F (3, 3, M), by `steps` of Müller et al.'s iteration from the
+    quaternions q (4, M), which are updated in place (the next call's warm start)."""
+    (f00, f01, f02), (f10, f11, f12), (f20, f21, f22) = F
     for _ in range(steps):
-        R = quaternion_matrices(q)
-        turn = np.cross(R, F, axis=1).sum(axis=2)  # Σ_i r_i × f_i over the columns i
-        along = np.abs(np.einsum("mij,mij->m", R, F)) + 1e-9
-        omega = turn / along[:, None]
-        angle = np.linalg.norm(omega, axis=1)
-        half = 0.5 * angle
-        axis = omega / np.maximum(angle, 1e-300)[:, None]
-        dq = np.concatenate([np.cos(half)[:, None], np.sin(half)[:, None] * axis], axis=1)
-        q = quaternion_product(dq, q)
-        q /= np.linalg.norm(q, axis=1, keepdims=True)
-    return quaternion_matrices(q), q
+        (r00, r01, r02), (r10, r11, r12), (r20, r21, r22) = _rows(q)
+        # Σ_i r_i × f_i over the columns i, and tr(Rᵀ F)
+        tx = r10 * f20 - r20 * f10 + r11 * f21 - r21 * f11 + r12 * f22 - r22 * f12
+        ty = r20 * f00 - r00 * f20 + r21 * f01 - r01 * f21 + r22 * f02 - r02 * f22
+        tz = r00 * f10 - r10 * f00 + r01 * f11 - r11 * f01 + r02 * f12 - r12 * f02
+        along = np.abs(r00 * f00 + r01 * f01 + r02 * f02 + r10 * f10 + r11 * f11 + r12 * f12
+                       + r20 * f20 + r21 * f21 + r22 * f22) + 1e-9
+        angle = np.sqrt(tx * tx + ty * ty + tz * tz) / along
+        c = np.cos(0.5 * angle)
+        s = np.sin(0.5 * angle) / (np.maximum(angle, 1e-300) * along)
+        tx *= s
+        ty *= s
+        tz *= s
+        w, x, y, z = q.copy()
+        q[0] = c * w - tx * x - ty * y - tz * z
+        q[1] = c * x + tx * w + ty * z - tz * y
+        q[2] = c * y - tx * z + ty * w + tz * x
+        q[3] = c * z + tx * y - ty * x + tz * w
+        q /= np.sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3])
+    return soa_quaternion_matrices(q)
+
+
+def nearest_rotations(F: np.ndarray) -> np.ndarray:
+    """Proper rotations (..., 3, 3) nearest F (..., 3, 3) by SVD: the exact answer, for measuring."""
+    u, _, vt = np.linalg.svd(F)
+    flip = np.linalg.det(u @ vt) < 0
+    u[flip, :, 2] *= -1.0
+    return u @ vt

@@ -192,12 +192,15 @@ def run_scenario(scenario: Scenario, out: str | Path, progress: bool = False, bo
         written.append(files.write_motion_glb(out / f"{name}.glb", motion))
     if "pvd" in o.files:
         written.append(files.write_pvd(out, motion, name))
-    if "png" in o.files:
-        written += files.write_pictures(out, motion, snapshot_times(motion, scenario), o.views, o.size, name)
-    if "gif" in o.files:
-        size = (o.size[0] * 2 // 3, o.size[1] * 2 // 3)
-        written.append(files.write_gif(out / f"{name}.gif", motion, o.views, size, o.gif_rate,
-                                       progress=_bar("gif", progress)))
+    if "png" in o.files or "gif" in o.files:
+        with files.MotionPictures(motion, o.views, o.size, scenario.title) as pictures:  # one window, frames shared
+            if "png" in o.files:
+                written += files.write_pictures(out, motion, snapshot_times(motion, scenario), o.views, o.size,
+                                                name, pictures=pictures)
+            if "gif" in o.files:
+                size = (o.size[0] * 2 // 3, o.size[1] * 2 // 3)
+                written.append(files.write_gif(out / f"{name}.gif", motion, o.views, size, o.gif_rate,
+                                               progress=_bar("gif", progress), pictures=pictures))
     clock["files"] = time.perf_counter() - start
     start = time.perf_counter()
     figs = figures(motion, scenario)

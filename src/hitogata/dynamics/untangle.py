@@ -26,7 +26,7 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.optimize import linprog
 
-from hitogata.geometry.tets import TET_FACES, signed_volumes
+from hitogata.dynamics.volumes import corner_gradients, corner_volumes
 
 STEPS = 20  # at most so many linear programmes (accepted or not)
 REACH = 0.25  # first trust radius, as a share of the mean edge length round the moved nodes
@@ -43,7 +43,7 @@ class Untangler:
 
     def __init__(self, rest: np.ndarray, elements: np.ndarray, movable: np.ndarray, floor: float) -> None:
         self.corners = np.asarray(elements)[:, :4]
-        self.rest_volumes = signed_volumes(rest, self.corners)
+        self.rest_volumes = corner_volumes(rest, self.corners)
         self.movable = np.asarray(movable, dtype=bool)  # (N,): nodes the untangler may move
         self.floor = float(floor)
         edges = rest[self.corners[:, [1, 2, 3, 2, 3, 3]]] - rest[self.corners[:, [0, 0, 0, 1, 1, 2]]]
@@ -52,13 +52,13 @@ class Untangler:
     def below_floor(self, x: np.ndarray) -> np.ndarray:
         """Elements with a movable corner whose corner volume at x is below the floor (beyond round-off:
         the linear programmes leave elements exactly at it)."""
-        low = signed_volumes(x, self.corners) < (self.floor - ROUND_OFF) * self.rest_volumes
+        low = corner_volumes(x, self.corners) < (self.floor - ROUND_OFF) * self.rest_volumes
         return np.flatnonzero(low & self.movable[self.corners].any(axis=1))
 
     def deficit(self, x: np.ndarray, elements: np.ndarray) -> float:
         """Σ max(0, floor − v/V) + W Σ max(0, −v/V) over the listed elements: an inverted element
         weighs more than a flat one, so lifting it is worth flattening a neighbour a little."""
-        ratio = signed_volumes(x, self.corners[elements]) / self.rest_volumes[elements]
+        ratio = corner_volumes(x, self.corners[elements]) / self.rest_volumes[elements]
         return float(np.maximum(self.floor - ratio, 0.0).sum() + INVERSION_WEIGHT * np.maximum(-ratio, 0.0).sum())
 
     def __call__(self, x: np.ndarray) -> np.ndarray:
@@ -88,17 +88,16 @@ class Untangler:
         """Moves (len(nodes), 3) solving the linearised programme within the trust radius."""
         n, m = len(nodes), len(elements)
         corners = self.corners[elements]
-        c = x[corners]
+        gradients = corner_gradients(x, corners)  # (3, 4, m): dv/dx of each corner
         column = np.full(len(x), -1)
         column[nodes] = np.arange(n)
         rows, cols, values = [], [], []
-        for a, (i, j, k) in enumerate(TET_FACES):  # dv/dx of corner a: the inward normal of the face opposite
-            grad = -np.cross(c[:, j] - c[:, i], c[:, k] - c[:, i]) / 6.0
+        for a in range(4):
             moved = np.flatnonzero(column[corners[:, a]] >= 0)
             for axis in range(3):
                 rows.append(moved)
                 cols.append(3 * column[corners[moved, a]] + axis)
-                values.append(-grad[moved, axis])
+                values.append(-gradients[axis, a, moved])
         # variables: d (3n), |d| (3n), s (m), t = min(s, 0) (m); minimise -Σ s - W Σ t + price Σ|d|
         volume = sp.csr_matrix((np.concatenate(values), (np.concatenate(rows), np.concatenate(cols))), shape=(m, 3 * n))
         eye, zero_m = sp.identity(3 * n, format="csr"), sp.csr_matrix((m, m))
@@ -108,7 +107,7 @@ class Untangler:
             sp.hstack([-eye, -eye, sp.csr_matrix((3 * n, 2 * m))]),
             sp.hstack([sp.csr_matrix((m, 6 * n)), -sp.identity(m), sp.identity(m)]),
         ], format="csr")
-        b_ub = np.r_[signed_volumes(x, corners), np.zeros(6 * n + m)]
+        b_ub = np.r_[corner_volumes(x, corners), np.zeros(6 * n + m)]
         cost = np.r_[np.zeros(3 * n), np.full(3 * n, MOVE_PRICE), -np.ones(m), np.full(m, -INVERSION_WEIGHT)]
         bounds = ([(-reach, reach)] * (3 * n) + [(0.0, reach)] * (3 * n) + [(None, self.floor)] * m
                   + [(None, 0.0)] * m)

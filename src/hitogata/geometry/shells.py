@@ -31,20 +31,28 @@ def region_boundary(tets: np.ndarray, region: np.ndarray, names: Sequence[str], 
     return faces
 
 
-def taubin_smooth(points: np.ndarray, faces: np.ndarray, iterations: int) -> np.ndarray:
-    """(N, 3) points with the vertices of `faces` moved by `iterations` λ|μ passes over the faces'
-    edges (each vertex towards, then away from, the mean of its neighbours); other points stay."""
-    points = np.asarray(points, dtype=np.float64)
+def smoothing_operator(n: int, faces: np.ndarray) -> sp.csr_matrix:
+    """(n, n) one averaging step over the faces' edges: the mean of a vertex's neighbours minus the
+    vertex, on the faces' vertices; 0 on the other points (they stay). Built once per surface."""
     faces = np.asarray(faces)
-    used = np.unique(faces)
+    used = np.zeros(n, dtype=bool)
+    used[faces.ravel()] = True
     edges = np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]])
-    n = len(points)
     adjacency = sp.csr_matrix((np.ones(len(edges)), (edges[:, 0], edges[:, 1])), shape=(n, n))
     adjacency = ((adjacency + adjacency.T) > 0).astype(np.float64)
     degree = np.maximum(np.asarray(adjacency.sum(axis=1)).ravel(), 1.0)
+    return (sp.diags(used / degree) @ adjacency - sp.diags(used.astype(np.float64))).tocsr()
+
+
+def taubin_smooth(points: np.ndarray, faces: np.ndarray, iterations: int,
+                  operator: sp.csr_matrix | None = None) -> np.ndarray:
+    """(N, 3) points with the vertices of `faces` moved by `iterations` λ|μ passes over the faces'
+    edges (each vertex towards, then away from, the mean of its neighbours); other points stay.
+    `operator`: `smoothing_operator(N, faces)`, when the same surface is smoothed again and again."""
+    points = np.asarray(points, dtype=np.float64)
+    operator = smoothing_operator(len(points), faces) if operator is None else operator
     out = points.copy()
     for _ in range(iterations):
         for factor in TAUBIN:
-            move = (adjacency @ out) / degree[:, None] - out
-            out[used] += factor * move[used]
+            out += factor * (operator @ out)
     return out

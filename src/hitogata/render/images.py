@@ -39,6 +39,27 @@ def side_by_side(images: Sequence[np.ndarray], gap: int = 0, background: Color =
     return out
 
 
+TITLE_PIXELS = 22  # height of a title band
+TITLE_POINTS = 13
+
+
+def titled(image: np.ndarray, title: str, background: Color = "white", color: Color = "#333333") -> np.ndarray:
+    """The image with a band of TITLE_PIXELS on top holding `title`, centred (cut with "…" if too long)."""
+    from PIL import Image, ImageDraw, ImageFont
+
+    a = _image(image, "titled image")[..., :3]
+    fill = tuple(round(c * 255) for c in rgb(background, "background"))
+    ink = tuple(round(c * 255) for c in rgb(color, "title color"))
+    band = Image.new("RGB", (a.shape[1], TITLE_PIXELS), fill)
+    draw = ImageDraw.Draw(band)
+    font = ImageFont.load_default(size=TITLE_POINTS)
+    text = title
+    while len(text) > 1 and draw.textlength(text, font=font) > a.shape[1] - 8:
+        text = text[:-2] + "…"
+    draw.text((a.shape[1] / 2, TITLE_PIXELS / 2), text, font=font, fill=ink, anchor="mm")
+    return np.concatenate([np.asarray(band), a], axis=0)
+
+
 def save_png(path: str | os.PathLike, image: np.ndarray) -> Path:
     """Write an (H, W, 3|4) uint8 image as PNG, atomically; return the path."""
     path = Path(path)
