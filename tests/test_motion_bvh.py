@@ -95,7 +95,7 @@ def other_tool_bvh(poser, clip, order: str, unit: float, turn: float, walk: floa
     posed = poser.kinematics.pose(clip.angles, root=root)
     part = {name: sk.index(name) for name in sk.names}
     rest_t = {}  # their rest positions, our world, metres
-    for name, parent, parts in joints:
+    for name, _parent, parts in joints:
         if parts is None:  # the hip's offset bone, halfway to the thigh joint
             side = "thigh_l" if name.startswith("L") else "thigh_r"
             rest_t[name] = 0.5 * (t_pose.joints[0, 0] + t_pose.joints[0, part[side]])

@@ -94,7 +94,7 @@ def test_a_limit_accepts_its_own_printed_value(poser):
     for value in (-2.3, -2.3 - 0.04, round(np.degrees(sk.lower[k] + sk.rest[k]), 1)):
         q = poser.angles(clinical={"lumbar_2.flexion": np.radians(value)})
         assert q[k] == sk.lower[k]
-    for k, name in enumerate(sk.dof_names):  # every limit, as shown by --list, round-trips
+    for k, _name in enumerate(sk.dof_names):  # every limit, as shown by --list, round-trips
         for edge in (sk.lower[k], sk.upper[k]):
             shown = round(float(np.degrees(sk.rest[k] + edge)), 1)
             q = np.zeros(sk.n_dofs)

@@ -21,6 +21,7 @@ from hitogata.dynamics.motion import BodyDynamics
 from hitogata.dynamics.quality import STATIC_ITERATIONS, PoseQuality, pose_quality
 from hitogata.dynamics.quasistatic import rotate
 from hitogata.measure.fine_skin import fine_skinning
+from hitogata.options import OnLimit
 from hitogata.pose import PosedBody
 
 ELEMENT_SIZE = 40.0  # mm: the whole body's lattice for a held posture (as the large-motion tests)
@@ -70,15 +71,14 @@ def elastic_pose(
     clinical: Mapping[str, float] | None = None,
     contractions: Mapping[str, float] | None = None,
     lengths: Mapping[str, float] | None = None,
-    on_limit: str = "raise",
+    on_limit: OnLimit = "raise",
     iterations: int = STATIC_ITERATIONS,
 ) -> ElasticPose:
     """The elastic skin of one posture (names and units as `Poser.pose`), solved from rest."""
     poser = dynamics.poser
     posed = poser.pose(contractions, lengths, angles, clinical, dynamics.rig.method, on_limit)
     g, r = dynamics.rig.pose(posed.pose.rotations, posed.pose.translations)
-    dynamics.statics.quaternions[:] = (1.0, 0.0, 0.0, 0.0)  # from rest, whatever was solved before
-    delta, _ = dynamics.quasi_static(g[0], r[0], None, None, iterations)
+    delta, _ = dynamics.quasi_static(g[0], r[0], None, None, iterations)  # warm=None: from rest
     _, skin, _ = dynamics.frame(
         posed.pose.rotations[0], posed.pose.translations[0], r[0], delta, np.zeros(len(dynamics.eigenvalues))
     )

@@ -25,6 +25,7 @@ from hitogata.errors import HitogataError
 from hitogata.export.atomic import write_bytes_atomically
 from hitogata.export.body_files import body_from_extras
 from hitogata.measure.fine_skin import fine_skinning
+from hitogata.options import Skinning
 from hitogata.pose import poser_for
 from hitogata.skinning import METHODS, skin_vertices
 
@@ -41,7 +42,7 @@ def write_sidecar(path: str | os.PathLike, extras: dict[str, Any]) -> Path:
     return write_bytes_atomically(sidecar_path(path), (json.dumps(extras, indent=1, allow_nan=False) + "\n").encode())
 
 
-def posture(body: Body, angles: np.ndarray, skinning: str = "lbs", vertices: np.ndarray | None = None):
+def posture(body: Body, angles: np.ndarray, skinning: Skinning = "lbs", vertices: np.ndarray | None = None):
     """(skin vertices, rig joints, fine skin vertices) of a pose; `vertices`: a surface made from it
     (e.g. the elastic skin), by default the skinned one."""
     poser = poser_for(body)

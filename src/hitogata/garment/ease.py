@@ -25,6 +25,7 @@ from hitogata.measure.axes import JointSet
 from hitogata.measure.geodesic import SurfaceGeodesics
 from hitogata.measure.landmarks import body_landmarks
 from hitogata.measure.measurements import MEASUREMENT_NAMES, measure_surface, posture_arrays, tape_skin
+from hitogata.options import Skinning
 from hitogata.rig import posed_rig_heads
 from hitogata.motion.clip import MotionClip
 from hitogata.pose import poser_for
@@ -65,7 +66,7 @@ class MotionEase:
         return rows
 
 
-def skinned_surface(body: Body, skinning: str = "dqs") -> Surface:
+def skinned_surface(body: Body, skinning: Skinning = "dqs") -> Surface:
     """The surface source: the body skinned onto the posed skeleton ('dqs' or 'lbs')."""
     poser = poser_for(body)
     return lambda angles, root: poser.pose_many(angles, skinning, root)

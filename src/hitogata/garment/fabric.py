@@ -75,7 +75,8 @@ def read_fabric_csv(path: str | Path) -> Fabric:
     names = [h.strip().lower().replace(" ", "") for h in header]
     strain_col = _column(path, line, names, STRAIN_COLUMNS, "strain")
     tension_col = _column(path, line, names, TENSION_COLUMNS, "tension")
-    strains, tensions = [], []
+    strains: list[float] = []
+    tensions: list[float] = []
     for line, row in rows[1:]:
         if len(row) != len(names):
             raise HitogataError(f"{path}: line {line}: {len(row)} values; allowed {len(names)} (as the header)")

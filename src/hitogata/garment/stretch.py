@@ -89,7 +89,7 @@ def _zones(body: Body) -> dict[str, np.ndarray]:
         return w[faces].all(axis=1)
 
     folds, marks = armpit_folds(body), body_landmarks(body)
-    top = v[[marks.acromion_left, marks.acromion_right], 1].max()
+    top = max(marks.acromion_left.at(v)[1], marks.acromion_right.at(v)[1])
     band = (centroid[:, 1] > folds.axilla - BAND_BELOW_AXILLA) & (centroid[:, 1] < top)
     limbs = follows(("upperarm01.L", "upperarm02.L", "upperarm01.R", "upperarm02.R"))
     back_x, front_x = abs(v[folds.back_right, 0]), abs(v[folds.front_right, 0])

@@ -22,6 +22,7 @@ import scipy.sparse as sp
 
 from hitogata.body import Body
 from hitogata.measure.topology import topology
+from hitogata.options import Skinning
 from hitogata.skeleton.kinematics import Pose
 from hitogata.skinning import Skin, prepare_skin, skin_vertices
 
@@ -83,7 +84,7 @@ class FineSkinning:
     skin: Skin
     coarse: Skin
 
-    def surface(self, pose: Pose, method: str = "lbs", coarse_vertices: np.ndarray | None = None) -> np.ndarray:
+    def surface(self, pose: Pose, method: Skinning = "lbs", coarse_vertices: np.ndarray | None = None) -> np.ndarray:
         """(Vf, 3) the fine skin of one pose (P = 1): skinned, plus the interpolated difference between
         `coarse_vertices` (e.g. the elastic skin) and the coarse skin skinned the same way."""
         r, t = pose.rotations[:1], pose.translations[:1]

@@ -40,7 +40,8 @@ class SurfacePoint:
     def on_face(cls, vertices: np.ndarray, face: np.ndarray, point: np.ndarray) -> SurfacePoint:
         """The point of a triangle (three vertex indices) nearest `point`, as a SurfacePoint."""
         weights = barycentric(vertices[face], point)
-        return cls(tuple(int(c) for c in face), tuple(float(w) for w in weights))
+        a, b, c = (int(k) for k in face)
+        return cls((a, b, c), (float(weights[0]), float(weights[1]), float(weights[2])))
 
 
 def barycentric(triangle: np.ndarray, point: np.ndarray) -> np.ndarray:

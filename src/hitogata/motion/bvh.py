@@ -186,8 +186,8 @@ def parse_bvh(text: str, source: str = "<bvh>") -> Bvh:
                 ok = False
             if not ok:
                 raise tokens.fail(f"channel value {word!r}; allowed a finite number", line)
-    lines = {}
-    for word, line in data:  # one frame per line, as every BVH writer does
+    lines: dict[int, int] = {}
+    for _word, line in data:  # one frame per line, as every BVH writer does
         lines[line] = lines.get(line, 0) + 1
     wrong = [line for line, count in lines.items() if count != width]
     if wrong:

@@ -9,13 +9,14 @@ names (what `hitogata motion export` writes) maps onto itself.
 
 from __future__ import annotations
 
+from typing import Any
 from dataclasses import dataclass
 from importlib import resources
 from pathlib import Path
 
 from hitogata.errors import HitogataError
 from hitogata.skeleton.placement import Skeleton
-from hitogata.skeleton.spec import Entry, read_toml
+from hitogata.config import Entry, read_toml
 
 IDENTITY = "hitogata"
 
@@ -46,7 +47,8 @@ def load_joint_map(path: str | Path, skeleton: Skeleton) -> JointMap:
     top = Entry(source, "top level", doc, ("root", "parts"))
     root = top.get("root", str)
     table = Entry(source, "[parts]", top.get("parts", dict), tuple(top.get("parts", dict)))
-    chains, owner = {}, {}
+    chains: dict[str, Any] = {}
+    owner: dict[str, Any] = {}
     for joint, value in table.table.items():
         parts = (value,) if isinstance(value, str) else value
         if not (isinstance(parts, (list, tuple)) and parts and all(isinstance(p, str) for p in parts)):

@@ -56,7 +56,7 @@ def repair(mesh: TetMesh, held: np.ndarray) -> tuple[TetMesh, Repair]:
     is_held[held] = True
     split = pinched = unheld = 0
     volume = 0.0
-    for rounds in range(1, _MAX_ROUNDS + 1):
+    for rounds in range(1, _MAX_ROUNDS + 1):  # noqa: B007 (the count is reported after the loop)
         tets, copies = _split_held(tets, is_held)
         nodes, part, is_held = nodes[np.r_[np.arange(len(nodes)), copies]], part[np.r_[np.arange(len(part)), copies]], \
             is_held[np.r_[np.arange(len(is_held)), copies]]
