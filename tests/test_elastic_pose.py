@@ -37,7 +37,8 @@ def test_elastic_pose_returns_the_elastic_skin(female):
 
 def test_pose_elastic_writes_a_measurable_file(tmp_path, female_args, capsys):
     out = tmp_path / "bent.glb"
-    assert main(["pose", "--elastic", "--angle", "elbow_l.flexion=120deg", "--out", str(out)]) == 0
+    assert main(["pose", "--elastic", "--angle", "elbow_l.flexion=120deg", "--angle", "shoulder_r.flexion=150deg",
+                 "--out", str(out)]) == 0
     printed = capsys.readouterr().out
     mesh, side = tmp_path / "bent_elastic.ply", tmp_path / "bent_elastic.json"
     assert out.is_file() and mesh.is_file() and side.is_file()
