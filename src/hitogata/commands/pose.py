@@ -65,7 +65,8 @@ def run(args: argparse.Namespace) -> None:
     }
     written = []
     if args.elastic:
-        held = elastic_pose(elastic_dynamics(poser.body), angles=posed.angles)
+        held = elastic_pose(elastic_dynamics(poser.body), clinical=request.clinical, contractions=request.contractions,
+                            lengths=request.lengths, on_limit=request.on_limit)
         mesh = Path(args.out) if Path(args.out).suffix.lower() != ".glb" else Path(args.out).with_name(
             Path(args.out).stem + "_elastic.ply")
         written.append(write_mesh(mesh, held.vertices, held.faces))

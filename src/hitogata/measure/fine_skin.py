@@ -1,15 +1,16 @@
 """A skin fine enough to measure: the MakeHuman skin subdivided, carried like the skin itself.
 
 The MakeHuman skin's edges are 15–28 mm at the elbow and 14–33 mm at the
-knee, so a 10 cm line crosses five to seven triangles and a strain field on
-it is a set of flat bands. The fine skin splits every triangle into four
-(edge midpoints) `LEVELS` times — 16 triangles per triangle, edges a quarter
-as long — once per body. Its rest surface is the coarse one (midpoints of flat
-triangles), but it is posed by the same skinning with the skin weights
-interpolated to its vertices, so inside a coarse triangle the skinned surface
-bends as the blended bone transforms do rather than staying flat; an elastic
-displacement of the coarse skin (the elastic body's correction) is carried to
-it by the same interpolation. The coarse mesh stays the simulation surface.
+knee, so a 10 cm line crosses five to twelve triangles and a strain field on
+it is a set of flat bands. The fine skin is the skin Loop-subdivided
+`LEVELS` times — 16 triangles per triangle, edges about a quarter as long —
+once per body. Loop's stencils smooth the rest surface and, applied to the
+skin weights and to an elastic displacement of the coarse skin (the elastic
+body's correction), make both vary smoothly across the coarse triangles' edges
+too, so the posed fine skin's stretch is smooth where the coarse one is a
+patchwork of per-triangle values (midpoint subdivision would keep the
+weights' piecewise-linear kinks and the bands). It is posed by the same
+skinning with those weights. The coarse mesh stays the simulation surface.
 """
 
 from __future__ import annotations
@@ -44,25 +45,49 @@ class FineSkin:
 
 
 def subdivide(vertices: np.ndarray, faces: np.ndarray, levels: int = LEVELS) -> FineSkin:
-    """Midpoint subdivision: every triangle into four, `levels` times."""
-    n0 = len(vertices)
-    interp = sp.identity(n0, format="csr")
+    """Loop subdivision: every triangle into four, `levels` times; positions and any per-vertex field
+    (weights, displacements) through the same linear stencils (`FineSkin.interpolation`)."""
+    interp = sp.identity(len(vertices), format="csr")
     parent = np.arange(len(faces))
-    v, f = np.asarray(vertices, dtype=float), np.asarray(faces, dtype=np.int64)
+    f = np.asarray(faces, dtype=np.int64)
     for _ in range(levels):
-        topo = topology(f)
-        n, e = len(v), len(topo.edges)
-        rows = np.concatenate([np.arange(n), np.repeat(n + np.arange(e), 2)])
-        cols = np.concatenate([np.arange(n), topo.edges.ravel()])
-        vals = np.concatenate([np.ones(n), np.full(2 * e, 0.5)])
-        step = sp.csr_matrix((vals, (rows, cols)), shape=(n + e, n))
-        a, b, c = f.T
-        ab, bc, ca = (n + topo.face_edges).T  # edges v0v1, v1v2, v2v0
-        f = np.concatenate([np.stack(t, axis=1) for t in ((a, ab, ca), (ab, b, bc), (ca, bc, c), (ab, bc, ca))])
+        step, f = _loop_step(f, interp.shape[0])
         parent = np.tile(parent, 4)
-        v = step @ v
         interp = step @ interp
-    return FineSkin(v, f, sp.csr_matrix(interp), parent)
+    interp = sp.csr_matrix(interp)
+    return FineSkin(np.asarray(interp @ np.asarray(vertices, dtype=float)), f, interp, parent)
+
+
+def _loop_step(faces: np.ndarray, n: int) -> tuple[sp.csr_matrix, np.ndarray]:
+    """One Loop step (Loop 1987, Warren's weights): the (n + E, n) stencil matrix and the new faces.
+
+    Edge point: 3/8 of each end + 1/8 of each opposite corner (an edge without two faces: its
+    midpoint); vertex point: (1 − k β) of itself + β of each of its k neighbours, β = 3/16 for
+    k = 3, else 3/(8k).
+    """
+    topo = topology(faces)
+    e = len(topo.edges)
+    a, b, c = faces.T
+    ab, bc, ca = topo.face_edges.T  # edges v0v1, v1v2, v2v0; opposite corners c, a, b
+    edge_ids = np.concatenate([ab, bc, ca])
+    opposite = np.concatenate([c, a, b])
+    count = np.bincount(edge_ids, minlength=e)
+    inner = count[edge_ids] == 2
+    two = count == 2
+    ends = np.where(two, 3.0 / 8.0, 0.5)
+    rows = [np.repeat(n + np.arange(e), 2), n + edge_ids[inner]]
+    cols = [topo.edges.ravel(), opposite[inner]]
+    vals = [np.repeat(ends, 2), np.full(inner.sum(), 1.0 / 8.0)]
+    k = np.bincount(topo.edges.ravel(), minlength=n).astype(float)
+    beta = np.where(k == 3, 3.0 / 16.0, 3.0 / (8.0 * np.maximum(k, 1.0)))
+    rows += [np.arange(n), topo.edges[:, 0], topo.edges[:, 1]]
+    cols += [np.arange(n), topo.edges[:, 1], topo.edges[:, 0]]
+    vals += [1.0 - k * beta, beta[topo.edges[:, 0]], beta[topo.edges[:, 1]]]
+    step = sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))), shape=(n + e, n))
+    m_ab, m_bc, m_ca = n + ab, n + bc, n + ca
+    new = np.concatenate([np.stack(t, axis=1) for t in ((a, m_ab, m_ca), (m_ab, b, m_bc), (m_ca, m_bc, c),
+                                                        (m_ab, m_bc, m_ca))])
+    return step, new
 
 
 _BY_BODY: weakref.WeakKeyDictionary[Body, FineSkin] = weakref.WeakKeyDictionary()
