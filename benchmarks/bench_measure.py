@@ -75,11 +75,11 @@ def naive_measure(body) -> dict[str, float]:
     joints = JointSet(body.rig.names, body.rig.heads)
     values = heights(v, marks)
     points = np.stack([girdle_point(marks, joints, joints, "R"), girdle_point(marks, joints, joints, "L"),
-                       marks.olecranon.at(v), marks.ulnar_styloid.at(v)])
-    v_pts, f_pts, (right, left, elbow, wrist) = insert_points(v, f, points)
+                       marks.olecranon.at(v), marks.ulnar_styloid.at(v), marks.cervicale.at(v), marks.waist_back.at(v)])
+    v_pts, f_pts, (right, left, elbow, wrist, neck, back) = insert_points(v, f, points)
     legs = {
-        "back_waist_length": [(marks.cervicale, marks.waist_back)],
-        "shoulder_width": [(left, marks.cervicale), (marks.cervicale, right)],
+        "back_waist_length": [(neck, back)],
+        "shoulder_width": [(left, neck), (neck, right)],
         "arm_length": [(right, elbow), (elbow, wrist)],
     }
     for name, pairs in legs.items():

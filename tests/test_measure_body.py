@@ -93,7 +93,7 @@ def test_landmarks_hold_across_shapes(sex, stature, mass):
     acromion = marks.acromion_right.at(v)
     assert acromion[1] > shoulder[1] and acromion[0] < shoulder[0]
     assert marks.olecranon.at(v)[2] < rig.heads[rig.index("lowerarm01.R"), 2]  # behind the elbow
-    assert v[marks.cervicale, 2] < rig.heads[rig.index("neck01"), 2]
+    assert marks.cervicale.at(v)[2] < rig.heads[rig.index("neck01"), 2]
 
 
 def carried_skin(body, fine_vertices):
@@ -135,7 +135,9 @@ def test_rigid_motion_keeps_girths_and_surface_lengths(female):
     rest = measure(female)
     for name in MEASUREMENT_NAMES:
         if name not in ("stature", "inside_leg"):  # vertical heights change with the body's tilt
-            assert moved.get(name) == pytest.approx(rest.get(name), abs=1e-9), name
+            # girths exactly; surface lengths to 1 µm: their ends are points inserted into the
+            # surface, whose barycentric weights the rotation changes by round-off
+            assert moved.get(name) == pytest.approx(rest.get(name), abs=1e-9 if name in GIRTHS else 1e-6), name
 
 
 def test_flexed_elbow_lengthens_the_arm_and_leaves_the_trunk(female):

@@ -12,14 +12,16 @@ from hitogata.pose import pose_body
 @pytest.mark.parametrize("sex", ["female", "male"])
 def test_landmarks_move_continuously_with_the_shape(sex):
     # BMI 18 → 33 in steps of 1 at 175 cm: a landmark that switched vertex jumped 16–22 mm in
-    # one step (the male cervicale, the acromion) while its neighbours moved 1–8 mm.
+    # one step (the acromion, the olecranon) while its neighbours moved 1 mm.
     rows = []
     for bmi in range(18, 34):
         body = Body.from_measurements(sex=sex, age=30, stature=1.75, mass=bmi * 1.75**2)
         rows.append(landmark_positions(body_landmarks(body), body.vertices))
     for name in LANDMARK_NAMES:
         steps = np.linalg.norm(np.diff([row[name] for row in rows], axis=0), axis=1)
-        assert steps.max() <= 0.010, (name, np.round(steps * 1000, 1))
+        # a smooth path: no step much larger than the landmark's typical one (a vertex switch
+        # made one step 10–25 times its neighbours')
+        assert steps.max() <= 2.0 * np.median(steps) + 0.005, (name, np.round(steps * 1000, 1))
 
 
 @pytest.mark.parametrize("stature", [1.65, 1.75, 1.85])

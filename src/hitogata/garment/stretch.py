@@ -97,7 +97,7 @@ def _zones(body: Body) -> dict[str, np.ndarray]:
     exclude = np.zeros(len(faces), bool)
     for name in ("shoulder_right", "elbow_right", "knee_right", "seat"):
         exclude[measured[name]] = True
-    waist_y = 0.5 * (v[marks.waist_front, 1] + v[marks.waist_back, 1])
+    waist_y = 0.5 * (v[marks.waist_front, 1] + marks.waist_back.at(v)[1])
     trunk = tape_skin(body)["waist_girth"][faces].all(axis=1)  # the trunk tapes' skin: not the arms', legs'
     zones = {
         "across_back": band & ~limbs & (-normal[:, 2] >= FACING) & (np.abs(centroid[:, 0]) <= back_x),

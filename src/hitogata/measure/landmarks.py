@@ -19,7 +19,10 @@ its vertex on the rest surface from the rig's joint centres
 - bony points of the limbs (acromion, olecranon, ulnar styloid), on each
   body: the first skin hit of a ray from the joint centre in the direction
   of that bone point;
-- cervicale: the back midline vertex at the base neck joint's height;
+- cervicale and back waist point, on each body: where a ray straight
+  backwards from the base neck joint (from the spine at the navel's height)
+  leaves the skin, an exact point (from the reference's vertices the male back
+  waist length read 4.3 cm short);
 - the bust point and the navel: where they are pronounced on the reference
   (the most forward vertex of the breast; the deepest dip of the front
   midline profile): a male chest has no forward-most nipple, but the same
@@ -39,6 +42,7 @@ Limbs are measured on the right side, as ISO 8559-1 and ISO 7250-1 prescribe.
 from __future__ import annotations
 
 from dataclasses import dataclass, fields, replace
+from typing import Any
 from functools import cache
 
 import numpy as np
@@ -57,6 +61,10 @@ MIDLINE_TOLERANCE = 1e-3  # m: vertices this close to x = 0 lie on the body's mi
 ACROMION_TILT = 0.35  # lateral run per unit rise of the ray from the shoulder joint (≈ 19°)
 NAVEL_REACH = 0.03  # m: the navel dips below the front profile's chord over ± this height
 THIGH_BELOW_CROTCH = 0.01  # m: the thigh girth plane passes this far below the crotch
+FORWARD = np.array([0.0, 0.0, 1.0])  # the body's front (+Z)
+# Midline rays start this far to the side: the symmetric mesh has edges on the midline, which a
+# ray along it would graze (a miss by round-off); 0.01 mm moves the point by as much.
+OFF_MIDLINE = np.array([1e-5, 0.0, 0.0])
 CHEST_FRONT = 0.12  # m: the chest's front profile lies within this depth behind the bust point
 GIRDLE_JOINTS = {side: (f"clavicle.{side}", f"upperarm01.{side}") for side in "RL"}  # sternoclavicular, glenohumeral
 
@@ -67,7 +75,7 @@ class Landmarks:
     girths and widths."""
 
     head_top: int
-    cervicale: int
+    cervicale: SurfacePoint
     acromion_right: SurfacePoint
     acromion_left: SurfacePoint
     olecranon: SurfacePoint  # right elbow, back
@@ -76,7 +84,7 @@ class Landmarks:
     bust_left: int
     underbust: int  # right inframammary fold, front
     waist_front: int
-    waist_back: int
+    waist_back: SurfacePoint
     buttock: int  # right buttock, most backward point
     crotch: int
     thigh_level: float  # fraction of hip → knee where the thigh plane cuts the femur
@@ -133,19 +141,17 @@ def find_landmarks(vertices: np.ndarray, faces: np.ndarray, joints: JointSet) ->
     waist_y = float(v[navel, 1])
     return Landmarks(
         head_top=int(np.argmax(v[:, 1])),
-        cervicale=_cervicale(v, midline, joints),
         bust_right=bust_right,
         bust_left=bust_left,
         underbust=_inframammary_fold(v, faces, bust_right, waist_y),
         waist_front=navel,
-        waist_back=_back_midline_at(v, midline, joints, waist_y),
         buttock=_buttock(v, float(v[crotch, 1]), waist_y),
         crotch=crotch,
         **_own(v, faces, joints, crotch),
     )
 
 
-def _own(v: np.ndarray, faces: np.ndarray, joints: JointSet, crotch: int) -> dict:
+def _own(v: np.ndarray, faces: np.ndarray, joints: JointSet, crotch: int) -> dict[str, Any]:
     """The landmarks and levels each body has of its own (see the module note)."""
     right, left = _acromion(v, faces, joints, "R"), _acromion(v, faces, joints, "L")
     topo = topology(faces)
@@ -156,6 +162,8 @@ def _own(v: np.ndarray, faces: np.ndarray, joints: JointSet, crotch: int) -> dic
         "olecranon": _olecranon(v, faces, joints),
         "ulnar_styloid": _ulnar_styloid(v, faces, joints),
         "thigh_level": _thigh_level(v, crotch, joints),
+        "cervicale": _cervicale(v, faces, joints),
+        "waist_back": _back_waist(v, faces, joints, reference_vertices()[2]),
         "acromion_offsets": _acromion_offsets(v, joints, right, left),
         "calf_level": extreme_girth_level(v, topo, knee, ankle, CALF_SPAN, largest=True),
         "ankle_level": extreme_girth_level(v, topo, knee, ankle, ANKLE_SPAN, largest=False),
@@ -226,11 +234,9 @@ def reference_vertices() -> tuple[int, int, int]:
     return nipples[0], nipples[1], int(navel)
 
 
-def _cervicale(v: np.ndarray, midline: np.ndarray, joints: JointSet) -> int:
-    """Back of the neck's base: the midline vertex behind the base neck joint at its height."""
-    base = joints["neck01"]
-    back = midline[v[midline, 2] < base[2]]
-    return int(back[np.argmin(np.abs(v[back, 1] - base[1]))])
+def _cervicale(v: np.ndarray, faces: np.ndarray, joints: JointSet) -> SurfacePoint:
+    """Back of the neck's base: where a ray from the base neck joint straight backwards leaves the skin."""
+    return _ray_point(v, faces, joints["neck01"] + OFF_MIDLINE, -FORWARD)
 
 
 def _ray_point(v: np.ndarray, faces: np.ndarray, origin: np.ndarray, direction: np.ndarray) -> SurfacePoint:
@@ -268,10 +274,10 @@ def _crotch(v: np.ndarray, midline: np.ndarray, joints: JointSet) -> int:
     return int(low[np.argmin(v[low, 1])])
 
 
-def _back_midline_at(v: np.ndarray, midline: np.ndarray, joints: JointSet, y: float) -> int:
-    """The back midline vertex nearest a height."""
-    back = midline[v[midline, 2] < joints["spine03"][2]]
-    return int(back[np.argmin(np.abs(v[back, 1] - y))])
+def _back_waist(v: np.ndarray, faces: np.ndarray, joints: JointSet, navel: int) -> SurfacePoint:
+    """Back waist point: where a ray backwards from the spine at the navel's height leaves the skin."""
+    spine = joints["spine03"]
+    return _ray_point(v, faces, np.array([spine[0], v[navel, 1], spine[2]]) + OFF_MIDLINE, -FORWARD)
 
 
 def _inframammary_fold(v: np.ndarray, faces: np.ndarray, bust: int, waist_y: float) -> int:

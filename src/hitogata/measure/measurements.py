@@ -174,7 +174,7 @@ def girth_planes(vertices: np.ndarray, marks: Landmarks, rest: JointSet, posed: 
         "chest_girth": (0.5 * (v[marks.bust_right] + v[marks.bust_left]), thorax, posed["spine01"]),
         "underbust_girth": (v[marks.underbust], thorax, posed["spine01"]),
         "waist_girth": (
-            0.5 * (v[marks.waist_front] + v[marks.waist_back]),
+            0.5 * (v[marks.waist_front] + marks.waist_back.at(v)),
             trunk_normal(rest, posed, "waist"),
             posed["spine03"],
         ),
@@ -207,16 +207,17 @@ def surface_paths(vertices: np.ndarray, faces: np.ndarray, marks: Landmarks, res
     """The geodesic polylines of the three surface lengths.
 
     The acromions are where the shoulder girdle carries them (`girdle_point`), on the skin
-    nearest there; the other limb points ride the skin. Each becomes a vertex of the surface
-    the paths run on (`insert_points`).
+    nearest there; the other points ride the skin. Each becomes a vertex of the surface the
+    paths run on (`insert_points`).
     """
     points = np.stack([girdle_point(marks, rest, posed, "R"), girdle_point(marks, rest, posed, "L"),
-                       marks.olecranon.at(vertices), marks.ulnar_styloid.at(vertices)])
-    v, f, (right, left, elbow, wrist) = insert_points(vertices, faces, points)
+                       marks.olecranon.at(vertices), marks.ulnar_styloid.at(vertices),
+                       marks.cervicale.at(vertices), marks.waist_back.at(vertices)])
+    v, f, (right, left, elbow, wrist, neck, back) = insert_points(vertices, faces, points)
     paths = SurfaceGeodesics(v, f)
     return {
-        "back_waist_length": paths.path_through(marks.cervicale, marks.waist_back),
-        "shoulder_width": paths.path_through(left, marks.cervicale, right),
+        "back_waist_length": paths.path_through(neck, back),
+        "shoulder_width": paths.path_through(left, neck, right),
         "arm_length": paths.path_through(right, elbow, wrist),
     }
 
