@@ -15,13 +15,13 @@ import numpy as np
 import pytest
 
 from hitogata.body import Body, default_body
-from hitogata.elastic import DEFAULT_ELEMENT_SIZE, build_elastic_model
+from hitogata.elastic import DEFAULT_ELEMENT_SIZES, build_elastic_model
 from hitogata.elastic.model import EIGEN_TOLERANCE, assemble_system
 from hitogata.fem import solve_modes
 from hitogata.volume import build_volume_model
 from hitogata.volume.integrity import MIN_DIHEDRAL, MIN_HOLD_WIDTH, face_pieces, mesh_integrity
 
-SIZE = DEFAULT_ELEMENT_SIZE["P2"]
+SIZE = DEFAULT_ELEMENT_SIZES["P2"]
 LOWEST_ALLOWED = 0.5  # Hz: below it a piece floats or hinges (the torn mesh had 0.0115 Hz)
 # (sex, stature m, mass kg); None: `default_body(sex)`.
 GRID = [("female", 1.65, 60.0), ("female", None, None), ("male", None, None)] + [
