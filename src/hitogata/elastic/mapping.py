@@ -27,11 +27,11 @@ from __future__ import annotations
 
 import numpy as np
 import scipy.sparse as sp
-from scipy.sparse.csgraph import connected_components
 from scipy.spatial import cKDTree
 
 from hitogata.fem.elements import element_order, shape_values, tet_geometry
 from hitogata.geometry.tets import TET_FACES
+from hitogata.volume.integrity import face_pieces
 from hitogata.volume.surface import closest_points_on_triangles
 
 DEFAULT_FADE = 0.05  # m: the elastic displacement fades out over 5 cm past `reach`
@@ -54,21 +54,9 @@ def skin_reach(surface_distance_max: float, element_size: float) -> float:
     return min(surface_distance_max, REACH * element_size)
 
 
-def face_pieces(tets: np.ndarray) -> np.ndarray:
-    """(T,) label of each tet's piece: tets joined through shared faces (not edges or corners)."""
-    tets = np.asarray(tets)[:, :4]
-    faces = np.sort(tets[:, TET_FACES].reshape(-1, 3), axis=1)
-    order = np.lexsort(faces.T[::-1])
-    shared = np.flatnonzero(np.all(faces[order][1:] == faces[order][:-1], axis=1))
-    a, b = order[shared] // 4, order[shared + 1] // 4
-    graph = sp.csr_matrix((np.ones(len(a), dtype=np.int8), (a, b)), shape=(len(tets), len(tets)))
-    return connected_components(graph, directed=False)[1]
-
-
 def body_piece(tets: np.ndarray) -> np.ndarray:
-    """(T,) bool: the tets of the largest face-connected piece (by count)."""
-    piece = face_pieces(tets)
-    return piece == np.bincount(piece).argmax()
+    """(T,) bool: the tets of the largest face-connected piece (by count; `volume.integrity.face_pieces`)."""
+    return face_pieces(np.asarray(tets)[:, :4]) == 0
 
 
 def skin_vertex_map(vertices: np.ndarray, points: np.ndarray, elements: np.ndarray, reach: float,
