@@ -53,7 +53,7 @@ def test_the_tape_picture_names_its_tapes(female):
     from PIL import Image
 
     from hitogata.measure.measurements import measurement_paths
-    from hitogata.measure.render import render_png
+    from hitogata.report.surface import render_png
 
     waist = measurement_paths(female)["waist_girth"]
 

@@ -42,7 +42,7 @@ def test_reach_forward_widens_the_back_and_narrows_the_front(request, sex, back,
     assert rows["across_back_width"]["decrease_cm"] > -0.1
     assert rows["across_front_width"]["decrease_cm"] == pytest.approx(front, abs=0.3)
     assert rows["across_front_width"]["increase_cm"] < 0.1
-    assert rows["shoulder_width"]["increase_cm"] > 3  # over the back, between the acromia
+    assert rows["shoulder_width"]["increase_cm"] > 2  # over the back, between the acromia (they ride the girdle)
     table = ease_csv([ease])
     assert table.splitlines()[0].startswith("motion,measurement,standing_cm,increase_cm")
     assert len(table.splitlines()) == 1 + 2 * len(NAMES)
