@@ -20,20 +20,12 @@ from dataclasses import dataclass, field
 
 from hitogata import units
 from hitogata.errors import HitogataError
+from hitogata.names import JOINT_NAMES, SIDES
 from hitogata.options import OnLimit, Skinning
 from hitogata.pose import ON_LIMIT, Poser
 from hitogata.skeleton.shoulder import channel_names
 from hitogata.skinning import METHODS
 
-JOINT_NAMES = {
-    "shoulder": "upper_arm",
-    "elbow": "forearm",
-    "wrist": "hand",
-    "hip": "thigh",
-    "knee": "shank",
-    "ankle": "foot",
-}
-SIDES = ("_l", "_r")
 LIST_HINT = "hitogata pose --list shows them all"
 
 
