@@ -16,6 +16,7 @@ import argparse
 import importlib
 import os
 import re
+import signal
 import sys
 from collections.abc import Sequence
 from typing import NoReturn
@@ -98,6 +99,9 @@ def main(argv: Sequence[str] | None = None) -> int:
         print(f"hitogata: error: {err}", file=sys.stderr)
         return 2
     except KeyboardInterrupt:
+        # A second Ctrl-C while the interpreter winds down would kill it by the signal (status
+        # -2, no message): from here on the command is only exiting, so let it finish.
+        signal.signal(signal.SIGINT, signal.SIG_IGN)
         print("hitogata: interrupted; nothing written", file=sys.stderr)
         return 130
     except BrokenPipeError:  # output piped into `head` and the like: not an error
