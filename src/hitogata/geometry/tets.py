@@ -33,13 +33,19 @@ def boundary_faces(tets: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return tet_faces(tets)[once], np.flatnonzero(once) // 4
 
 
-def face_neighbours(tets: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-    """Pairs of tets sharing a face: tets a (P,), b (P,), and the shared face (P, 3) as seen from a and from b."""
-    faces = tet_faces(tets)
-    keys = np.sort(faces, axis=1)
+def shared_face_pairs(tets: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The faces two tets share, as index pairs (P,), (P,) into `tet_faces(tets)` (4t + k: tet t's
+    face opposite its corner k), one from each tet."""
+    keys = np.sort(tet_faces(tets), axis=1)
     order = np.lexsort(keys.T[::-1])
     shared = np.flatnonzero(np.all(keys[order][1:] == keys[order][:-1], axis=1))
-    first, second = order[shared], order[shared + 1]
+    return order[shared], order[shared + 1]
+
+
+def face_neighbours(tets: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Pairs of tets sharing a face: tets a (P,), b (P,), and the shared face (P, 3) as seen from a and from b."""
+    first, second = shared_face_pairs(tets)
+    faces = tet_faces(tets)
     return first // 4, second // 4, faces[first], faces[second]
 
 

@@ -24,7 +24,8 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.csgraph import connected_components
 
-from hitogata.volume.quality import TET_FACES, boundary_faces, dihedral_angles
+from hitogata.geometry.tets import shared_face_pairs
+from hitogata.volume.quality import boundary_faces, dihedral_angles
 
 # The held nodes of every piece must span a triangle whose smallest height is at least this
 # (m): a quarter of the default 40 mm element, half the smallest bone capsule's radius. A piece
@@ -81,10 +82,7 @@ def mesh_integrity(nodes: np.ndarray, tets: np.ndarray, held: np.ndarray) -> Mes
 
 def _shared_faces(tets: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Pairs of tets (a, b) sharing a face, and that face's local index (0–3) in a."""
-    faces = np.sort(tets[:, TET_FACES].reshape(-1, 3), axis=1)
-    order = np.lexsort(faces.T[::-1])
-    shared = np.flatnonzero(np.all(faces[order][1:] == faces[order][:-1], axis=1))
-    first, second = order[shared], order[shared + 1]
+    first, second = shared_face_pairs(tets)
     return first // 4, second // 4, first % 4
 
 
