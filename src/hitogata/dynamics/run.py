@@ -19,7 +19,6 @@ from hitogata.errors import HitogataError
 from hitogata.export.atomic import write_bytes_atomically
 from hitogata.geometry.integrity import surface_integrity
 
-SNAPSHOTS = 3  # automatic snapshot pictures: start, largest motion, end
 # The skin is whole when, beyond what skinning alone does at the same pose, no neighbouring
 # triangles fold and none cross, no vertex is below the floor, and the elastic displacement
 # changes no faster than JUMP_SPEED: soft tissue wobbling at 3 Hz with 2 cm amplitude moves
