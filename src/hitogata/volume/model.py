@@ -97,6 +97,7 @@ class VolumeModel:
     boundary_tets: np.ndarray  # (F,) the tet each boundary face belongs to
     boundary_on_skin: np.ndarray  # (F,) True on the skin, False on a cut (neck, hips, arms) or a bone
     boundary_on_bone: np.ndarray  # (F,) True on a bone capsule's surface (conforming bones)
+    boundary_on_cut: np.ndarray  # (F,) True with a node on a cut plane (a trunk's neck, hips, arms; none in a body)
     interfaces: Mapping[tuple[str, str], np.ndarray]  # region pair → faces between them
     element_size: float  # m
     skin_thickness: float  # m
@@ -110,8 +111,9 @@ class VolumeModel:
 
     @property
     def cut_faces(self) -> np.ndarray:
-        """(C, 3) boundary triangles on the cuts (neither skin nor bone)."""
-        return self.boundary_faces[~self.boundary_on_skin & ~self.boundary_on_bone]
+        """(C, 3) boundary triangles touching a cut (a trunk's neck, hips, arms): not a face where a
+        bone capsule comes to the skin, nor one a repair opened (the whole body has no cut)."""
+        return self.boundary_faces[self.boundary_on_cut]
 
     @property
     def bone_surface(self) -> np.ndarray:
@@ -206,6 +208,8 @@ def build_volume_model(vertices: np.ndarray, faces: np.ndarray, rig: RigLike, we
     bfaces, btets = boundary_faces(tets)
     on_skin = np.all(mesh.node_part[bfaces] == 0, axis=1)
     on_bone = np.all(mesh.node_part[bfaces] == bone_part, axis=1)
+    cut_parts = [k for k, name in enumerate(domain.parts) if k != 0 and name != BONE_PART]
+    on_cut = np.isin(mesh.node_part[bfaces], cut_parts).any(axis=1)
     interfaces = {(A.REGIONS[a], A.REGIONS[b]): f for (a, b), f in interface_faces(tets, region).items()}
 
     spacing = max(h / _REFERENCE_REFINEMENT, _REFERENCE_MIN_SPACING)
@@ -229,7 +233,7 @@ def build_volume_model(vertices: np.ndarray, faces: np.ndarray, rig: RigLike, we
         fibres=fibres, fibre_samples=fibre_samples, bone_nodes=bone_nodes, bone_node_bone=bone_of,
         bone_names=tuple(bone_names),
         boundary_faces=bfaces, boundary_tets=btets, boundary_on_skin=on_skin,
-        boundary_on_bone=on_bone,
+        boundary_on_bone=on_bone, boundary_on_cut=on_cut,
         interfaces=MappingProxyType(interfaces), element_size=h, skin_thickness=skin_t, wall_thickness=A.WALL,
         quality=quality,
     )
