@@ -51,6 +51,8 @@ def run(args: argparse.Namespace) -> None:
     if args.out is None:
         raise HitogataError("--out: give the output file (.glb, .obj or .ply), or --list")
     check_posed_path(args.out, args.skinning)
+    if args.contact and not args.elastic:
+        raise HitogataError("--contact: the skin's contact is parted on the elastic body; add --elastic")
     if args.elastic and args.skinning != "dqs" and Path(args.out).suffix.lower() != ".glb":
         raise HitogataError("--elastic: the elastic body stands on dual-quaternion skinning; add --skinning dqs")
     poser, request, posed = pose_from_args(args)
@@ -66,12 +68,15 @@ def run(args: argparse.Namespace) -> None:
     written = []
     if args.elastic:
         held = elastic_pose(elastic_dynamics(poser.body), clinical=request.clinical, contractions=request.contractions,
-                            lengths=request.lengths, on_limit=request.on_limit)
+                            lengths=request.lengths, on_limit=request.on_limit, contact=args.contact)
         mesh = Path(args.out) if Path(args.out).suffix.lower() != ".glb" else Path(args.out).with_name(
             Path(args.out).stem + "_elastic.ply")
         written.append(write_mesh(mesh, held.vertices, held.faces))
-        written.append(write_sidecar(mesh, {**extras, "skinning": "dqs", "surface": "elastic"}))
+        written.append(write_sidecar(mesh, {**extras, "skinning": "dqs", "surface": "elastic", "contact": args.contact}))
         print(f"elastic body: {held.quality.line()}")
+        inside = held.penetrations
+        print(f"skin inside another part: {len(inside)} vertices, deepest {inside.deepest * 1e3:.1f} mm"
+              + ("" if args.contact else " (--contact parts them)"))
     if not (args.elastic and Path(args.out).suffix.lower() != ".glb"):
         written.insert(0, write_posed(args.out, poser, posed, extras))
         if Path(args.out).suffix.lower() != ".glb":
@@ -100,5 +105,10 @@ def register(sub: argparse._SubParsersAction) -> None:
         "--elastic", action="store_true",
         help="also solve the elastic body (whole body, DQS + quasi-statics; about a minute) and write its skin: "
         "to the .obj/.ply given, or beside a .glb as NAME_elastic.ply (+ .json)",
+    )
+    parser.add_argument(
+        "--contact", action="store_true",
+        help="with --elastic: part the skin where it passes into another part (elbow, knee, hip creases; "
+        "contacts up to 25 mm deep, see docs/elastic.md)",
     )
     parser.set_defaults(run=run)

@@ -31,11 +31,13 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass
+from functools import cached_property
 from typing import TYPE_CHECKING
 
 import numpy as np
 from scipy.spatial import cKDTree
 
+from hitogata.dynamics.contact import skin_contact
 from hitogata.dynamics.quasistatic import QuasiStatic, WarmStart, rotate, unrotate
 from hitogata.dynamics.rigging import NodeRig, joint_nodes, node_rig
 from hitogata.dynamics.timeline import Timeline
@@ -48,6 +50,7 @@ from hitogata.skinning import skin_vertices
 
 if TYPE_CHECKING:
     from hitogata.body import Body
+    from hitogata.geometry.contact import SelfContact
     from hitogata.elastic import ElasticModel
 
 CARTILAGE = 10.0
@@ -109,6 +112,11 @@ class BodyDynamics:
     @property
     def n_nodes(self) -> int:
         return len(self.model.points)
+
+    @cached_property
+    def contact(self) -> SelfContact:
+        """The skin's self-contact test (`hitogata.dynamics.contact`), made on first use."""
+        return skin_contact(self.poser)
 
     def region_of(self, muscle: str) -> str | None:
         """The FE muscle region a skeleton muscle loads: its own name, or without the side (one band)."""

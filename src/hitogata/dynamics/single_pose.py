@@ -20,6 +20,7 @@ from hitogata.body import Body
 from hitogata.dynamics.motion import BodyDynamics
 from hitogata.dynamics.quality import STATIC_ITERATIONS, PoseQuality, pose_quality
 from hitogata.dynamics.quasistatic import rotate
+from hitogata.geometry.contact import Penetrations, separate
 from hitogata.measure.fine_skin import fine_skinning
 from hitogata.options import OnLimit
 from hitogata.pose import PosedBody
@@ -55,6 +56,11 @@ class ElasticPose:
         return self.posed.faces
 
     @property
+    def penetrations(self) -> Penetrations:
+        """The skin's vertices inside another part (`hitogata.geometry.contact`), beyond the rest body's."""
+        return self.dynamics.contact.penetrations(self.vertices)
+
+    @property
     def skinned(self) -> np.ndarray:
         """(V, 3) the skin by skinning alone, the same method."""
         return self.posed.vertices
@@ -73,8 +79,11 @@ def elastic_pose(
     lengths: Mapping[str, float] | None = None,
     on_limit: OnLimit = "raise",
     iterations: int = STATIC_ITERATIONS,
+    contact: bool = False,
 ) -> ElasticPose:
-    """The elastic skin of one posture (names and units as `Poser.pose`), solved from rest."""
+    """The elastic skin of one posture (names and units as `Poser.pose`), solved from rest;
+    contact: the skin's penetrations into other parts parted afterwards (`geometry.contact.separate`:
+    shallow contacts only, see docs/elastic.md)."""
     poser = dynamics.poser
     posed = poser.pose(contractions, lengths, angles, clinical, dynamics.rig.method, on_limit)
     g, r = dynamics.rig.pose(posed.pose.rotations, posed.pose.translations)
@@ -82,5 +91,8 @@ def elastic_pose(
     _, skin, _ = dynamics.frame(
         posed.pose.rotations[0], posed.pose.translations[0], r[0], delta, np.zeros(len(dynamics.eigenvalues))
     )
+    if contact:
+        skin, _ = separate(skin, dynamics.contact)
     nodes = g[0] + rotate(r[0], delta)
     return ElasticPose(posed, skin.astype(float), nodes, pose_quality(dynamics.model, nodes, "elastic"), dynamics)
+

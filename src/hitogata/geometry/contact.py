@@ -1,0 +1,247 @@
+"""Where the skin passes into another part of the body: vertex–surface penetrations of a posed skin.
+
+The skin is split into contact groups (upper arm, forearm, thigh, chest, …:
+`hitogata.dynamics.contact.GROUPS`); a group never meets itself
+(its parts are held in shape by one or two bones), so a skin vertex is
+tested against the surface of every other group whose box it is near. The
+query is libigl's signed distance (an AABB tree over the group's triangles,
+the sign by the angle-weighted pseudonormal: Bærentzen & Aanæs 2005), built
+anew for each posture.
+
+A group's surface is open where it meets its neighbours, and neighbours
+lie side by side at rest, so a vertex inside another group's surface is a
+penetration only if
+
+- its closest point is not on that surface's rim (the seam with the next
+  group, where the sign says nothing), and
+- at rest it lay further than `rest_apart` (`REST_APART` for the skin) from that triangle: skin
+  across a seam (the two sides of a joint's own crease line) is one sheet,
+  not two bodies meeting.
+
+The same test on the rest skin finds the rest body's own contacts (the
+thighs of a heavy body, an arm against the side); a vertex inside a group at
+rest is never reported inside that group: a pose is judged on what it adds.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, fields
+
+import numpy as np
+import scipy.sparse as sp
+
+from hitogata.geometry.mesh_checks import enclosed_volume
+from hitogata.volume.surface import closest_points_on_triangles
+
+# m: deepest penetration looked for; deeper, the closest surface is often the wrong one (a calf 6 cm
+# into the thigh at a 135° knee is closer to the thigh's side than to its back)
+DETECT = 0.025
+REST_APART = 0.02  # m: a vertex and a triangle this close at rest are one sheet of skin, never in contact
+SEPARATION_GAP = 2e-3  # m: skin pushed apart ends this far outside the surface it was in
+SEPARATION_ROUNDS = 30  # most rounds of `separate`
+STEP = 0.004  # m: the most a round parts a vertex from a surface (a deep one's normal is a poor guide)
+SPREAD = 10  # neighbour-averaging rounds carrying a push onto the skin around
+BULGE = 12  # rings of skin around a contact that swell with the tissue it pressed aside
+_RIM = 1e-6  # barycentric weight under which a closest point lies on a triangle's edge
+
+
+@dataclass(frozen=True)
+class Penetrations:
+    """Skin vertices inside another group's surface: the vertex, the triangle it is closest to,
+    the barycentric weights of that closest point, the surface's outward unit normal there, and
+    the depth (m, > 0)."""
+
+    vertex: np.ndarray  # (K,)
+    face: np.ndarray  # (K,)
+    barycentric: np.ndarray  # (K, 3)
+    normal: np.ndarray  # (K, 3)
+    depth: np.ndarray  # (K,)
+
+    def __len__(self) -> int:
+        return len(self.vertex)
+
+    @property
+    def deepest(self) -> float:
+        """The largest depth (m), 0 with no penetration."""
+        return float(self.depth.max(initial=0.0))
+
+    def subset(self, keep: np.ndarray) -> Penetrations:
+        """The penetrations selected by `keep` (a mask or indices)."""
+        return Penetrations(*(getattr(self, f.name)[keep] for f in fields(self)))
+
+
+class SelfContact:
+    """The contact test of one skin (rest vertices, faces, a group per vertex), for any posture of it."""
+
+    def __init__(self, rest: np.ndarray, faces: np.ndarray, groups: np.ndarray) -> None:
+        self.rest = np.asarray(rest, dtype=float)
+        self.faces = np.asarray(faces, dtype=np.int64)
+        self.groups = np.asarray(groups)
+        self.n_groups = int(self.groups.max(initial=-1)) + 1
+        face_group = self.groups[self.faces]
+        # a triangle belongs to a group when all its corners do; seam triangles to none
+        whole = (face_group == face_group[:, :1]).all(axis=1)
+        self._group_faces = [np.flatnonzero(whole & (face_group[:, 0] == g)) for g in range(self.n_groups)]
+        self._rim = [self._rim_vertices(f) for f in self._group_faces]
+        self._at_rest = self._search(self.rest, rest_check=False)
+        edges = np.concatenate([self.faces[:, [0, 1]], self.faces[:, [1, 2]], self.faces[:, [2, 0]]])
+        adjacency = sp.coo_matrix((np.ones(len(edges)), (edges[:, 0], edges[:, 1])), shape=(len(rest),) * 2)
+        adjacency = ((adjacency + adjacency.T) > 0).astype(float)
+        degree = np.asarray(adjacency.sum(axis=1)).ravel()
+        self.neighbour_average = (sp.diags(1.0 / np.maximum(degree, 1.0)) @ adjacency).tocsr()
+
+    def _rim_vertices(self, faces: np.ndarray) -> np.ndarray:
+        """(V,) bool: vertices on the open boundary of the group's surface."""
+        tri = self.faces[faces]
+        edges = np.sort(np.concatenate([tri[:, [0, 1]], tri[:, [1, 2]], tri[:, [2, 0]]]), axis=1)
+        keys, counts = np.unique(edges[:, 0] * len(self.rest) + edges[:, 1], return_counts=True)
+        rim = np.zeros(len(self.rest), dtype=bool)
+        open_edges = keys[counts == 1]
+        rim[open_edges // len(self.rest)] = True
+        rim[open_edges % len(self.rest)] = True
+        return rim
+
+    def penetrations(self, vertices: np.ndarray) -> Penetrations:
+        """The posture's penetrations beyond the rest body's own (vertices (V, 3), m)."""
+        found = self._search(np.asarray(vertices, dtype=float), rest_check=True)
+        key = found.vertex * self.n_groups + self.groups[self.faces[found.face, 0]]
+        rest_key = self._at_rest.vertex * self.n_groups + self.groups[self.faces[self._at_rest.face, 0]]
+        return found.subset(~np.isin(key, rest_key))
+
+    def _query(self, x: np.ndarray, group: int, points: np.ndarray
+               ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """Signed distance (> 0 outside) of skin vertices `points` to group's surface at x, within
+        ±DETECT: the closest triangle, its barycentric weights, the outward unit normal there, and
+        whether the closest point is off the surface's rim."""
+        import igl
+
+        faces = self._group_faces[group]
+        signed, which, closest, normal = igl.signed_distance(
+            x[points], x, self.faces[faces], igl.SIGNED_DISTANCE_TYPE_PSEUDONORMAL, -DETECT, DETECT)
+        found = (which >= 0) & (which < len(faces))  # points beyond the bound get no triangle
+        which = np.where(found, which, 0)
+        signed = np.where(found, signed, DETECT)
+        normal = np.where(found[:, None], normal, 0.0)  # libigl leaves those unset
+        face = faces[which]
+        corners = self.faces[face]
+        bary = _barycentric(closest, x[corners])
+        rim = self._rim[group][corners]
+        on_rim = (rim & (bary > 1.0 - _RIM)).any(axis=1)  # at a rim vertex
+        edge_on_rim = rim & np.roll(rim, -1, axis=1)  # edge (a, a+1) has both ends on the rim
+        on_rim |= (edge_on_rim & (np.roll(bary, 1, axis=1) <= _RIM)).any(axis=1)  # on that edge
+        norms = np.linalg.norm(normal, axis=1, keepdims=True)
+        return signed, face, bary, normal / np.maximum(norms, 1e-30), found & ~on_rim
+
+    def _search(self, x: np.ndarray, rest_check: bool) -> Penetrations:
+        lo_all, hi_all = x.min(axis=0), x.max(axis=0)
+        out: list[tuple[np.ndarray, ...]] = []
+        for g, faces in enumerate(self._group_faces):
+            if not len(faces):
+                continue
+            tri = x[self.faces[faces]]
+            lo, hi = tri.min(axis=(0, 1)) - DETECT, tri.max(axis=(0, 1)) + DETECT
+            if np.any(hi < lo_all) or np.any(lo > hi_all):
+                continue
+            near = np.flatnonzero((self.groups != g) & np.all((x >= lo) & (x <= hi), axis=1))
+            if not len(near):
+                continue
+            signed, face, bary, normal, off_rim = self._query(x, g, near)
+            keep = (signed < 0.0) & off_rim
+            if rest_check:
+                keep[keep] = _point_triangle_distance(self.rest[near[keep]], self.rest[self.faces[face[keep]]]) \
+                    > REST_APART
+            out.append((near[keep], face[keep], bary[keep], normal[keep], -signed[keep]))
+        if not out:
+            out.append((np.zeros(0, int), np.zeros(0, int), np.zeros((0, 3)), np.zeros((0, 3)), np.zeros(0)))
+        vertex, face, bary, normal, depth = (np.concatenate(parts) for parts in zip(*out))
+        # a vertex inside two groups (the armpit: arm and chest) keeps its deeper one
+        order = np.lexsort((-depth, vertex))
+        first = order[np.diff(vertex[order], prepend=-1) != 0]
+        return Penetrations(vertex[first], face[first], bary[first], normal[first], depth[first])
+
+
+def _barycentric(points: np.ndarray, tri: np.ndarray) -> np.ndarray:
+    """(K, 3) barycentric weights of points lying on triangles (K, 3, 3), clipped to the triangle."""
+    a, b, c = tri[:, 0], tri[:, 1], tri[:, 2]
+    v0, v1, v2 = b - a, c - a, points - a
+    d00, d01, d11 = (v0 * v0).sum(1), (v0 * v1).sum(1), (v1 * v1).sum(1)
+    d20, d21 = (v2 * v0).sum(1), (v2 * v1).sum(1)
+    den = np.maximum(d00 * d11 - d01 * d01, 1e-300)
+    v = (d11 * d20 - d01 * d21) / den
+    w = (d00 * d21 - d01 * d20) / den
+    bary = np.clip(np.stack([1.0 - v - w, v, w], axis=1), 0.0, 1.0)
+    return bary / bary.sum(axis=1, keepdims=True)
+
+
+def _point_triangle_distance(points: np.ndarray, tri: np.ndarray) -> np.ndarray:
+    """(K,) distance of each point to its triangle (K, 3, 3)."""
+    closest = closest_points_on_triangles(points, tri[:, 0], tri[:, 1], tri[:, 2])
+    return np.linalg.norm(points - closest, axis=1)
+
+
+def separate(vertices: np.ndarray, test: SelfContact, gap: float = SEPARATION_GAP,
+             rounds: int = SEPARATION_ROUNDS) -> tuple[np.ndarray, Penetrations]:
+    """The skin (V, 3) with its penetrations pushed apart and the tissue they held bulging around
+    them, and the penetrations left after that.
+
+    Rounds of `_push_apart` (each vertex and the closest point it is inside moved apart along the
+    surface's normal, half each, to `gap` outside, carried smoothly onto the skin around); then
+    the volume the overlap held, restored by a smooth swelling of the skin ringing the contact
+    (`_bulge`: soft tissue is nearly incompressible, so what a crease presses aside rises beside
+    it), and rounds of pushing again for what the swelling brought into contact.
+    """
+    x = np.array(vertices, dtype=float)
+    volume = enclosed_volume(x, test.faces)
+    pressed = np.zeros(len(x), dtype=bool)
+    for stage in range(2):
+        for _ in range(rounds):
+            found = test.penetrations(x)
+            if not len(found):
+                break
+            x += _push_apart(x, found, test, gap, pressed)
+        if stage == 0 and pressed.any():
+            x += _bulge(x, test, pressed, volume - enclosed_volume(x, test.faces))
+    return x, test.penetrations(x)
+
+
+def _push_apart(x: np.ndarray, found: Penetrations, test: SelfContact, gap: float,
+                pressed: np.ndarray) -> np.ndarray:
+    """(V, 3) moves parting each penetrating vertex from the closest point it is inside (that
+    point's share spread over its triangle's corners by weight), spread smoothly onto the skin
+    around (SPREAD rounds of neighbour averaging, the pushed vertices held); marks `pressed`."""
+    push = 0.5 * np.minimum(found.depth + gap, STEP)[:, None] * found.normal
+    move = np.zeros_like(x)
+    weight = np.zeros(len(x))
+    np.add.at(move, found.vertex, push)
+    np.add.at(weight, found.vertex, 1.0)
+    corners = test.faces[found.face]
+    np.add.at(move, corners.ravel(), -(found.barycentric[:, :, None] * push[:, None, :]).reshape(-1, 3))
+    np.add.at(weight, corners.ravel(), found.barycentric.ravel())
+    pinned = weight > 0
+    pressed |= pinned
+    move[pinned] /= np.maximum(weight[pinned], 1.0)[:, None]
+    held = move[pinned]
+    for _ in range(SPREAD):
+        move = test.neighbour_average @ move
+        move[pinned] = held
+    return move
+
+
+def _bulge(x: np.ndarray, test: SelfContact, pressed: np.ndarray, volume: float) -> np.ndarray:
+    """(V, 3) an outward swelling of the skin ringing the pressed vertices (BULGE rings, smooth,
+    zero on the pressed skin itself) enclosing `volume` (m³) more."""
+    ring = pressed.astype(float)
+    for _ in range(BULGE):
+        ring = test.neighbour_average @ ring
+    ring[pressed] = 0.0
+    tri = x[test.faces]
+    face_normals = 0.5 * np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])  # area-weighted
+    normals = np.zeros_like(x)
+    for k in range(3):
+        np.add.at(normals, test.faces[:, k], face_normals)
+    areas = np.linalg.norm(normals, axis=1) / 3.0
+    normals /= np.maximum(3.0 * areas, 1e-30)[:, None]
+    capacity = float(ring @ areas)
+    if capacity <= 0.0 or volume <= 0.0:
+        return np.zeros_like(x)
+    return (volume / capacity) * ring[:, None] * normals

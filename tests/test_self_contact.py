@@ -1,0 +1,101 @@
+"""Self-contact of the skin: the penetration test (`geometry.contact`) on shapes with known answers, the
+contact groups of the skeleton, and the parting of the skin on the default body's extreme poses."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import trimesh
+
+from hitogata.body import default_body
+from hitogata.dynamics.contact import GROUPS, part_groups, vertex_groups
+from hitogata.geometry import enclosed_volume, self_intersections
+from hitogata.geometry.contact import SEPARATION_GAP, SelfContact, separate
+
+RADIUS = 0.05
+
+
+def two_spheres(apart: float, rest_apart: float = 0.2) -> tuple[SelfContact, np.ndarray]:
+    """Two UV spheres of RADIUS on the z axis, groups 0 and 1, `rest_apart` between centres at rest:
+    the test and the posed vertices with the centres `apart`."""
+    sphere = trimesh.creation.uv_sphere(radius=RADIUS, count=[32, 32])
+    v, f = sphere.vertices, sphere.faces
+    faces = np.concatenate([f, f + len(v)])
+    groups = np.repeat([0, 1], len(v))
+    test = SelfContact(np.concatenate([v, v + [0.0, 0.0, rest_apart]]), faces, groups)
+    return test, np.concatenate([v, v + [0.0, 0.0, apart]])
+
+
+def test_the_depth_of_two_overlapping_spheres_is_their_overlap():
+    test, posed = two_spheres(0.09)  # 10 mm overlap: each pole lies 10 mm inside the other sphere
+    found = test.penetrations(posed)
+    assert found.deepest == pytest.approx(0.00998713, abs=1e-8)  # the facets lie inside the round sphere
+    assert len(found) == 514
+    assert set(test.groups[found.vertex]) == {0, 1}
+    # every vertex reported lies inside the other sphere, by its depth to within the facets' sag
+    centre = np.where(test.groups[found.vertex, None] == 0, [0.0, 0.0, 0.09], [0.0, 0.0, 0.0])
+    inside = RADIUS - np.linalg.norm(posed[found.vertex] - centre, axis=1)
+    assert np.all(inside > 0) and np.abs(inside - found.depth).max() < 2e-4
+
+
+def test_spheres_apart_or_touching_at_rest_report_nothing():
+    test, posed = two_spheres(0.11)
+    assert len(test.penetrations(posed)) == 0
+    # the rest body's own contact is not a penetration of the pose
+    resting, posed = two_spheres(0.09, rest_apart=0.09)
+    assert len(resting.penetrations(posed)) == 0
+
+
+def test_one_group_never_meets_itself():
+    sphere = trimesh.creation.uv_sphere(radius=RADIUS, count=[32, 32])
+    flat = sphere.vertices * [1.0, 1.0, 0.1]  # a thin disc: each face lies 10 mm from the other
+    test = SelfContact(sphere.vertices, sphere.faces, np.zeros(len(flat), dtype=int))
+    assert len(test.penetrations(flat)) == 0
+
+
+def test_separate_parts_the_spheres_and_keeps_their_volume():
+    test, posed = two_spheres(0.09)
+    parted, left = separate(posed, test)
+    assert len(left) == 0
+    # the two surfaces end at least the gap apart along the axis, less the facets' sag
+    assert parted[:len(parted) // 2, 2].max() < parted[len(parted) // 2:, 2].min() - SEPARATION_GAP + 1e-3
+    assert enclosed_volume(parted, test.faces) / enclosed_volume(posed, test.faces) - 1 == pytest.approx(
+        0.000311, abs=1e-5)
+
+
+def test_every_skeleton_part_has_its_contact_group():
+    body = default_body("female")
+    names = body.poser.skeleton.names
+    groups = part_groups(names)
+    named = dict(zip(names, (list(GROUPS)[g] for g in groups)))
+    assert named["forearm_l"] == "forearm_l" and named["little_distal_r"] == "hand_r"
+    assert named["thoracic_9"] == "abdomen" and named["cervical_3"] == "neck" and named["jaw"] == "head"
+    per_vertex = vertex_groups(body.poser.skin.weights, names)
+    counts = dict(zip(GROUPS, np.bincount(per_vertex, minlength=len(GROUPS)).tolist()))
+    assert counts == {"head": 2902, "neck": 245, "chest": 684, "abdomen": 404, "pelvis": 392,
+                      "shoulder_l": 23, "upper_arm_l": 294, "forearm_l": 247, "hand_l": 1596, "thigh_l": 337,
+                      "shank_l": 229, "foot_l": 1067, "shoulder_r": 23, "upper_arm_r": 294, "forearm_r": 247,
+                      "hand_r": 1596, "thigh_r": 337, "shank_r": 229, "foot_r": 1067}
+    with pytest.raises(ValueError, match="tail_l"):
+        part_groups(("pelvis", "tail_l"))
+
+
+@pytest.mark.slow
+def test_elbow_at_150_degrees_parted_by_contact():
+    from hitogata.dynamics.single_pose import elastic_dynamics, elastic_pose
+
+    body = default_body("female")
+    dynamics = elastic_dynamics(body)
+    rest_pairs = len(self_intersections(body.vertices, body.faces))
+    rest_volume = enclosed_volume(body.vertices, body.faces)
+    plain = elastic_pose(dynamics, clinical={"forearm_l.flexion": np.radians(150)})
+    held = elastic_pose(dynamics, clinical={"forearm_l.flexion": np.radians(150)}, contact=True)
+    assert (len(plain.penetrations), round(plain.penetrations.deepest * 1e3, 1)) == (71, 16.5)
+    assert len(held.penetrations) == 0
+    assert len(self_intersections(held.vertices, body.faces)) - rest_pairs == 35  # from 137 without
+    assert enclosed_volume(held.vertices, body.faces) / rest_volume - 1 == pytest.approx(-0.0017, abs=1e-4)
+    moved = np.linalg.norm(held.vertices - plain.vertices, axis=1) > 1e-4
+    assert moved.sum() == 677  # the elbow's skin only: parted, and swollen around the contact
+    # the arm's folded skin, and the hand brought against the chest: nothing of the other side, legs or head
+    assert {list(GROUPS)[g] for g in dynamics.contact.groups[moved]} == {
+        "upper_arm_l", "forearm_l", "hand_l", "shoulder_l", "chest", "abdomen"}
