@@ -28,30 +28,31 @@ def test_every_measurement_holds_at_the_extremes(sex, stature, bmi):
     assert 0.3 < m.crotch_length / m.stature < 0.6
 
 
-def test_neck_and_waist_are_where_the_part_is_narrowest(female, male):
+def neck_girth_at(body, fraction: float) -> float:
+    """The girth ⊥ the neck's axis (base neck joint → head joint) at a fraction of it."""
+    base, head = (body.rig.heads[body.rig.index(name)] for name in ("neck01", "head"))
+    point = base + fraction * (head - base)
+    return tape_girth(body.vertices, topology(body.faces), point, head - base, point).girth
+
+
+def waist_girth_at(body, y: float) -> float:
+    """The horizontal trunk girth at height y, round the spine."""
+    centre = np.array([0.0, y, body.rig.heads[body.rig.index("spine03"), 2]])
+    return tape_girth(body.vertices, topology(body.faces), centre, np.array([0.0, 1.0, 0.0]), centre).girth
+
+
+@pytest.mark.parametrize("sex", ["female", "male"])
+def test_neck_and_waist_are_where_the_part_is_narrowest(sex, request):
     # The neck girth's and the waist's levels are found on the surface: moving the plane along the
     # part either way gives a larger girth (no rig joint decides).
-    for body in (female, male):
-        marks, joints = body.landmarks, dict(zip(body.rig.names, body.rig.heads))
-        topo, v = topology(body.faces), body.vertices
-        base, head = joints["neck01"], joints["head"]
-        axis = (head - base) / np.linalg.norm(head - base)
-
-        def neck(f):
-            point = base + f * (head - base)
-            return tape_girth(v, topo, point, axis, point).girth
-
-        level = marks.neck_level
-        assert neck(level) < min(neck(level - 0.1), neck(level + 0.1))
-
-        def waist(y):
-            centre = np.array([0.0, y, joints["spine03"][2]])
-            return tape_girth(v, topo, centre, np.array([0.0, 1.0, 0.0]), centre).girth
-
-        y = marks.waist_front.at(v)[1]
-        assert waist(y) < min(waist(y - 0.03), waist(y + 0.03))
-        assert v[marks.omphalion, 1] < y < v[marks.underbust, 1]
-        assert measure(body).waist_girth == pytest.approx(waist(y), abs=1e-9)
+    body = request.getfixturevalue(sex)
+    marks, v = body.landmarks, body.vertices
+    level = marks.neck_level
+    assert neck_girth_at(body, level) < min(neck_girth_at(body, level - 0.1), neck_girth_at(body, level + 0.1))
+    y = marks.waist_front.at(v)[1]
+    assert waist_girth_at(body, y) < min(waist_girth_at(body, y - 0.03), waist_girth_at(body, y + 0.03))
+    assert v[marks.omphalion, 1] < y < v[marks.underbust, 1]
+    assert measure(body).waist_girth == pytest.approx(waist_girth_at(body, y), abs=1e-9)
 
 
 def test_arc_tape_lies_on_the_surface_and_bridges_hollows():

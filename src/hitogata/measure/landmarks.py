@@ -19,22 +19,29 @@ its vertex on the rest surface from the rig's joint centres
 - bony points of the limbs (acromion, olecranon, ulnar styloid), on each
   body: the first skin hit of a ray from the joint centre in the direction
   of that bone point;
-- cervicale and back waist point, on each body: where a ray straight
-  backwards from the base neck joint (from the spine at the navel's height)
-  leaves the skin, an exact point (from the reference's vertices the male back
+- cervicale and the back at the navel's height, on each body: where a ray
+  straight backwards from the base neck joint (from the spine at the navel's
+  height) leaves the skin, an exact point (from the reference's vertices the male back
   waist length read 4.3 cm short);
 - the bust point and the navel: where they are pronounced on the reference
   (the most forward vertex of the breast; the deepest dip of the front
   midline profile): a male chest has no forward-most nipple, but the same
   vertex is his nipple;
-- points on a profile (under-breast fold, crotch, buttock, back waist): from
-  the reference's profiles;
+- points on a profile (under-breast fold, crotch, buttock): from the
+  reference's profiles;
 - the thigh level (a fraction along the femur): from each body's own crotch
-  vertex and joints, so it too varies continuously.
+  vertex and joints, so it too varies continuously;
+- levels where a part is narrowest (ISO 8559-1's waist: the natural waistline
+  between the lowest rib and the iliac crest, which a surface cannot show, so
+  the trunk's narrow part between the navel and the inframammary fold; the
+  neck girth's, just below the larynx, where the neck is narrowest), as soft
+  minima of sampled girths (`soft_least`), so that they move continuously;
+  and the points a tape passes there (waist front, back and side; the neck's
+  base: jugular notch and side neck point), on each body;
+- the armpit fold points and the axilla level (`armpits`), on each body.
 
-The waist of ISO 8559-1 lies midway between the lowest rib and the iliac
-crest, which a surface cannot show; the navel (omphalion) lies at that level
-in most adults, and is where ANSUR II takes its waist circumference.
+The navel (omphalion) keeps the girth ANSUR II calls its waist
+circumference (`omphalion_waist_girth`) and the end of the back waist length.
 
 Limbs are measured on the right side, as ISO 8559-1 and ISO 7250-1 prescribe.
 """
