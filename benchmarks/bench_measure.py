@@ -26,7 +26,6 @@ from hitogata.measure.measurements import (
     MEASUREMENT_NAMES,
     SURFACE_ENDS,
     SURFACE_ROUTES,
-    WIDTH_ROUTES,
     girth_planes,
     heights,
     measure,
@@ -94,7 +93,8 @@ def naive_measure(body) -> dict[str, float]:
     for name, plane in girth_planes(v, marks, joints, joints).items():
         values[name] = naive_girth(v, f, *plane)
     tapes = measure_tapes(v, f, marks, joints, joints)
-    values.update({name: tapes[name].girth for name in ("armscye_girth", "crotch_length", *WIDTH_ROUTES)})
+    values.update({name: tapes[name].girth for name in ("armscye_girth", "crotch_length", "across_back_width",
+                                                        "across_front_width")})
     return values
 
 

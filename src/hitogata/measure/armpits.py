@@ -33,7 +33,7 @@ from hitogata.assets import load_assets
 from hitogata.errors import HitogataError
 from hitogata.measure.axes import UP, JointSet
 from hitogata.measure.sections import loops_around, section
-from hitogata.measure.surface_points import SurfacePoint
+from hitogata.measure.surface_points import FaceSearch, SurfacePoint
 from hitogata.measure.topology import Topology
 
 SCAN_STEP = 0.01  # m between the sections scanned for the axilla
@@ -41,7 +41,6 @@ SCAN_DEPTH = 0.25  # m below the shoulder joint
 BISECTION_STEPS = 6  # halvings of SCAN_STEP: the axilla level to 0.16 mm
 FOLD_ABOVE = 0.01  # m: the fold points lie this far above the axilla level
 FOLD_WEIGHT = 0.3  # the fold: where the skin starts to follow the arm (its weight on the upper-arm bones)
-FOLDS = ("fold_back_right", "fold_back_left", "fold_front_right", "fold_front_left")
 
 
 @cache
@@ -52,12 +51,14 @@ def upper_arm_weights() -> dict[str, np.ndarray]:
     return {side: np.asarray(assets.skin_weights[:, cols].sum(axis=1)).ravel() for side, cols in columns.items()}
 
 
-def armpit_points(v: np.ndarray, faces: np.ndarray, topo: Topology, joints: JointSet) -> dict[str, object]:
-    """The axilla height (m, at rest) and the four fold points (`FOLDS`) of a rest surface."""
+def armpit_points(v: np.ndarray, faces: np.ndarray, topo: Topology, joints: JointSet,
+                  search: FaceSearch) -> dict[str, object]:
+    """The axilla height (m, at rest) and the four fold points (fold_back_right, …) of a rest
+    surface (`search`: its `FaceSearch`)."""
     axilla = max(_axilla(v, topo, joints, side) for side in "RL")
     level = axilla + FOLD_ABOVE
     sec = section(v, topo, np.array([0.0, level, 0.0]), UP)
-    centre = _at_level(joints["spine02"], level)
+    centre = at_height(joints["spine02"], level)
     kept = np.isin(sec.loop, loops_around(sec, centre, UP))
     points, edges = sec.points[kept], topo.edges[sec.edges[kept]]
     along = np.linalg.norm(points - v[edges[:, 0]], axis=1) / np.linalg.norm(v[edges[:, 1]] - v[edges[:, 0]], axis=1)
@@ -77,11 +78,12 @@ def armpit_points(v: np.ndarray, faces: np.ndarray, topo: Topology, joints: Join
             a, b = mine[reached[0] - 1], mine[reached[0]]
             t = (FOLD_WEIGHT - on_arm[a]) / (on_arm[b] - on_arm[a])
             fold = points[a] + t * (points[b] - points[a])
-            found[f"fold_{face}_{side}"] = SurfacePoint.nearest(v, faces, fold)
+            found[f"fold_{face}_{side}"] = SurfacePoint.nearest(v, faces, fold, search)
     return found
 
 
-def _at_level(point: np.ndarray, y: float) -> np.ndarray:
+def at_height(point: np.ndarray, y: float) -> np.ndarray:
+    """The point moved vertically to the height y."""
     out = np.array(point, dtype=np.float64)
     out[1] = y
     return out
@@ -91,7 +93,7 @@ def _apart(v: np.ndarray, topo: Topology, joints: JointSet, side: str, y: float)
     """Whether at height y the arm's section loop is apart from the trunk's."""
     sec = section(v, topo, np.array([0.0, y, 0.0]), UP)
     around_arm = set(loops_around(sec, _arm_point(joints, side, y), UP))
-    around_trunk = set(loops_around(sec, _at_level(joints["spine02"], y), UP))
+    around_trunk = set(loops_around(sec, at_height(joints["spine02"], y), UP))
     return bool(around_arm and around_trunk and not around_arm & around_trunk)
 
 
@@ -112,4 +114,4 @@ def _axilla(v: np.ndarray, topo: Topology, joints: JointSet, side: str) -> float
 def _arm_point(joints: JointSet, side: str, y: float) -> np.ndarray:
     """Where the humerus (shoulder → elbow joint) crosses the level y (extended above the shoulder)."""
     shoulder, elbow = joints[f"upperarm01.{side}"], joints[f"lowerarm01.{side}"]
-    return _at_level(shoulder + (y - shoulder[1]) / (elbow[1] - shoulder[1]) * (elbow - shoulder), y)
+    return at_height(shoulder + (y - shoulder[1]) / (elbow[1] - shoulder[1]) * (elbow - shoulder), y)

@@ -57,11 +57,11 @@ import numpy as np
 from hitogata.body import Body
 from hitogata.errors import HitogataError
 from hitogata.measure.axes import UP, JointSet, axis, trunk_frame, unit
-from hitogata.measure.armpits import FOLD_ABOVE, armpit_points
+from hitogata.measure.armpits import FOLD_ABOVE, armpit_points, at_height
 from hitogata.measure.levels import ANKLE_SPAN, CALF_SPAN, extreme_girth_level
 from hitogata.measure.raycast import first_hit
 from hitogata.measure.sections import section, tape_girth
-from hitogata.measure.surface_points import SurfacePoint
+from hitogata.measure.surface_points import FaceSearch, SurfacePoint
 from hitogata.measure.topology import Topology, topology
 from hitogata.shape import ShapeParameters
 
@@ -201,13 +201,14 @@ def _own(v: np.ndarray, faces: np.ndarray, joints: JointSet, fixed: FixedVertice
     right, left = _acromion(v, faces, joints, "R"), _acromion(v, faces, joints, "L")
     topo = topology(faces)
     knee, ankle = joints["lowerleg01.R"], joints["foot.R"]
-    armpits = armpit_points(v, faces, topo, joints)
+    search = FaceSearch(v[faces])
+    armpits = armpit_points(v, faces, topo, joints, search)
     fold_level = float(armpits["axilla"]) + FOLD_ABOVE  # type: ignore[arg-type]
-    chest = _at_height(joints["spine02"], fold_level)
+    chest = at_height(joints["spine02"], fold_level)
     cervicale = _cervicale(v, faces, joints)
     front_neck = _front_neck(v, faces, topo, joints)
     neck_level = _neck_level(v, topo, joints)
-    waist = _at_height(joints["spine03"], _waist_height(v, topo, joints, fixed.omphalion, fixed.underbust))
+    waist = at_height(joints["spine03"], _waist_height(v, topo, joints, fixed.omphalion, fixed.underbust))
     waist_front, waist_back = (_ray_point(v, faces, waist + OFF_MIDLINE, way * FORWARD) for way in (1.0, -1.0))
     waist_middle = 0.5 * (waist_front.at(v) + waist_back.at(v))
     return {
@@ -218,7 +219,7 @@ def _own(v: np.ndarray, faces: np.ndarray, joints: JointSet, fixed: FixedVertice
         "thigh_level": _thigh_level(v, fixed.crotch, joints),
         "cervicale": cervicale,
         "front_neck": front_neck,
-        "side_neck": _side_neck(v, faces, topo, joints, neck_level, right),
+        "side_neck": _side_neck(v, faces, topo, joints, neck_level, right, search),
         "neck_level": neck_level,
         **armpits,
         "back_middle": _ray_point(v, faces, chest + OFF_MIDLINE, -FORWARD),
@@ -227,17 +228,11 @@ def _own(v: np.ndarray, faces: np.ndarray, joints: JointSet, fixed: FixedVertice
         "waist_back": waist_back,
         "waist_side": _ray_point(v, faces, waist_middle, -LATERAL),
         "omphalion_back": _back_waist(v, faces, joints, fixed.omphalion),
-        "hip_side": _ray_point(v, faces, _at_height(joints["spine05"], float(v[fixed.buttock, 1])), -LATERAL),
+        "hip_side": _ray_point(v, faces, at_height(joints["spine05"], float(v[fixed.buttock, 1])), -LATERAL),
         "acromion_offsets": _acromion_offsets(v, joints, right, left),
         "calf_level": extreme_girth_level(v, topo, knee, ankle, CALF_SPAN, largest=True),
         "ankle_level": extreme_girth_level(v, topo, knee, ankle, ANKLE_SPAN, largest=False),
     }
-
-
-def _at_height(point: np.ndarray, y: float) -> np.ndarray:
-    out = np.array(point, dtype=np.float64)
-    out[1] = y
-    return out
 
 
 def _waist_height(v: np.ndarray, topo: Topology, joints: JointSet, navel: int, underbust: int) -> float:
@@ -245,7 +240,7 @@ def _waist_height(v: np.ndarray, topo: Topology, joints: JointSet, navel: int, u
     inframammary fold (`soft_least`, horizontal tapes round the spine)."""
     heights = np.linspace(v[navel, 1], v[underbust, 1], WAIST_SAMPLES)
     spine = joints["spine03"]
-    girths = [tape_girth(v, topo, _at_height(spine, y), UP, _at_height(spine, y)).girth for y in heights]
+    girths = [tape_girth(v, topo, at_height(spine, y), UP, at_height(spine, y)).girth for y in heights]
     return soft_least(heights, np.array(girths), WAIST_SOFTNESS)
 
 
@@ -269,11 +264,11 @@ def _front_neck(v: np.ndarray, faces: np.ndarray, topo: Topology, joints: JointS
     p = p[np.argsort(p[:, 1])]
     heights = np.linspace(low, high, FRONT_NECK_SAMPLES)
     y = soft_least(heights, np.interp(heights, p[:, 1], p[:, 2]), FRONT_NECK_SOFTNESS)
-    return _ray_point(v, faces, _at_height(base, y) + OFF_MIDLINE, FORWARD)
+    return _ray_point(v, faces, at_height(base, y) + OFF_MIDLINE, FORWARD)
 
 
 def _side_neck(v: np.ndarray, faces: np.ndarray, topo: Topology, joints: JointSet, neck_level: float,
-               acromion: SurfacePoint) -> SurfacePoint:
+               acromion: SurfacePoint, search: FaceSearch) -> SurfacePoint:
     """The right side neck point: where the neck's side turns into the shoulder's top. On the
     frontal section through the base neck joint, the point of the shoulder's upper contour
     deepest below the chord from the neck's side (at the neck girth's level) to the acromion."""
@@ -288,7 +283,7 @@ def _side_neck(v: np.ndarray, faces: np.ndarray, topo: Topology, joints: JointSe
     rel = p[:, :2] - top[:2]
     depth = rel[:, 1] * chord[0] - rel[:, 0] * chord[1]  # below the chord, in the frontal plane
     weights = np.exp((depth - depth.max()) / SIDE_NECK_SOFTNESS)
-    return SurfacePoint.nearest(v, faces, weights @ p / weights.sum())
+    return SurfacePoint.nearest(v, faces, weights @ p / weights.sum(), search)
 
 
 def soft_least(positions: np.ndarray, values: np.ndarray, softness: float) -> float:

@@ -17,12 +17,12 @@ import numpy as np
 
 from hitogata.body import Body
 from hitogata.errors import HitogataError
+from hitogata.measure.armpits import FOLD_ABOVE
 from hitogata.measure.axes import JointSet, axis, trunk_normal, unit
 from hitogata.measure.geodesic import SurfaceGeodesics, polyline_length
-from hitogata.measure.armpits import FOLD_ABOVE
 from hitogata.measure.landmarks import Landmarks, body_landmarks, girdle_point
 from hitogata.measure.sections import Tape, arc_tape, tape_girth
-from hitogata.measure.surface_points import face_of, insert_points
+from hitogata.measure.surface_points import SurfacePoint, face_of, insert_points
 from hitogata.measure.topology import Topology, topology
 
 if TYPE_CHECKING:
@@ -210,9 +210,9 @@ def tapes(
     girths = {name: tape_girth(vertices, topo, *plane, part=skin.get(name)) for name, plane in planes.items()}
     girths["armscye_girth"] = armscye_tape(vertices, topo, marks, rest, posed)
     thorax, trunk = trunk_normal(rest, posed, "thorax"), skin.get("chest_girth")
-    widths = {name: arc_tape(vertices, topo, tuple(getattr(marks, point).at(vertices) for point in route),  # type: ignore[arg-type]
+    widths = {name: arc_tape(vertices, topo, (left.at(vertices), middle.at(vertices), right.at(vertices)),
                              posed["spine02"], thorax, trunk)
-              for name, route in WIDTH_ROUTES.items()}
+              for name, (left, middle, right) in width_points(marks).items()}
     crotch = arc_tape(vertices, topo, (marks.waist_front.at(vertices), vertices[marks.crotch],
                                        marks.waist_back.at(vertices)), posed["spine04"], bounded=False)
     return {**girths, **widths, "crotch_length": crotch}
@@ -244,13 +244,14 @@ SURFACE_ROUTES = {
 }
 SURFACE_ENDS = ("olecranon", "ulnar_styloid", "cervicale", "omphalion_back", "side_neck", "waist_side",
                 "hip_side")  # the points between vertices (the acromia: the girdle's)
-# The across widths: a tape laid from armpit fold to armpit fold over the midline point at their
-# level, in the plane of the three (`sections.arc_tape`). The crotch length likewise, from the
-# front waist through the crotch to the back waist in the midline plane.
-WIDTH_ROUTES = {
-    "across_back_width": ("fold_back_left", "back_middle", "fold_back_right"),
-    "across_front_width": ("fold_front_left", "front_middle", "fold_front_right"),
-}
+
+
+def width_points(marks: Landmarks) -> dict[str, tuple[SurfacePoint, SurfacePoint, SurfacePoint]]:
+    """The across widths' ends and middle: a tape laid from armpit fold to armpit fold over the
+    midline point at their level, in the thorax's horizontal (`sections.arc_tape`; the crotch
+    length is such a tape too, in the plane of the waist's front, the crotch and the waist's back)."""
+    return {"across_back_width": (marks.fold_back_left, marks.back_middle, marks.fold_back_right),
+            "across_front_width": (marks.fold_front_left, marks.front_middle, marks.fold_front_right)}
 
 
 def surface_paths(vertices: np.ndarray, faces: np.ndarray, marks: Landmarks, rest: JointSet,

@@ -44,9 +44,11 @@ class SurfacePoint:
         return cls((a, b, c), (float(weights[0]), float(weights[1]), float(weights[2])))
 
     @classmethod
-    def nearest(cls, vertices: np.ndarray, faces: np.ndarray, point: np.ndarray) -> SurfacePoint:
-        """The point of the surface nearest `point` (e.g. a point of a planar section)."""
-        face = faces[_FaceSearch(vertices[faces]).nearest(point)]
+    def nearest(cls, vertices: np.ndarray, faces: np.ndarray, point: np.ndarray,
+                search: FaceSearch | None = None) -> SurfacePoint:
+        """The point of the surface nearest `point` (e.g. a point of a planar section); `search`:
+        the surface's `FaceSearch`, when several points are wanted."""
+        face = faces[(search or FaceSearch(vertices[faces])).nearest(point)]
         return cls.on_face(vertices, face, point)
 
 
@@ -61,7 +63,7 @@ def barycentric(triangle: np.ndarray, point: np.ndarray) -> np.ndarray:
     return weights / weights.sum()
 
 
-class _FaceSearch:
+class FaceSearch:
     """The triangle (of corners (F, 3, 3)) nearest a point: exact distances only to the
     triangles that can beat the best of the few whose centroids are nearest."""
 
@@ -107,7 +109,7 @@ def insert_points(vertices: np.ndarray, faces: np.ndarray, points: np.ndarray,
     faces = np.asarray(faces, dtype=np.int64)
     points = np.asarray(points, dtype=np.float64).reshape(-1, 3)
     hints = np.full(len(points), -1) if on_faces is None else np.asarray(on_faces)
-    search = _FaceSearch(vertices[faces]) if (hints < 0).any() else None
+    search = FaceSearch(vertices[faces]) if (hints < 0).any() else None
     table = np.concatenate([faces, np.zeros((3 * len(points), 3), dtype=np.int64)])
     alive = np.zeros(len(table), dtype=bool)
     alive[:len(faces)] = True
