@@ -22,7 +22,15 @@ from hitogata.body import default_body
 from hitogata.measure.axes import JointSet
 from hitogata.measure.geodesic import SurfaceGeodesics
 from hitogata.measure.landmarks import body_landmarks, find_landmarks, girdle_point, reference_vertices
-from hitogata.measure.measurements import MEASUREMENT_NAMES, girth_planes, heights, measure
+from hitogata.measure.measurements import (
+    MEASUREMENT_NAMES,
+    SURFACE_ENDS,
+    SURFACE_ROUTES,
+    girth_planes,
+    heights,
+    measure,
+)
+from hitogata.measure.measurements import tapes as measure_tapes
 from hitogata.measure.sections import plane_basis
 from hitogata.measure.surface_points import insert_points
 
@@ -70,22 +78,23 @@ def naive_girth(vertices: np.ndarray, faces: np.ndarray, origin, normal, centre)
 
 
 def naive_measure(body) -> dict[str, float]:
-    """All measurements with naive sections and a geodesic solver per leg."""
+    """All measurements with naive sections and a geodesic solver per leg (the armscye's tape,
+    cut below the axilla, the across widths' and the crotch length's arcs as `measure` takes them)."""
     v, f, marks = body.vertices, body.faces, body_landmarks(body)
     joints = JointSet(body.rig.names, body.rig.heads)
     values = heights(v, marks)
-    points = np.stack([girdle_point(marks, joints, joints, "R"), girdle_point(marks, joints, joints, "L"),
-                       marks.olecranon.at(v), marks.ulnar_styloid.at(v), marks.cervicale.at(v), marks.waist_back.at(v)])
-    v_pts, f_pts, (right, left, elbow, wrist, neck, back) = insert_points(v, f, points)
-    legs = {
-        "back_waist_length": [(neck, back)],
-        "shoulder_width": [(left, neck), (neck, right)],
-        "arm_length": [(right, elbow), (elbow, wrist)],
-    }
-    for name, pairs in legs.items():
-        values[name] = sum(SurfaceGeodesics(v_pts, f_pts).length(a, b) for a, b in pairs)
+    ends = {"acromion_right": girdle_point(marks, joints, joints, "R"),
+            "acromion_left": girdle_point(marks, joints, joints, "L")}
+    ends.update({name: getattr(marks, name).at(v) for name in SURFACE_ENDS})
+    v_pts, f_pts, indices = insert_points(v, f, np.stack(list(ends.values())))
+    at = dict(zip(ends, indices.tolist()))
+    for name, route in SURFACE_ROUTES.items():
+        values[name] = sum(SurfaceGeodesics(v_pts, f_pts).length(at[a], at[b]) for a, b in zip(route, route[1:]))
     for name, plane in girth_planes(v, marks, joints, joints).items():
         values[name] = naive_girth(v, f, *plane)
+    tapes = measure_tapes(v, f, marks, joints, joints)
+    values.update({name: tapes[name].girth for name in ("armscye_girth", "crotch_length", "across_back_width",
+                                                        "across_front_width")})
     return values
 
 

@@ -10,7 +10,7 @@ from hitogata.cli import main
 from hitogata.dynamics.scenario import load_scenario, shipped_scenarios
 from hitogata.garment.ease import HEIGHTS, NAMES, ease_csv, ease_json, motion_ease, overall
 from hitogata.garment.ease_plot import ease_plot
-from hitogata.garment.widths import across_widths, armpit_folds
+from hitogata.measure import measure
 from hitogata.motion.clip import MotionClip, scenario_clip
 from hitogata.pose import poser_for
 
@@ -32,7 +32,7 @@ def test_a_rigid_motion_changes_no_girth_or_length(request, sex):
     assert np.abs(ease.change[:, kept]).max() < 1e-5  # metres (a geodesic may settle on a near-equal path: 7 µm)
 
 
-@pytest.mark.parametrize("sex, back, front", [("female", 4.3, -8.1), ("male", 13.6, -7.2)])
+@pytest.mark.parametrize("sex, back, front", [("female", 6.1, -5.5), ("male", 7.5, -7.7)])
 def test_reach_forward_widens_the_back_and_narrows_the_front(request, sex, back, front):
     body = request.getfixturevalue(sex)
     clip = scenario_clip(load_scenario(shipped_scenarios()["mobility_reach_forward"]), poser_for(body))
@@ -52,12 +52,10 @@ def test_reach_forward_widens_the_back_and_narrows_the_front(request, sex, back,
 
 def test_armpit_folds_lie_behind_and_before_the_sides(female, male):
     for body in (female, male):
-        folds = armpit_folds(body)
-        v = body.vertices
-        assert v[folds.back_right, 0] < -0.1 < 0.1 < v[folds.back_left, 0]
-        assert v[folds.back_right, 2] < v[folds.front_right, 2]
-        widths = across_widths(body)
-        assert 0.30 < widths["across_back_width"] < 0.45
+        marks, v = body.landmarks, body.vertices
+        assert marks.fold_back_right.at(v)[0] < -0.1 < 0.1 < marks.fold_back_left.at(v)[0]
+        assert marks.fold_back_right.at(v)[2] < marks.fold_front_right.at(v)[2]
+        assert 0.30 < measure(body).across_back_width < 0.45
 
 
 def test_ease_command_checks_motions_before_work(tmp_path, capsys):

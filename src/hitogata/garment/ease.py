@@ -3,8 +3,8 @@
 For a body and motions (skeleton clips), every sampled frame's surface (a
 parameter: the skinned surface by default, or any function of the joint
 angles and root motion — the elastic body's when it is ready) is measured
-with `hitogata.measure` (the twelve ISO 8559-1 measurements) plus the across-
-back and across-front widths (`garment.widths`). Against the standing body:
+with `hitogata.measure` (the ISO 8559-1 measurements, the across-back and
+across-front widths among them). Against the standing body:
 the largest increase (the least ease a woven garment needs there) and the
 largest decrease, with when they happen, per motion and over all motions.
 Tables here; the plot is in `garment.ease_plot` (computation never imports it).
@@ -20,9 +20,7 @@ import numpy as np
 
 from hitogata.body import Body
 from hitogata.errors import HitogataError
-from hitogata.garment.widths import WIDTHS, across_widths
 from hitogata.measure.axes import JointSet
-from hitogata.measure.geodesic import SurfaceGeodesics
 from hitogata.measure.landmarks import body_landmarks
 from hitogata.measure.measurements import MEASUREMENT_NAMES, measure_surface, posture_arrays, tape_skin
 from hitogata.options import Skinning
@@ -30,7 +28,7 @@ from hitogata.rig import posed_rig_heads
 from hitogata.motion.clip import MotionClip
 from hitogata.pose import poser_for
 
-NAMES = MEASUREMENT_NAMES + WIDTHS
+NAMES = MEASUREMENT_NAMES
 HEIGHTS = ("stature", "inside_leg")  # vertical heights: they change with the posture by definition
 Surface = Callable[[np.ndarray, np.ndarray], np.ndarray]  # (F, D) angles, (F, 4, 4) root → (F, V, 3) vertices
 
@@ -99,8 +97,7 @@ def _measure(body: Body, vertices: np.ndarray, joints: np.ndarray) -> np.ndarray
     v, posed = posture_arrays(body, vertices, joints)
     rest = JointSet(body.rig.names, body.rig.heads)
     m = measure_surface(v, body.faces, body_landmarks(body), rest, posed, tape_skin(body))
-    widths = across_widths(body, v, SurfaceGeodesics(v, body.faces))
-    return np.array([m.get(n) for n in MEASUREMENT_NAMES] + [widths[n] for n in WIDTHS])
+    return np.array([m.get(n) for n in MEASUREMENT_NAMES])
 
 
 def dynamic_ease(body: Body, motions: Mapping[str, MotionClip], surface: Surface | None = None,

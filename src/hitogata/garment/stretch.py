@@ -29,7 +29,6 @@ import numpy as np
 
 from hitogata.body import Body
 from hitogata.garment.ease import Surface, sampled_frames, skinned_surface
-from hitogata.garment.widths import armpit_folds
 from hitogata.measure.landmarks import body_landmarks
 from hitogata.measure.measurements import tape_skin
 from hitogata.measure.strain import skin_strain
@@ -88,16 +87,16 @@ def _zones(body: Body) -> dict[str, np.ndarray]:
         w = np.asarray(body.skin_weights[:, [rig.index(b) for b in bones]].sum(axis=1)).ravel() >= MAIN
         return w[faces].all(axis=1)
 
-    folds, marks = armpit_folds(body), body_landmarks(body)
+    marks = body_landmarks(body)
     top = max(marks.acromion_left.at(v)[1], marks.acromion_right.at(v)[1])
-    band = (centroid[:, 1] > folds.axilla - BAND_BELOW_AXILLA) & (centroid[:, 1] < top)
+    band = (centroid[:, 1] > marks.axilla - BAND_BELOW_AXILLA) & (centroid[:, 1] < top)
     limbs = follows(("upperarm01.L", "upperarm02.L", "upperarm01.R", "upperarm02.R"))
-    back_x, front_x = abs(v[folds.back_right, 0]), abs(v[folds.front_right, 0])
+    back_x, front_x = abs(marks.fold_back_right.at(v)[0]), abs(marks.fold_front_right.at(v)[0])
     measured = body_zones(body)
     exclude = np.zeros(len(faces), bool)
     for name in ("shoulder_right", "elbow_right", "knee_right", "seat"):
         exclude[measured[name]] = True
-    waist_y = 0.5 * (v[marks.waist_front, 1] + marks.waist_back.at(v)[1])
+    waist_y = 0.5 * (marks.waist_front.at(v)[1] + marks.waist_back.at(v)[1])
     trunk = tape_skin(body)["waist_girth"][faces].all(axis=1)  # the trunk tapes' skin: not the arms', legs'
     zones = {
         "across_back": band & ~limbs & (-normal[:, 2] >= FACING) & (np.abs(centroid[:, 0]) <= back_x),

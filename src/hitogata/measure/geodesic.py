@@ -21,13 +21,15 @@ solver costs ~0.2 s for the body; each path a few ms.
 
 from __future__ import annotations
 
+import weakref
+
 import numpy as np
 import potpourri3d
 import scipy.sparse as sp
 from scipy.sparse.csgraph import dijkstra
 
 from hitogata.errors import HitogataError
-from hitogata.measure.topology import topology
+from hitogata.measure.topology import Topology, topology
 
 # The diagonal graph is searched only this many times the first geodesic's length from the
 # start (a bound on the search, not on the answer: the graph's routes run a few per cent
@@ -82,21 +84,35 @@ class SurfaceGeodesics:
 def _diagonal_graph(vertices: np.ndarray, faces: np.ndarray) -> sp.csr_matrix:
     """The mesh's edges plus, for every edge between two triangles, the segment joining the two
     vertices opposite it; weighted by straight length, symmetric (V, V)."""
-    topo = topology(faces)
+    a, b, order, indices, indptr = _diagonal_structure(topology(faces), len(vertices))
+    lengths = np.linalg.norm(vertices[a] - vertices[b], axis=1)
+    return sp.csr_matrix((np.concatenate([lengths, lengths])[order], indices, indptr), shape=(len(vertices),) * 2)
+
+
+_STRUCTURE: weakref.WeakKeyDictionary[Topology, tuple[np.ndarray, ...]] = weakref.WeakKeyDictionary()
+
+
+def _diagonal_structure(topo: Topology, n: int) -> tuple[np.ndarray, ...]:
+    """The diagonal graph's segments (a, b) and its CSR layout (the order of [lengths, lengths]
+    in the data, indices, indptr), once per topology: the same for every posture."""
+    found = _STRUCTURE.get(topo)
+    if found is not None and int(found[4].shape[0]) == n + 1:
+        return found
+    faces = topo.faces
     opposite = faces[:, [2, 0, 1]]  # the vertex facing each face edge (v0v1, v1v2, v2v0)
     edge_ids, owners = topo.face_edges.ravel(), opposite.ravel()
     order = np.argsort(edge_ids, kind="stable")
     edge_ids, owners = edge_ids[order], owners[order]
     shared = np.flatnonzero(edge_ids[1:] == edge_ids[:-1])
     pairs = np.concatenate([topo.edges, np.stack([owners[shared], owners[shared + 1]], axis=1)])
-    n = len(vertices)
     keys = np.unique(np.sort(pairs, axis=1) @ np.array([n, 1], dtype=np.int64))  # each segment once
     a, b = keys // n, keys % n
     a, b = a[a != b], b[a != b]
-    lengths = np.linalg.norm(vertices[a] - vertices[b], axis=1)
-    graph = sp.coo_matrix((np.concatenate([lengths, lengths]), (np.concatenate([a, b]), np.concatenate([b, a]))),
-                          shape=(n, n))
-    return graph.tocsr()
+    layout = sp.csr_matrix((np.arange(1, 2 * len(a) + 1), (np.concatenate([a, b]), np.concatenate([b, a]))),
+                           shape=(n, n))
+    found = (a, b, layout.data - 1, layout.indices, layout.indptr)
+    _STRUCTURE[topo] = found
+    return found
 
 
 def polyline_length(points: np.ndarray) -> float:

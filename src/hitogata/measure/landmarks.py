@@ -19,42 +19,50 @@ its vertex on the rest surface from the rig's joint centres
 - bony points of the limbs (acromion, olecranon, ulnar styloid), on each
   body: the first skin hit of a ray from the joint centre in the direction
   of that bone point;
-- cervicale and back waist point, on each body: where a ray straight
-  backwards from the base neck joint (from the spine at the navel's height)
-  leaves the skin, an exact point (from the reference's vertices the male back
+- cervicale and the back at the navel's height, on each body: where a ray
+  straight backwards from the base neck joint (from the spine at the navel's
+  height) leaves the skin, an exact point (from the reference's vertices the male back
   waist length read 4.3 cm short);
 - the bust point and the navel: where they are pronounced on the reference
   (the most forward vertex of the breast; the deepest dip of the front
   midline profile): a male chest has no forward-most nipple, but the same
   vertex is his nipple;
-- points on a profile (under-breast fold, crotch, buttock, back waist): from
-  the reference's profiles;
+- points on a profile (under-breast fold, crotch, buttock): from the
+  reference's profiles;
 - the thigh level (a fraction along the femur): from each body's own crotch
-  vertex and joints, so it too varies continuously.
+  vertex and joints, so it too varies continuously;
+- levels where a part is narrowest (ISO 8559-1's waist: the natural waistline
+  between the lowest rib and the iliac crest, which a surface cannot show, so
+  the trunk's narrow part between the navel and the inframammary fold; the
+  neck girth's, just below the larynx, where the neck is narrowest), as soft
+  minima of sampled girths (`soft_least`), so that they move continuously;
+  and the points a tape passes there (waist front, back and side; the neck's
+  base: jugular notch and side neck point), on each body;
+- the armpit fold points and the axilla level (`armpits`), on each body.
 
-The waist of ISO 8559-1 lies midway between the lowest rib and the iliac
-crest, which a surface cannot show; the navel (omphalion) lies at that level
-in most adults, and is where ANSUR II takes its waist circumference.
+The navel (omphalion) keeps the girth ANSUR II calls its waist
+circumference (`omphalion_waist_girth`) and the end of the back waist length.
 
 Limbs are measured on the right side, as ISO 8559-1 and ISO 7250-1 prescribe.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass, fields, replace
-from typing import Any
+from dataclasses import asdict, dataclass, fields, replace
 from functools import cache
+from typing import Any
 
 import numpy as np
 
 from hitogata.body import Body
 from hitogata.errors import HitogataError
 from hitogata.measure.axes import UP, JointSet, axis, trunk_frame, unit
-from hitogata.measure.raycast import first_hit
+from hitogata.measure.armpits import FOLD_ABOVE, armpit_points, at_height
 from hitogata.measure.levels import ANKLE_SPAN, CALF_SPAN, extreme_girth_level
-from hitogata.measure.surface_points import SurfacePoint
-from hitogata.measure.sections import section
-from hitogata.measure.topology import topology
+from hitogata.measure.raycast import first_hit
+from hitogata.measure.sections import section, tape_girth
+from hitogata.measure.surface_points import FaceSearch, SurfacePoint
+from hitogata.measure.topology import Topology, topology
 from hitogata.shape import ShapeParameters
 
 MIDLINE_TOLERANCE = 1e-3  # m: vertices this close to x = 0 lie on the body's midline
@@ -66,6 +74,16 @@ FORWARD = np.array([0.0, 0.0, 1.0])  # the body's front (+Z)
 # ray along it would graze (a miss by round-off); 0.01 mm moves the point by as much.
 OFF_MIDLINE = np.array([1e-5, 0.0, 0.0])
 CHEST_FRONT = 0.12  # m: the chest's front profile lies within this depth behind the bust point
+LATERAL = np.array([1.0, 0.0, 0.0])  # the body's left (+X)
+WAIST_SAMPLES = 12  # horizontal girths sampled from the navel to the inframammary fold
+WAIST_SOFTNESS = 0.01  # m of girth: the level is the middle of the trunk's narrow part (`soft_least`)
+NECK_SPAN = (0.0, 0.8)  # fractions of the base neck joint → head joint searched for the narrowest neck
+NECK_SAMPLES = 9
+NECK_SOFTNESS = 0.002  # m of girth
+FRONT_NECK_SPAN = (-0.10, 0.03)  # m about the base neck joint's height: searched for the jugular notch
+FRONT_NECK_SAMPLES = 27
+FRONT_NECK_SOFTNESS = 0.002  # m of depth
+SIDE_NECK_SOFTNESS = 0.001  # m of depth below the neck-to-shoulder chord
 GIRDLE_JOINTS = {side: (f"clavicle.{side}", f"upperarm01.{side}") for side in "RL"}  # sternoclavicular, glenohumeral
 
 
@@ -76,16 +94,28 @@ class Landmarks:
 
     head_top: int
     cervicale: SurfacePoint
+    front_neck: SurfacePoint  # the jugular notch: the front of the neck's base
+    side_neck: SurfacePoint  # right side of the neck's base
     acromion_right: SurfacePoint
     acromion_left: SurfacePoint
     olecranon: SurfacePoint  # right elbow, back
     ulnar_styloid: SurfacePoint  # right wrist, little-finger side
+    fold_back_right: SurfacePoint  # armpit fold points (`armpits`)
+    fold_back_left: SurfacePoint
+    fold_front_right: SurfacePoint
+    fold_front_left: SurfacePoint
+    back_middle: SurfacePoint  # the back's midline at the folds' level
+    front_middle: SurfacePoint  # the chest's midline at the folds' level
     bust_right: int
     bust_left: int
     underbust: int  # right inframammary fold, front
-    waist_front: int
+    waist_front: SurfacePoint  # the waist level (ISO 8559-1): front, back, right side
     waist_back: SurfacePoint
+    waist_side: SurfacePoint
+    omphalion: int  # the navel
+    omphalion_back: SurfacePoint  # the back midline at the navel's height
     buttock: int  # right buttock, most backward point
+    hip_side: SurfacePoint  # right side at the buttock's height
     crotch: int
     thigh_level: float  # fraction of hip → knee where the thigh plane cuts the femur
     # Each acromion's rest position relative to its shoulder joint (m, right then left): the
@@ -94,6 +124,8 @@ class Landmarks:
     acromion_offsets: tuple[tuple[float, float, float], tuple[float, float, float]]
     calf_level: float  # fraction of knee → ankle joint where the calf girth is largest
     ankle_level: float  # … where the leg is thinnest above the malleoli
+    neck_level: float  # fraction of the base neck joint → head joint where the neck is narrowest
+    axilla: float  # height (m) of the armpit at rest
 
 
 LANDMARK_NAMES = tuple(f.name for f in fields(Landmarks) if f.type in ("int", "SurfacePoint"))
@@ -108,7 +140,7 @@ def landmarks_for(vertices: np.ndarray, faces: np.ndarray, joints: JointSet) -> 
     """A body's landmarks from its rest surface and joints: the reference's trunk vertices, the
     body's own limb points and levels (see the module note)."""
     marks = reference_landmarks()
-    return replace(marks, **_own(vertices, faces, joints, marks.crotch))
+    return replace(marks, **_own(vertices, faces, joints, marks))
 
 
 def landmark_positions(marks: Landmarks, vertices: np.ndarray) -> dict[str, np.ndarray]:
@@ -138,36 +170,129 @@ def find_landmarks(vertices: np.ndarray, faces: np.ndarray, joints: JointSet) ->
     midline = np.flatnonzero(np.abs(v[:, 0]) < MIDLINE_TOLERANCE)
     bust_right, bust_left, navel = reference_vertices()
     crotch = _crotch(v, midline, joints)
-    waist_y = float(v[navel, 1])
-    return Landmarks(
+    navel_y = float(v[navel, 1])
+    fixed = FixedVertices(
         head_top=int(np.argmax(v[:, 1])),
         bust_right=bust_right,
         bust_left=bust_left,
-        underbust=_inframammary_fold(v, faces, bust_right, waist_y),
-        waist_front=navel,
-        buttock=_buttock(v, float(v[crotch, 1]), waist_y),
+        underbust=_inframammary_fold(v, faces, bust_right, navel_y),
+        omphalion=navel,
+        buttock=_buttock(v, float(v[crotch, 1]), navel_y),
         crotch=crotch,
-        **_own(v, faces, joints, crotch),
     )
+    return Landmarks(**asdict(fixed), **_own(v, faces, joints, fixed))
 
 
-def _own(v: np.ndarray, faces: np.ndarray, joints: JointSet, crotch: int) -> dict[str, Any]:
+@dataclass(frozen=True)
+class FixedVertices:
+    """The landmarks that are one vertex of the reference body, the same on every body."""
+
+    head_top: int
+    bust_right: int
+    bust_left: int
+    underbust: int
+    omphalion: int
+    buttock: int
+    crotch: int
+
+
+def _own(v: np.ndarray, faces: np.ndarray, joints: JointSet, fixed: FixedVertices | Landmarks) -> dict[str, Any]:
     """The landmarks and levels each body has of its own (see the module note)."""
     right, left = _acromion(v, faces, joints, "R"), _acromion(v, faces, joints, "L")
     topo = topology(faces)
     knee, ankle = joints["lowerleg01.R"], joints["foot.R"]
+    search = FaceSearch(v[faces])
+    armpits = armpit_points(v, faces, topo, joints, search)
+    fold_level = float(armpits["axilla"]) + FOLD_ABOVE  # type: ignore[arg-type]
+    chest = at_height(joints["spine02"], fold_level)
+    cervicale = _cervicale(v, faces, joints)
+    front_neck = _front_neck(v, faces, topo, joints)
+    neck_level = _neck_level(v, topo, joints)
+    waist = at_height(joints["spine03"], _waist_height(v, topo, joints, fixed.omphalion, fixed.underbust))
+    waist_front, waist_back = (_ray_point(v, faces, waist + OFF_MIDLINE, way * FORWARD) for way in (1.0, -1.0))
+    waist_middle = 0.5 * (waist_front.at(v) + waist_back.at(v))
     return {
         "acromion_right": right,
         "acromion_left": left,
         "olecranon": _olecranon(v, faces, joints),
         "ulnar_styloid": _ulnar_styloid(v, faces, joints),
-        "thigh_level": _thigh_level(v, crotch, joints),
-        "cervicale": _cervicale(v, faces, joints),
-        "waist_back": _back_waist(v, faces, joints, reference_vertices()[2]),
+        "thigh_level": _thigh_level(v, fixed.crotch, joints),
+        "cervicale": cervicale,
+        "front_neck": front_neck,
+        "side_neck": _side_neck(v, faces, topo, joints, neck_level, right, search),
+        "neck_level": neck_level,
+        **armpits,
+        "back_middle": _ray_point(v, faces, chest + OFF_MIDLINE, -FORWARD),
+        "front_middle": _ray_point(v, faces, chest + OFF_MIDLINE, FORWARD),
+        "waist_front": waist_front,
+        "waist_back": waist_back,
+        "waist_side": _ray_point(v, faces, waist_middle, -LATERAL),
+        "omphalion_back": _back_waist(v, faces, joints, fixed.omphalion),
+        "hip_side": _ray_point(v, faces, at_height(joints["spine05"], float(v[fixed.buttock, 1])), -LATERAL),
         "acromion_offsets": _acromion_offsets(v, joints, right, left),
         "calf_level": extreme_girth_level(v, topo, knee, ankle, CALF_SPAN, largest=True),
         "ankle_level": extreme_girth_level(v, topo, knee, ankle, ANKLE_SPAN, largest=False),
     }
+
+
+def _waist_height(v: np.ndarray, topo: Topology, joints: JointSet, navel: int, underbust: int) -> float:
+    """The waist level at rest: where the trunk is narrowest between the navel and the
+    inframammary fold (`soft_least`, horizontal tapes round the spine)."""
+    heights = np.linspace(v[navel, 1], v[underbust, 1], WAIST_SAMPLES)
+    spine = joints["spine03"]
+    girths = [tape_girth(v, topo, at_height(spine, y), UP, at_height(spine, y)).girth for y in heights]
+    return soft_least(heights, np.array(girths), WAIST_SOFTNESS)
+
+
+def _neck_level(v: np.ndarray, topo: Topology, joints: JointSet) -> float:
+    """Where the neck is narrowest ⊥ its axis (base neck joint → head joint), as a fraction of it."""
+    base, head = joints["neck01"], joints["head"]
+    fractions = np.linspace(*NECK_SPAN, NECK_SAMPLES)
+    normal = unit(head - base)
+    girths = [tape_girth(v, topo, base + f * (head - base), normal, base + f * (head - base)).girth
+              for f in fractions]
+    return soft_least(fractions, np.array(girths), NECK_SOFTNESS)
+
+
+def _front_neck(v: np.ndarray, faces: np.ndarray, topo: Topology, joints: JointSet) -> SurfacePoint:
+    """The jugular notch: the deepest (most backward) point of the front midline profile where
+    the throat meets the chest, near the base neck joint's height."""
+    base = joints["neck01"]
+    sec = section(v, topo, OFF_MIDLINE, np.array([1.0, 0.0, 0.0]))
+    low, high = base[1] + FRONT_NECK_SPAN[0], base[1] + FRONT_NECK_SPAN[1]
+    p = sec.points[(sec.points[:, 2] > base[2]) & (sec.points[:, 1] > low) & (sec.points[:, 1] < high)]
+    p = p[np.argsort(p[:, 1])]
+    heights = np.linspace(low, high, FRONT_NECK_SAMPLES)
+    y = soft_least(heights, np.interp(heights, p[:, 1], p[:, 2]), FRONT_NECK_SOFTNESS)
+    return _ray_point(v, faces, at_height(base, y) + OFF_MIDLINE, FORWARD)
+
+
+def _side_neck(v: np.ndarray, faces: np.ndarray, topo: Topology, joints: JointSet, neck_level: float,
+               acromion: SurfacePoint, search: FaceSearch) -> SurfacePoint:
+    """The right side neck point: where the neck's side turns into the shoulder's top. On the
+    frontal section through the base neck joint, the point of the shoulder's upper contour
+    deepest below the chord from the neck's side (at the neck girth's level) to the acromion."""
+    base, head = joints["neck01"], joints["head"]
+    neck = base + neck_level * (head - base)
+    top = _ray_point(v, faces, neck, -LATERAL).at(v)
+    end = acromion.at(v)
+    sec = section(v, topo, base, FORWARD)
+    p = sec.points[(sec.points[:, 0] < top[0]) & (sec.points[:, 0] > end[0])
+                   & (sec.points[:, 1] > end[1]) & (sec.points[:, 1] < top[1])]
+    chord = unit(end[:2] - top[:2])
+    rel = p[:, :2] - top[:2]
+    depth = rel[:, 1] * chord[0] - rel[:, 0] * chord[1]  # below the chord, in the frontal plane
+    weights = np.exp((depth - depth.max()) / SIDE_NECK_SOFTNESS)
+    return SurfacePoint.nearest(v, faces, weights @ p / weights.sum(), search)
+
+
+def soft_least(positions: np.ndarray, values: np.ndarray, softness: float) -> float:
+    """Where `values` (sampled at `positions`) are least, as the mean position weighted by
+    exp(−(value − least) / softness): it moves continuously with the values, where the
+    sample of the least value would jump between two near-equal hollows."""
+    weights = np.exp(-(values - np.nanmin(values)) / softness)
+    weights[~np.isfinite(weights)] = 0.0
+    return float(weights @ positions / weights.sum())
 
 
 def _acromion_offsets(v: np.ndarray, joints: JointSet, right: SurfacePoint,
@@ -275,7 +400,7 @@ def _crotch(v: np.ndarray, midline: np.ndarray, joints: JointSet) -> int:
 
 
 def _back_waist(v: np.ndarray, faces: np.ndarray, joints: JointSet, navel: int) -> SurfacePoint:
-    """Back waist point: where a ray backwards from the spine at the navel's height leaves the skin."""
+    """The back at the navel's height: where a ray backwards from the spine there leaves the skin."""
     spine = joints["spine03"]
     return _ray_point(v, faces, np.array([spine[0], v[navel, 1], spine[2]]) + OFF_MIDLINE, -FORWARD)
 

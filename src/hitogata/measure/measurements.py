@@ -17,12 +17,13 @@ import numpy as np
 
 from hitogata.body import Body
 from hitogata.errors import HitogataError
+from hitogata.measure.armpits import FOLD_ABOVE
 from hitogata.measure.axes import JointSet, axis, trunk_normal, unit
 from hitogata.measure.geodesic import SurfaceGeodesics, polyline_length
 from hitogata.measure.landmarks import Landmarks, body_landmarks, girdle_point
-from hitogata.measure.sections import Tape, tape_girth
-from hitogata.measure.surface_points import insert_points
-from hitogata.measure.topology import topology
+from hitogata.measure.sections import Tape, arc_tape, tape_girth
+from hitogata.measure.surface_points import SurfacePoint, face_of, insert_points
+from hitogata.measure.topology import Topology, topology
 
 if TYPE_CHECKING:
     from hitogata.pose import PosedBody
@@ -36,17 +37,24 @@ class Measurements:
     neck_girth: float
     chest_girth: float  # bust girth for women
     underbust_girth: float
-    waist_girth: float
+    waist_girth: float  # at ISO 8559-1's waist level
+    omphalion_waist_girth: float  # at the navel
     hip_girth: float
     thigh_girth: float
     upper_arm_girth: float
+    armscye_girth: float
     knee_girth: float
     calf_girth: float
     ankle_girth: float
     wrist_girth: float
     back_waist_length: float
+    across_back_width: float
+    across_front_width: float
     shoulder_width: float
+    shoulder_length: float
     arm_length: float
+    waist_to_hip_length: float
+    crotch_length: float
     inside_leg: float  # crotch height
 
     @staticmethod
@@ -64,8 +72,8 @@ class Measurements:
 
 MEASUREMENT_NAMES = Measurements.names()
 
-GIRTHS = ("neck_girth", "chest_girth", "underbust_girth", "waist_girth", "hip_girth", "thigh_girth", "upper_arm_girth",
-          "knee_girth", "calf_girth", "ankle_girth", "wrist_girth")
+GIRTHS = ("neck_girth", "chest_girth", "underbust_girth", "waist_girth", "omphalion_waist_girth", "hip_girth",
+          "thigh_girth", "upper_arm_girth", "armscye_girth", "knee_girth", "calf_girth", "ankle_girth", "wrist_girth")
 
 
 def check_names(names: Iterable[str]) -> None:
@@ -131,7 +139,8 @@ MAIN_WEIGHT = 0.5
 ARM_BONES = ("upperarm", "lowerarm", "wrist", "metacarpal", "finger")
 LEG_BONES = ("upperleg02", "lowerleg", "foot", "toe")
 TAPE_SKIN: dict[str, tuple[str, tuple[str, ...]]] = {
-    **{name: ("not", ARM_BONES + LEG_BONES) for name in ("chest_girth", "underbust_girth", "waist_girth", "hip_girth")},
+    **{name: ("not", ARM_BONES + LEG_BONES)
+       for name in ("chest_girth", "underbust_girth", "waist_girth", "omphalion_waist_girth", "hip_girth")},
     "thigh_girth": ("only", ("upperleg01.R", "upperleg02.R", "pelvis.R", "spine05")),  # + the groin's skin
     "upper_arm_girth": ("only", ("upperarm01.R", "upperarm02.R")),
     "knee_girth": ("only", ("upperleg02.R", "lowerleg01.R")),
@@ -156,7 +165,7 @@ def find_tape_skin(body: Body) -> dict[str, np.ndarray]:
 
 
 def girth_planes(vertices: np.ndarray, marks: Landmarks, rest: JointSet, posed: JointSet) -> dict[str, Plane]:
-    """Where each of the seven girths is taken in this posture (docs/measurements.md)."""
+    """Where each planar girth but the armscye's is taken in this posture (docs/measurements.md)."""
     v = vertices
     hip_joint, knee = posed["upperleg01.R"], posed["lowerleg01.R"]
     thigh_point = hip_joint + marks.thigh_level * (knee - hip_joint)
@@ -168,16 +177,14 @@ def girth_planes(vertices: np.ndarray, marks: Landmarks, rest: JointSet, posed: 
     humerus = unit(elbow - shoulder)
     middle = 0.5 * (girdle_point(marks, rest, posed, "R") + marks.olecranon.at(v))
     arm_point = shoulder + ((middle - shoulder) @ humerus) * humerus
-    thorax = trunk_normal(rest, posed, "thorax")
+    thorax, waist = trunk_normal(rest, posed, "thorax"), trunk_normal(rest, posed, "waist")
+    neck = posed["neck01"] + marks.neck_level * (posed["head"] - posed["neck01"])
     return {
-        "neck_girth": (posed["neck02"], axis(posed, "neck01", "head"), posed["neck02"]),
+        "neck_girth": (neck, axis(posed, "neck01", "head"), neck),
         "chest_girth": (0.5 * (v[marks.bust_right] + v[marks.bust_left]), thorax, posed["spine01"]),
         "underbust_girth": (v[marks.underbust], thorax, posed["spine01"]),
-        "waist_girth": (
-            0.5 * (v[marks.waist_front] + marks.waist_back.at(v)),
-            trunk_normal(rest, posed, "waist"),
-            posed["spine03"],
-        ),
+        "waist_girth": (0.5 * (marks.waist_front.at(v) + marks.waist_back.at(v)), waist, posed["spine03"]),
+        "omphalion_waist_girth": (0.5 * (v[marks.omphalion] + marks.omphalion_back.at(v)), waist, posed["spine03"]),
         "hip_girth": (v[marks.buttock], trunk_normal(rest, posed, "pelvis"), posed["spine05"]),
         "thigh_girth": (thigh_point, unit(knee - hip_joint), thigh_point),
         "upper_arm_girth": (arm_point, humerus, arm_point),
@@ -196,30 +203,73 @@ def tapes(
     posed: JointSet,
     skin: dict[str, np.ndarray] | None = None,
 ) -> dict[str, Tape]:
-    """The seven girths with the hull paths their tapes follow; `skin` as from `tape_skin`."""
+    """The girths, the across widths and the crotch length with the paths their tapes follow;
+    `skin` as from `tape_skin`."""
     topo, skin = topology(faces), skin or {}
     planes = girth_planes(vertices, marks, rest, posed)
-    return {name: tape_girth(vertices, topo, *plane, part=skin.get(name)) for name, plane in planes.items()}
+    girths = {name: tape_girth(vertices, topo, *plane, part=skin.get(name)) for name, plane in planes.items()}
+    girths["armscye_girth"] = armscye_tape(vertices, topo, marks, rest, posed)
+    thorax, trunk = trunk_normal(rest, posed, "thorax"), skin.get("chest_girth")
+    widths = {name: arc_tape(vertices, topo, (left.at(vertices), middle.at(vertices), right.at(vertices)),
+                             posed["spine02"], thorax, trunk)
+              for name, (left, middle, right) in width_points(marks).items()}
+    crotch = arc_tape(vertices, topo, (marks.waist_front.at(vertices), vertices[marks.crotch],
+                                       marks.waist_back.at(vertices)), posed["spine04"], bounded=False)
+    return {**girths, **widths, "crotch_length": crotch}
+
+
+def armscye_tape(vertices: np.ndarray, topo: Topology, marks: Landmarks, rest: JointSet, posed: JointSet) -> Tape:
+    """The right armscye girth: in the plane through the acromion (carried by the girdle) and
+    the front and back armpit fold points, round the shoulder joint, passing under the arm
+    at the axilla (FOLD_ABOVE below the line through the fold points); the hull, as a tape."""
+    acromion = girdle_point(marks, rest, posed, "R")
+    front, back = marks.fold_front_right.at(vertices), marks.fold_back_right.at(vertices)
+    normal = unit(np.cross(front - acromion, back - acromion))
+    return tape_girth(vertices, topo, acromion, normal, posed["upperarm01.R"],
+                      above=(back, unit(_across(acromion - back, unit(front - back))), -FOLD_ABOVE))
+
+
+def _across(vector: np.ndarray, direction: np.ndarray) -> np.ndarray:
+    """The part of `vector` perpendicular to the unit `direction`."""
+    return vector - (vector @ direction) * direction
+
+
+# Each surface length's route through landmarks (`Landmarks` fields), in order.
+SURFACE_ROUTES = {
+    "back_waist_length": ("cervicale", "omphalion_back"),
+    "shoulder_width": ("acromion_left", "cervicale", "acromion_right"),
+    "shoulder_length": ("side_neck", "acromion_right"),
+    "arm_length": ("acromion_right", "olecranon", "ulnar_styloid"),
+    "waist_to_hip_length": ("waist_side", "hip_side"),
+}
+SURFACE_ENDS = ("olecranon", "ulnar_styloid", "cervicale", "omphalion_back", "side_neck", "waist_side",
+                "hip_side")  # the points between vertices (the acromia: the girdle's)
+
+
+def width_points(marks: Landmarks) -> dict[str, tuple[SurfacePoint, SurfacePoint, SurfacePoint]]:
+    """The across widths' ends and middle: a tape laid from armpit fold to armpit fold over the
+    midline point at their level, in the thorax's horizontal (`sections.arc_tape`; the crotch
+    length is such a tape too, in the plane of the waist's front, the crotch and the waist's back)."""
+    return {"across_back_width": (marks.fold_back_left, marks.back_middle, marks.fold_back_right),
+            "across_front_width": (marks.fold_front_left, marks.front_middle, marks.fold_front_right)}
 
 
 def surface_paths(vertices: np.ndarray, faces: np.ndarray, marks: Landmarks, rest: JointSet,
                   posed: JointSet) -> dict[str, np.ndarray]:
-    """The geodesic polylines of the three surface lengths.
+    """The geodesic polylines of the surface lengths (`SURFACE_ROUTES`).
 
     The acromions are where the shoulder girdle carries them (`girdle_point`), on the skin
     nearest there; the other points ride the skin. Each becomes a vertex of the surface the
     paths run on (`insert_points`).
     """
-    points = np.stack([girdle_point(marks, rest, posed, "R"), girdle_point(marks, rest, posed, "L"),
-                       marks.olecranon.at(vertices), marks.ulnar_styloid.at(vertices),
-                       marks.cervicale.at(vertices), marks.waist_back.at(vertices)])
-    v, f, (right, left, elbow, wrist, neck, back) = insert_points(vertices, faces, points)
+    ends = {"acromion_right": girdle_point(marks, rest, posed, "R"),
+            "acromion_left": girdle_point(marks, rest, posed, "L")}
+    ends.update({name: getattr(marks, name).at(vertices) for name in SURFACE_ENDS})
+    hints = [-1, -1] + [face_of(faces, getattr(marks, name)) for name in SURFACE_ENDS]
+    v, f, indices = insert_points(vertices, faces, np.stack(list(ends.values())), np.array(hints))
+    at = dict(zip(ends, indices.tolist()))
     paths = SurfaceGeodesics(v, f)
-    return {
-        "back_waist_length": paths.path_through(neck, back),
-        "shoulder_width": paths.path_through(left, neck, right),
-        "arm_length": paths.path_through(right, elbow, wrist),
-    }
+    return {name: paths.path_through(*(at[point] for point in route)) for name, route in SURFACE_ROUTES.items()}
 
 
 def heights(vertices: np.ndarray, marks: Landmarks) -> dict[str, float]:
@@ -251,10 +301,12 @@ def measure_surface(
 def measurement_paths(
     body: Body | PosedBody, vertices: np.ndarray | None = None, joints: np.ndarray | None = None
 ) -> dict[str, np.ndarray]:
-    """Where each tape lies, for pictures: closed hull loops of the girths, geodesic polylines."""
+    """Where each tape lies, for pictures: closed hull loops of the girths, open polylines of the
+    across widths and the surface lengths."""
     body, vertices, joints = posture_of(body, vertices, joints)
     vertices, posed = posture_arrays(body, vertices, joints)
     marks, rest = body_landmarks(body), JointSet(body.rig.names, body.rig.heads)
-    girths = tapes(vertices, body.faces, marks, rest, posed, tape_skin(body))
-    loops = {name: np.vstack([t.path, t.path[:1]]) for name, t in girths.items() if len(t.path)}
+    found = tapes(vertices, body.faces, marks, rest, posed, tape_skin(body))
+    loops = {name: np.vstack([t.path, t.path[:1]]) if name in GIRTHS else t.path
+             for name, t in found.items() if len(t.path)}
     return {**loops, **surface_paths(vertices, body.faces, marks, rest, posed)}

@@ -107,6 +107,7 @@ def tape_girth(
     normal: np.ndarray,
     centre: np.ndarray,
     part: np.ndarray | None = None,
+    above: tuple[np.ndarray, np.ndarray, float] | None = None,
 ) -> Tape:
     """The girth a tape takes in the plane (origin, normal) round the loops enclosing `centre`.
 
@@ -114,6 +115,9 @@ def tape_girth(
     the skin the tape may rest on: a section point counts only if its edge has an
     end there — so in a posture where the part's loop merges with its neighbour's
     (a thigh raised against the belly) the tape still goes round the part alone.
+    `above` = (point, unit direction, offset), if given, keeps only the section points
+    at least `offset` (m) along the direction from the point: a tape bridging below a line
+    (the armscye's under the arm).
     Returns a NaN girth and an empty path when nothing of the part is cut there.
     """
     n = np.asarray(normal, dtype=np.float64) / np.linalg.norm(normal)
@@ -123,6 +127,60 @@ def tape_girth(
     if part is not None:
         ends = topo.edges[sec.edges]
         kept &= part[ends[:, 0]] | part[ends[:, 1]]
+    points = sec.points
+    if above is not None:
+        points, kept = _cut(sec, kept, *above)
     if np.count_nonzero(kept) < 3:
         return Tape(girth=float("nan"), path=np.empty((0, 3)))
-    return hull_perimeter(sec.points[kept], n)
+    return hull_perimeter(points[kept], n)
+
+
+def _cut(sec: Section, kept: np.ndarray, point: np.ndarray, direction: np.ndarray,
+         offset: float) -> tuple[np.ndarray, np.ndarray]:
+    """The section's points with those where its kept segments cross the line `offset` along
+    `direction` from `point` added (so the cut does not depend on the mesh), and the kept mask
+    of the points at or beyond that line."""
+    height = (sec.points - point) @ direction - offset
+    p, q = sec.segments[:, 0], sec.segments[:, 1]
+    crossing = kept[p] & kept[q] & ((height[p] >= 0.0) != (height[q] >= 0.0))
+    p, q = p[crossing], q[crossing]
+    t = height[p] / (height[p] - height[q])
+    ends = sec.points[p] + t[:, None] * (sec.points[q] - sec.points[p])
+    return np.vstack([sec.points, ends]), np.concatenate([kept & (height >= 0.0), np.ones(len(ends), dtype=bool)])
+
+
+def arc_tape(vertices: np.ndarray, topo: Topology, ends: tuple[np.ndarray, np.ndarray, np.ndarray],
+             centre: np.ndarray, normal: np.ndarray | None = None, part: np.ndarray | None = None,
+             bounded: bool = True) -> Tape:
+    """A tape laid from the first of `ends` over the second to the third (points of the
+    surface) in their plane, or in the plane through the second with `normal` (the others
+    projected onto it): the points of the section's loops round `centre` (and on the skin
+    `part`, as in `tape_girth`) on the middle's side of the chord (and, if `bounded`, between
+    the two ends along it), bridged where hollow as a tape bridges them. Its length is the
+    hull's perimeter less the chord; its path runs from end to end (open)."""
+    left, middle, right = ends
+    if normal is None:
+        normal = np.cross(middle - left, right - left)
+    normal = normal / np.linalg.norm(normal)
+    left, right = left - ((left - middle) @ normal) * normal, right - ((right - middle) @ normal) * normal
+    sec = section(vertices, topo, middle, normal)
+    chord = right - left
+    along, across = chord / np.linalg.norm(chord), middle - left
+    across = across - (across @ along) * along
+    rel = sec.points - left
+    between = (rel @ across > 0.0) & np.isin(sec.loop, loops_around(sec, centre - ((centre - middle) @ normal) * normal,
+                                                                     normal))
+    if part is not None:
+        edge_ends = topo.edges[sec.edges]
+        between &= part[edge_ends[:, 0]] | part[edge_ends[:, 1]]
+    if bounded:
+        between &= (rel @ along > 0.0) & (rel @ along < np.linalg.norm(chord))
+    points = np.vstack([sec.points[between], left, right])
+    n, u, v = plane_basis(normal)
+    hull = ConvexHull(np.stack([points @ u, points @ v], axis=1)).vertices.tolist()
+    i, j = hull.index(len(points) - 2), hull.index(len(points) - 1)
+    if (i + 1) % len(hull) == j:  # the hull runs left → right along the chord: take the other way
+        i, j = j, i
+    ring = [hull[(i + k) % len(hull)] for k in range((j - i) % len(hull) + 1)]
+    path = points[ring]
+    return Tape(girth=float(np.linalg.norm(np.diff(path, axis=0), axis=1).sum()), path=path)

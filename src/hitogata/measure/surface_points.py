@@ -43,6 +43,14 @@ class SurfacePoint:
         a, b, c = (int(k) for k in face)
         return cls((a, b, c), (float(weights[0]), float(weights[1]), float(weights[2])))
 
+    @classmethod
+    def nearest(cls, vertices: np.ndarray, faces: np.ndarray, point: np.ndarray,
+                search: FaceSearch | None = None) -> SurfacePoint:
+        """The point of the surface nearest `point` (e.g. a point of a planar section); `search`:
+        the surface's `FaceSearch`, when several points are wanted."""
+        face = faces[(search or FaceSearch(vertices[faces])).nearest(point)]
+        return cls.on_face(vertices, face, point)
+
 
 def barycentric(triangle: np.ndarray, point: np.ndarray) -> np.ndarray:
     """Weights (3,) >= 0, summing to 1, of the triangle's (3, 3) point nearest `point`."""
@@ -55,46 +63,76 @@ def barycentric(triangle: np.ndarray, point: np.ndarray) -> np.ndarray:
     return weights / weights.sum()
 
 
-def _nearest_face(corners: np.ndarray, point: np.ndarray) -> int:
+class FaceSearch:
     """The triangle (of corners (F, 3, 3)) nearest a point: exact distances only to the
     triangles that can beat the best of the few whose centroids are nearest."""
-    centre = corners.mean(axis=1)
-    radius = np.linalg.norm(corners - centre[:, None], axis=2).max(axis=1)
-    gap = np.linalg.norm(centre - point, axis=1)
 
-    def distances(rows: np.ndarray) -> np.ndarray:
-        q = closest_points_on_triangles(np.repeat(point[None], len(rows), axis=0),
-                                        corners[rows, 0], corners[rows, 1], corners[rows, 2])
-        return np.linalg.norm(q - point, axis=1)
+    def __init__(self, corners: np.ndarray) -> None:
+        self.corners = corners
+        self.centre = corners.mean(axis=1)
+        self.radius = np.linalg.norm(corners - self.centre[:, None], axis=2).max(axis=1)
 
-    first = np.argpartition(gap, min(_CANDIDATES, len(gap) - 1))[:_CANDIDATES]
-    rows = np.flatnonzero(gap - radius <= distances(first).min())
-    return int(rows[np.argmin(distances(rows))])
+    def nearest(self, point: np.ndarray) -> int:
+        gap = np.linalg.norm(self.centre - point, axis=1)
+        first = np.argpartition(gap, min(_CANDIDATES, len(gap) - 1))[:_CANDIDATES]
+        rows = np.flatnonzero(gap - self.radius <= _distances(self.corners[first], point).min())
+        return int(rows[np.argmin(_distances(self.corners[rows], point))])
 
 
-def insert_points(vertices: np.ndarray, faces: np.ndarray, points: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def _distances(corners: np.ndarray, point: np.ndarray) -> np.ndarray:
+    """Distances (T,) from a point to triangles (T, 3, 3)."""
+    q = closest_points_on_triangles(np.repeat(point[None], len(corners), axis=0),
+                                    corners[:, 0], corners[:, 1], corners[:, 2])
+    return np.linalg.norm(q - point, axis=1)
+
+
+def face_of(faces: np.ndarray, point: SurfacePoint) -> int:
+    """The row of `faces` that a surface point lies on; −1 if none has its corners (a
+    subdivided copy of the body: the point's face was split)."""
+    a, b, c = point.corners
+    rows = np.flatnonzero(faces[:, 0] == a)
+    rows = rows[(faces[rows, 1] == b) & (faces[rows, 2] == c)]
+    return int(rows[0]) if len(rows) else -1
+
+
+def insert_points(vertices: np.ndarray, faces: np.ndarray, points: np.ndarray,
+                  on_faces: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The surface with each point (P, 3) made a vertex: its nearest face split in three.
 
-    Returns the new vertices (the old ones first), faces, and the vertex index (P,) of each
-    point. A point on a vertex (within round-off) is that vertex.
+    Returns the new vertices (the old ones first), faces (the unsplit ones in their order,
+    then the new ones), and the vertex index (P,) of each point. A point on a vertex (within
+    round-off) is that vertex. The nearest face is searched among the original faces (unless
+    `on_faces` (P,) gives it: a row of `faces`, or −1 to search), then among the pieces that
+    earlier points split it into.
     """
     vertices = np.asarray(vertices, dtype=np.float64)
     faces = np.asarray(faces, dtype=np.int64)
-    new_vertices, new_faces, indices = [vertices], faces.copy(), []
-    count = len(vertices)
-    for point in np.asarray(points, dtype=np.float64).reshape(-1, 3):
-        corners = np.concatenate(new_vertices)[new_faces]
-        face = _nearest_face(corners, point)
-        weights = barycentric(corners[face], point)
+    points = np.asarray(points, dtype=np.float64).reshape(-1, 3)
+    hints = np.full(len(points), -1) if on_faces is None else np.asarray(on_faces)
+    search = FaceSearch(vertices[faces]) if (hints < 0).any() else None
+    table = np.concatenate([faces, np.zeros((3 * len(points), 3), dtype=np.int64)])
+    alive = np.zeros(len(table), dtype=bool)
+    alive[:len(faces)] = True
+    pieces: dict[int, list[int]] = {}  # a split face → the faces it was split into
+    pool, rows_used, indices = vertices, len(faces), []
+    for point, hint in zip(points, hints):
+        leaves, stack = [], [int(hint) if hint >= 0 or search is None else search.nearest(point)]
+        while stack:
+            row = stack.pop()
+            leaves.append(row) if alive[row] else stack.extend(pieces[row])
+        face = leaves[int(np.argmin(_distances(pool[table[leaves]], point)))]
+        weights = barycentric(pool[table[face]], point)
         if weights.max() > 1.0 - 1e-9:
-            indices.append(int(new_faces[face, np.argmax(weights)]))
+            indices.append(int(table[face, np.argmax(weights)]))
             continue
         weights = np.maximum(weights, _INSIDE)
         weights /= weights.sum()
-        a, b, c = new_faces[face]
-        new_vertices.append((weights @ corners[face])[None])
-        new_faces = np.concatenate([np.delete(new_faces, face, axis=0),
-                                    [[a, b, count], [b, c, count], [c, a, count]]])
-        indices.append(count)
-        count += 1
-    return np.concatenate(new_vertices), new_faces, np.array(indices, dtype=np.int64)
+        a, b, c = table[face]
+        new = len(pool)
+        pool = np.concatenate([pool, (weights @ pool[table[face]])[None]])
+        table[rows_used:rows_used + 3] = [[a, b, new], [b, c, new], [c, a, new]]
+        alive[face], alive[rows_used:rows_used + 3] = False, True
+        pieces[face] = [rows_used, rows_used + 1, rows_used + 2]
+        rows_used += 3
+        indices.append(new)
+    return pool, table[alive], np.array(indices, dtype=np.int64)

@@ -31,12 +31,13 @@ from threadpoolctl import threadpool_limits
 
 from hitogata.study.spec import BodyDef, ModelSettings, MotionDef
 
-ROWS_VERSION = 2  # part of every task's hash: bump when a row's meaning changes, so old rows are not reused
+ROWS_VERSION = 3  # part of every task's hash: bump when a row's meaning changes, so old rows are not reused
+# (3: waist_girth is ISO 8559-1's waist, the navel's is omphalion_waist_girth; the neck girth at its
+# narrowest; seven measurements added)
 # Figures are stored rounded to this many decimals (nanometres, 1e-9 %): the last bit of a sum in
 # numpy depends on the memory alignment of its array (SIMD blocks), so the same task gave a thigh
 # girth of 0.5735926758767658 m in one process and ...657 in another; rounded, the bits agree.
 DECIMALS = 9
-LENGTHS = ("back_waist_length", "shoulder_width", "arm_length")
 HEIGHTS = ("stature", "inside_leg")
 
 # Row columns and their kinds: "str", "float". Lengths in m, strains in %, times in s.
@@ -207,8 +208,8 @@ def _elastic_postures(prep: Prepared, scenario, times: np.ndarray) -> tuple[np.n
 def dynamic_ease(standing: float, values: np.ndarray) -> tuple[float, float]:
     """The largest increase (≥ 0) and the largest decrease (≤ 0) of a measurement over standing (m).
 
-    The same definition as the garment package's dynamic ease (`garment.ease`, which also
-    measures the across-back and across-front widths); this is where a study can call it.
+    The same definition as the garment package's dynamic ease (`garment.ease`); this is where
+    a study can call it.
     """
     if not np.isfinite(values).any():
         return float("nan"), float("nan")
@@ -257,7 +258,7 @@ def task_rows(task: Task) -> dict[str, list]:
         ease = "dynamic_ease" in task.outputs
         for i, name in enumerate(MEASUREMENT_NAMES):
             series, standing = values[:, i], prep.standing[name]
-            kind = "girth" if name in GIRTHS else "length" if name in LENGTHS else "height"
+            kind = "girth" if name in GIRTHS else "height" if name in HEIGHTS else "length"
             increase, decrease = dynamic_ease(standing, series) if ease else (nan, nan)
             finite = np.isfinite(series).any()
             add(kind=kind, name=name, standing_m=standing,
