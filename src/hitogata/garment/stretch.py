@@ -143,7 +143,8 @@ def directional_strain(rest: np.ndarray, posed: np.ndarray, faces: np.ndarray, d
     return np.linalg.norm(e1 @ coords, axis=(1, 2)) - 1.0
 
 
-def _percentile(values: np.ndarray, area: np.ndarray, q: float) -> float:
+def area_percentile(values: np.ndarray, area: np.ndarray, q: float) -> float:
+    """The area-weighted `q` quantile (0..1) of per-face values."""
     order = np.argsort(values)
     cumulative = np.cumsum(area[order]) / area.sum()
     return float(values[order][min(np.searchsorted(cumulative, q), len(values) - 1)])
@@ -170,9 +171,9 @@ def zone_stretch(body: Body, name: str, clip: MotionClip, surface: Surface | Non
         for k, zone in enumerate(names):
             faces = zones[zone]
             for key, values in strains.items():
-                out[key][k] = max(out[key][k], 100 * _percentile(values[faces], area[faces], PERCENTILE))
+                out[key][k] = max(out[key][k], 100 * area_percentile(values[faces], area[faces], PERCENTILE))
             for key in ("l", "c"):
-                low[key][k] = min(low[key][k], 100 * _percentile(strains[key][faces], area[faces], 1 - PERCENTILE))
+                low[key][k] = min(low[key][k], 100 * area_percentile(strains[key][faces], area[faces], 1 - PERCENTILE))
     return ZoneStretch(name, names, out["l"], out["c"], out["p"], low["l"], low["c"])
 
 
