@@ -102,6 +102,7 @@ FOLDER_COMMANDS = {
     "modes": ["modes", "--pictures", "0"],
     "simulate": ["simulate", "rectus_stretch"],
     "demo": ["demo"],
+    "fit-report": ["fit-report", "--motions", "reach"],
 }
 FILE_COMMANDS = {
     "body": (["body"], ".glb"),

@@ -7,13 +7,13 @@
 - the pressure map: a stretch garment's pressure (mmHg, `garment.pressure_map`)
   on the skin it covers at a frame, front, right side and back.
 
-One offscreen window serves every picture of a report (`FitPictures`, close it
-or use `with`); each picture is PNG bytes.
+One offscreen window (a `render.Renderer`) serves every picture of a report;
+each picture is PNG bytes.
 """
 
 from __future__ import annotations
 
-from typing import Self
+from typing import TYPE_CHECKING
 
 import matplotlib
 import numpy as np
@@ -26,6 +26,9 @@ from hitogata.garment.pressure_map import pressure_map
 from hitogata.garment.stretch import GARMENT_ZONES, garment_zones
 from hitogata.geometry.mesh_checks import boundary_edges
 from hitogata.measure.strain import skin_strain
+
+if TYPE_CHECKING:
+    from hitogata.render import Renderer
 
 SKIN = "#d9b59c"
 HEIGHT = 460  # pixels per view
@@ -42,23 +45,11 @@ def zone_colours() -> dict[str, str]:
 
 
 class FitPictures:
-    """The pictures of one report's motions, from one live offscreen window."""
+    """The pictures of one report's motions, drawn in one live offscreen window (a `render.Renderer`)."""
 
-    def __init__(self, answers: FitAnswers) -> None:
-        from hitogata.render import Renderer, ensure_offscreen_gl
-
-        ensure_offscreen_gl()
+    def __init__(self, answers: FitAnswers, renderer: Renderer) -> None:
         self.answers = answers
-        self._renderer = Renderer()
-
-    def __enter__(self) -> Self:
-        return self
-
-    def __exit__(self, *_: object) -> None:
-        self.close()
-
-    def close(self) -> None:
-        self._renderer.close()
+        self._renderer = renderer
 
     def _picture(self, items: list, views: tuple[str, ...], caption: str, width: int | None = None) -> np.ndarray:
         from hitogata.render import side_by_side, titled

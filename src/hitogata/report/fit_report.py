@@ -204,7 +204,10 @@ def write_fit_report(folder: str | os.PathLike, answers: FitAnswers | None = Non
         body_html, tables["measurements.csv"] = body_section(answers)
         sections.append(("body", "body", h.section("body", "the body", [body_html])))
         sections.append(("all-motions", "all motions", overall_section(answers)))
-        with FitPictures(answers) as pictures:
+        from hitogata.render import Renderer
+
+        with Renderer() as renderer:
+            pictures = FitPictures(answers, renderer)
             for ease, stretch in zip(answers.ease, answers.stretch):
                 sections.append((f"motion-{ease.motion}", label(ease.motion),
                                  motion_section(answers, ease, stretch, pictures)))
