@@ -21,6 +21,7 @@ from hitogata import cli
 from hitogata.commands import fit_report
 from hitogata.study.runner import run_serial
 from hitogata.study.spec import load_study
+from waiting import PATIENCE
 
 STUDIES = Path(__file__).parents[1] / "src" / "hitogata" / "data" / "studies"
 CHART = "size,sex,stature_cm,mass_kg\nS,female,155,50\nL,male,185,90\n"
@@ -139,9 +140,10 @@ def test_the_page_opens_offline_in_chromium_without_errors_or_requests(report, t
         browser = playwright.chromium.launch_persistent_context(
             str(tmp_path / "profile"), executable_path="/usr/bin/chromium", headless=True,
             args=["--no-sandbox", "--disable-gpu", "--no-first-run", "--disable-background-networking",
-                  "--disable-component-update", "--disable-sync"], offline=True)
+                  "--disable-component-update", "--disable-sync"], offline=True, timeout=PATIENCE * 1000)
         try:
             page = browser.new_page()
+            page.set_default_timeout(PATIENCE * 1000)  # a bound for a busy machine, not a pause
             page.on("console", lambda m: problems.append(m.text) if m.type in ("error", "warning") else None)
             page.on("pageerror", lambda e: problems.append(str(e)))
             page.on("request", lambda r: requests.append(r.url))
