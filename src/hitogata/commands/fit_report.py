@@ -24,6 +24,15 @@ def wants_body(args: argparse.Namespace) -> bool:
             or any(getattr(args, name) is not None for name in ("motions", "garment_ease", "fabric")))
 
 
+def settings(args: argparse.Namespace) -> str:
+    """How the motions were measured, in words, for the page."""
+    text = (f"Surface: the body skinned onto the posed skeleton ({args.skinning.upper()}; strains at the joints are "
+            f"skinning's, docs/garment.md); {args.rate:g} frames measured per second of motion")
+    if args.garment_ease is not None:
+        text += f"; garment: ease {args.garment_ease} against the standing girths, fabric {args.fabric}"
+    return text + "."
+
+
 def run(args: argparse.Namespace) -> None:
     from hitogata.report.fit_report import read_population, summary_text, write_fit_report
 
@@ -47,7 +56,7 @@ def run(args: argparse.Namespace) -> None:
         answers = compute(args, body, scenarios, garment)
     written = [] if answers is None else write_tables(answers, args.workdir)
     title = "fit report" if args.body is None else f"fit report: {args.body.name}"
-    written += write_fit_report(args.workdir, answers, population, title)
+    written += write_fit_report(args.workdir, answers, population, title, "" if answers is None else settings(args))
     print(f"{Path(args.out)}/: {', '.join(sorted(set(written)))}")
     if answers is not None:
         print(summary_text(answers))

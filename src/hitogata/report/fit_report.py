@@ -187,8 +187,9 @@ def population_section(population: Population) -> str:
 
 
 def write_fit_report(folder: str | os.PathLike, answers: FitAnswers | None = None,
-                     population: Population | None = None, title: str = "fit report") -> list[str]:
-    """Write the page and its tables into an existing folder; return the names written."""
+                     population: Population | None = None, title: str = "fit report", settings: str = "") -> list[str]:
+    """Write the page and its tables into an existing folder; return the names written.
+    `settings`: how the answers were computed, in words (shown under the summary)."""
     folder = Path(folder)
     if answers is None and population is None:
         raise HitogataError("fit report: nothing to report; give a body with motions, a study's results, or both")
@@ -199,8 +200,10 @@ def write_fit_report(folder: str | os.PathLike, answers: FitAnswers | None = Non
     if answers is not None:
         text = summary_text(answers)
         intro.append(h.paragraph(text, "summary"))
-        summary.update(body=body_figures(answers.body), risks=risks(answers), summary=text, rate=answers.rate,
-                       motions=[e.motion for e in answers.ease])
+        if settings:
+            intro.append(h.paragraph(settings, "note"))
+        summary.update(body=body_figures(answers.body), risks=risks(answers), summary=text, settings=settings,
+                       rate=answers.rate, motions=[e.motion for e in answers.ease])
         body_html, tables["measurements.csv"] = body_section(answers)
         sections.append(("body", "body", h.section("body", "the body", [body_html])))
         sections.append(("all-motions", "all motions", overall_section(answers)))
