@@ -116,13 +116,19 @@ def run(args: argparse.Namespace) -> None:
                   f"({row['increase_in']})  {row['decrease_cm']:6.1f} ({row['decrease_in']})")
 
 
-def add_motion_arguments(parser: argparse.ArgumentParser, default: str | None = DEFAULT_MOTIONS) -> None:
-    """--motions --skinning --rate --garment-ease --fabric: the motions and the garment, as `ease` takes them."""
-    parser.add_argument("--motions", default=default,
+MOTION_DEFAULTS = {"motions": DEFAULT_MOTIONS, "skinning": "dqs", "rate": 5.0}
+
+
+def add_motion_arguments(parser: argparse.ArgumentParser, defaults: bool = True) -> None:
+    """--motions --skinning --rate --garment-ease --fabric: the motions and the garment, as `ease` takes them.
+    `defaults=False`: left None when not given (MOTION_DEFAULTS says what they stand for)."""
+    d = {name: value if defaults else None for name, value in MOTION_DEFAULTS.items()}
+    parser.add_argument("--motions", default=d["motions"],
                         help="comma-separated shipped motions (short names like reach, squat, cross will do) or "
                              f"scenario files; default {DEFAULT_MOTIONS}")
-    parser.add_argument("--skinning", choices=("dqs", "lbs"), default="dqs", help="the surface's source; default dqs")
-    parser.add_argument("--rate", type=float, default=5.0, help="frames measured per second of motion; default 5")
+    parser.add_argument("--skinning", choices=("dqs", "lbs"), default=d["skinning"],
+                        help="the surface's source; default dqs")
+    parser.add_argument("--rate", type=float, default=d["rate"], help="frames measured per second of motion; default 5")
     parser.add_argument("--garment-ease", default=None,
                         help="a stretch garment this much smaller round than the standing body, e.g. --garment-ease=-15%%: "
                              "its pressure through the motions (pressure.csv; with --fabric)")

@@ -14,14 +14,14 @@ from pathlib import Path
 
 from hitogata.commands.args import add_body_arguments, body_options_given, refuse_body_options
 from hitogata.commands.body import body_from_args
-from hitogata.commands.ease import DEFAULT_MOTIONS, add_motion_arguments, checked_inputs, compute, write_tables
+from hitogata.commands.ease import MOTION_DEFAULTS, add_motion_arguments, checked_inputs, compute, write_tables
 from hitogata.commands.paths import add_output, input_path
 
 
 def wants_body(args: argparse.Namespace) -> bool:
-    """The body part is reported unless only a study is given."""
+    """The body part is reported unless only a study is given (no body, body or motion option)."""
     return (args.study is None or args.body is not None or bool(body_options_given(args))
-            or any(getattr(args, name) is not None for name in ("motions", "garment_ease", "fabric")))
+            or any(getattr(args, name) is not None for name in (*MOTION_DEFAULTS, "garment_ease", "fabric")))
 
 
 def settings(args: argparse.Namespace) -> str:
@@ -39,8 +39,9 @@ def run(args: argparse.Namespace) -> None:
     population = None if args.study is None else read_population(args.study)
     answers = None
     if wants_body(args):
-        if args.motions is None:
-            args.motions = DEFAULT_MOTIONS
+        for name, value in MOTION_DEFAULTS.items():
+            if getattr(args, name) is None:
+                setattr(args, name, value)
         if args.body is not None:
             refuse_body_options(args, f"the body comes from {args.body}")
         scenarios, garment = checked_inputs(args)
@@ -68,7 +69,7 @@ def register(sub: argparse._SubParsersAction) -> None:
                         help="a .glb written by `hitogata body` (its shape; a pose in it is not used); "
                              "or the body options")
     add_body_arguments(parser)
-    add_motion_arguments(parser, default=None)
+    add_motion_arguments(parser, defaults=False)
     parser.add_argument("--study", default=None, type=input_path("folder"),
                         help="a `hitogata study` results folder: adds the population's percentile tables and bands")
     add_output(parser, "folder", "report folder: fit_report.html and its tables (a new or empty folder)")
