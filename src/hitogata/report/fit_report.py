@@ -103,7 +103,7 @@ def summary_text(answers: FitAnswers) -> str:
     """One paragraph: where the garment is most at risk, with numbers."""
     found = risks(answers)
     e, s = found["ease"], found["stretch"]
-    motions = ", ".join(label(e.motion) for e in answers.ease)
+    motions = ", ".join(label(m.motion) for m in answers.ease)
     text = (f"Through {motions}: the largest ease need is the {label(e['measurement'])}'s, "
             f"+{e['increase_cm']:.1f} cm ({e['increase_pct']:.1f} % of its standing {e['standing_cm']:.1f} cm) in "
             f"{label(e['motion'])} at {e['at_s']:.2f} s — a woven garment needs at least that ease there. "
