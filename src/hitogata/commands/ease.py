@@ -9,6 +9,7 @@ from typing import TYPE_CHECKING
 from hitogata import units
 from hitogata.commands.args import add_body_arguments
 from hitogata.commands.body import body_from_args
+from hitogata.commands.paths import add_output
 from hitogata.dynamics.scenario import Scenario, load_scenario, shipped_scenarios
 from hitogata.errors import HitogataError
 from hitogata.export.atomic import write_bytes_atomically
@@ -101,13 +102,12 @@ def write_tables(answers: FitAnswers, folder: Path) -> list[str]:
 def run(args: argparse.Namespace) -> None:
     from hitogata.garment.ease_plot import ease_plot
 
-    out = Path(args.out)
+    out, folder = Path(args.out), args.workdir  # written into the staging folder, renamed to --out at the end
     scenarios, garment = checked_inputs(args)
-    out.mkdir(parents=True, exist_ok=True)
     body = body_from_args(args)
     answers = compute(args, body, scenarios, garment)
-    written = write_tables(answers, out)
-    write_bytes_atomically(out / "ease.png", ease_plot(answers.ease, f"dynamic ease: {body.stature * 100:.0f} cm, "
+    written = write_tables(answers, folder)
+    write_bytes_atomically(folder / "ease.png", ease_plot(answers.ease, f"dynamic ease: {body.stature * 100:.0f} cm, "
                                                                      f"{body.mass:.0f} kg"))
     print(f"{out}/: {', '.join([*written, 'ease.png'])} ({len(answers.ease)} motions)")
     for row in overall(answers.ease):
@@ -140,5 +140,5 @@ def register(sub: argparse._SubParsersAction) -> None:
     parser = sub.add_parser("ease", help="dynamic ease: each girth and length through mobility motions")
     add_body_arguments(parser)
     add_motion_arguments(parser)
-    parser.add_argument("--out", default="ease", help="output folder; default ./ease")
+    add_output(parser, "folder", "output folder (a new or empty folder); default ./ease", default="ease")
     parser.set_defaults(run=run)
