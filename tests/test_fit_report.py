@@ -92,8 +92,8 @@ def report(study, tmp_path_factory) -> Path:
 @pytest.mark.render
 def test_the_page_shows_the_tables_it_wrote(report):
     assert sorted(p.name for p in report.iterdir()) == [
-        "ease.csv", "ease.json", "fit_report.html", "measurements.csv", "percentiles.csv", "pressure.csv",
-        "stretch.csv", "summary.json"]
+        "ease.csv", "ease.json", "fit_report.html", "measurements.csv", "non_extension.csv", "non_extension.json",
+        "percentiles.csv", "pressure.csv", "stretch.csv", "summary.json"]
     page = Tables((report / "fit_report.html").read_text(encoding="utf-8"))
     ease = {r["measurement"]: r for r in rows(report / "ease.csv") if r["motion"] == "all"}
     table = {r[0]: r for r in page.tables["ease-all"][1:]}
@@ -123,8 +123,16 @@ def test_the_page_shows_the_tables_it_wrote(report):
     assert (risk["pressure"]["level"], round(risk["pressure"]["peak_mmHg"], 1)) == ("ankle", 25.5)
     text = (report / "fit_report.html").read_text(encoding="utf-8")
     assert html.escape(summary["summary"]) in text and "+4.3 cm" in summary["summary"] and "25.5 mmHg peak" in summary["summary"]
-    # snapshots, the ease plot over time, stretch and pressure maps; the overall plot; the band plot
-    assert len(page.images) == 6 and all(src.startswith("data:image/png;base64,") for src in page.images)
+    # the lines of non-extension: the JSON's are the CSV's, counted in the picture's caption (pinned)
+    lines = json.loads((report / "non_extension.json").read_text(encoding="utf-8"))["reach_forward"]
+    points = rows(report / "non_extension.csv")
+    assert len(points) == sum(len(line["points_mm"]) for line in lines)
+    assert {(r["line"], r["point"]): [float(r[k]) for k in ("x_mm", "y_mm", "z_mm")] for r in points} == {
+        (str(k), str(i)): p for k, line in enumerate(lines) for i, p in enumerate(line["points_mm"])}
+    assert (len(lines), round(sum(line["length_mm"] for line in lines) / 1000, 1)) == (122, 15.0)
+    # snapshots, the ease plot over time, stretch map, lines of non-extension, pressure map; the overall
+    # plot; the band plot
+    assert len(page.images) == 7 and all(src.startswith("data:image/png;base64,") for src in page.images)
     assert "http:" not in text and "https:" not in text and "<script" not in text
 
 
@@ -155,7 +163,7 @@ def test_the_page_opens_offline_in_chromium_without_errors_or_requests(report, t
         shutil.rmtree(tmp_path / "profile", ignore_errors=True)
     assert problems == []
     assert requests == [url]  # the page itself; its pictures are data URIs
-    assert loaded == [True] * 6
+    assert loaded == [True] * 7
     assert headings == ["the body", "all motions", "reach forward", "population"]
 
 

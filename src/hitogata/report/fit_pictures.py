@@ -4,6 +4,8 @@
 - the stretch map: the largest principal skin strain (%) at a frame, front
   and back, on one scale for every motion (±STRAIN_RANGE), with each garment
   zone (`garment.stretch`) outlined in its colour;
+- the lines of non-extension (`garment.non_extension`) of a frame, drawn on
+  the rest body coloured by that frame's stretch, front and back;
 - the pressure map: a stretch garment's pressure (mmHg, `garment.pressure_map`)
   on the skin it covers at a frame, front, right side and back.
 
@@ -21,6 +23,7 @@ from matplotlib.colors import to_hex
 
 from hitogata.export.gltf import vertex_normals
 from hitogata.garment.fit import FitAnswers, posture
+from hitogata.garment.non_extension import Line
 from hitogata.garment.pressure import MMHG
 from hitogata.garment.pressure_map import pressure_map
 from hitogata.garment.stretch import GARMENT_ZONES, garment_zones
@@ -36,6 +39,8 @@ MAP_WIDTH = 340  # pixels per view of a map: room for its colour bar
 STRAIN_RANGE = 50.0  # %: the stretch maps' colour scale, the same for every motion (saturates beyond)
 OUTLINE_LIFT = 0.003  # m: zone outlines drawn this far outside the skin, so the surface does not hide them
 OUTLINE_PIXELS = 2.5
+LINES_HEIGHT = 720  # pixels per view of the lines of non-extension: thin lines need room
+FAMILY_COLOURS = ("#111111", "#1b7837")  # lines of non-extension at +θ and −θ from the most stretch
 
 
 def zone_colours() -> dict[str, str]:
@@ -51,10 +56,11 @@ class FitPictures:
         self.answers = answers
         self._renderer = renderer
 
-    def _picture(self, items: list, views: tuple[str, ...], caption: str, width: int | None = None) -> np.ndarray:
+    def _picture(self, items: list, views: tuple[str, ...], caption: str, width: int | None = None,
+                 height: int = HEIGHT) -> np.ndarray:
         from hitogata.render import side_by_side, titled
 
-        images = self._renderer.render(items, views=views, size=(width, HEIGHT), labels=True)
+        images = self._renderer.render(items, views=views, size=(width, height), labels=True)
         return titled(side_by_side(images, gap=8), caption)
 
     def snapshots(self, motion: str, frames: list[int]) -> bytes:
@@ -84,6 +90,30 @@ class FitPictures:
                 items.append(Lines(lifted[edges], color=colours[zone], width=OUTLINE_PIXELS))
         caption = f"skin stretch at t = {clip.times[frame]:.2f} s (colours saturate beyond ±{STRAIN_RANGE:.0f} %)"
         return png_bytes(self._picture(items, ("front", "back"), caption, MAP_WIDTH))
+
+    def non_extension_map(self, motion: str, frame: int, lines: list[Line]) -> bytes:
+        """The lines of non-extension of `frame` on the rest body, coloured by that frame's principal strain."""
+        from scipy.spatial import cKDTree
+
+        from hitogata.render import Layer, Lines, png_bytes
+
+        body, clip = self.answers.body, self.answers.clips[motion]
+        values = skin_strain(body.vertices, posture(self.answers, motion, frame)[0], body.faces).strain_max_percent
+        items: list = [Layer(body.vertices, body.faces, colormap="RdBu_r", clim=(-STRAIN_RANGE, STRAIN_RANGE),
+                             scalars=np.clip(np.nan_to_num(values), -STRAIN_RANGE, STRAIN_RANGE),
+                             scalar_title="largest principal strain (%)")]
+        normals = vertex_normals(body.vertices, body.faces)
+        tree = cKDTree(body.vertices)
+        for family, colour in enumerate(FAMILY_COLOURS):
+            chosen = [line.points for line in lines if line.family == family]
+            if chosen:
+                segments = np.concatenate([np.stack([p[:-1], p[1:]], axis=1) for p in chosen])
+                lifted = segments + OUTLINE_LIFT * normals[tree.query(segments)[1]]
+                items.append(Lines(lifted, color=colour, width=OUTLINE_PIXELS))
+        caption = (f"lines of non-extension at t = {clip.times[frame]:.2f} s on the rest body "
+                   f"({len(lines)} lines, {sum(line.length for line in lines):.1f} m)")
+        return png_bytes(self._picture(items, ("front", "back"), caption, LINES_HEIGHT * MAP_WIDTH // HEIGHT,
+                                       LINES_HEIGHT))
 
     def pressure_map(self, motion: str, frame: int) -> bytes:
         """The garment's pressure (mmHg) at `frame` on the skin it covers, front, right side and back."""

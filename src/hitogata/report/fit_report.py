@@ -2,7 +2,8 @@
 
 For a body through motions (`garment.fit.FitAnswers`): the body and its
 measurements; per motion the snapshots, the dynamic-ease table and plot,
-the zone-stretch table and map (front and back, zones outlined), and with a
+the zone-stretch table and map (front and back, zones outlined), the lines
+of non-extension on the rest body, and with a
 stretch garment its pressure table and map; a summary paragraph naming where
 the garment is most at risk, with numbers (`garment.fit.risks`). For a
 population study's results (`hitogata study`): per motion the percentile
@@ -12,7 +13,8 @@ part alone, or both.
 
 `write_fit_report` writes into an existing folder, each file atomically:
 `fit_report.html`, `summary.json` and, as the parts need them,
-`measurements.csv` and `percentiles.csv`; the motion tables (ease, stretch,
+`measurements.csv`, `non_extension.csv` and `.json` (the lines of
+non-extension per motion, `garment.non_extension`) and `percentiles.csv`; the motion tables (ease, stretch,
 pressure) are the command's, written by `hitogata.commands.ease.write_tables`.
 """
 
@@ -30,7 +32,8 @@ from hitogata.export.atomic import write_bytes_atomically
 from hitogata.export.body_files import body_figures
 from hitogata.garment.ease import HEIGHTS, NAMES, MotionEase, overall
 from hitogata.garment.ease_plot import ease_over_time, ease_plot
-from hitogata.garment.fit import FitAnswers, peak_frames, risks
+from hitogata.garment.fit import FitAnswers, peak_frames, posture, risks
+from hitogata.garment.non_extension import Line, body_lines, lines_csv, lines_json
 from hitogata.garment.pressure import MMHG
 from hitogata.garment.stretch import ZoneStretch
 from hitogata.report import html_page as h
@@ -83,6 +86,12 @@ STRETCH_COLUMNS = ("zone", "lengthwise %", "crosswise %", "principal %", "least 
 PRESSURE_COLUMNS = ("level", "largest strain %", "largest mean mmHg", "largest peak mmHg", "peak at s")
 
 
+NON_EXTENSION_NOTE = ("Lines of non-extension: the skin's directions that keep their length at the frame of most "
+                      "stretch, where it stretches one way and shortens the other (Iberall 1964), drawn on the rest "
+                      "body; seams or stiff tapes laid along them do not hinder the motion. Black and green: the two "
+                      "families. The polylines are in non_extension.csv and .json (rest body, mm).")
+
+
 def stretch_rows(stretch: ZoneStretch) -> list[list[object]]:
     colours = zone_colours()
     return [[h.swatch(colours[r["zone"]], label(r["zone"])), _fixed(r["lengthwise_pct"]), _fixed(r["crosswise_pct"]),
@@ -130,22 +139,28 @@ def body_section(answers: FitAnswers) -> tuple[str, str]:
     return head + h.table(("measurement", "standing cm"), rows, id="measurements"), csv
 
 
-def motion_section(answers: FitAnswers, ease: MotionEase, stretch: ZoneStretch, pictures: FitPictures) -> str:
+def motion_section(answers: FitAnswers, ease: MotionEase, stretch: ZoneStretch,
+                   pictures: FitPictures) -> tuple[str, list[Line]]:
+    """One motion's part of the page, and its lines of non-extension (at the frame of most stretch)."""
     motion = ease.motion
     peaks = peak_frames(answers, motion)
+    lines = body_lines(answers.body, posture(answers, motion, peaks.stretch)[0])
     parts = [h.image(pictures.snapshots(motion, sorted({peaks.stretch // 2, peaks.stretch})),
                      f"{label(motion)}: snapshots"),
              h.table(EASE_COLUMNS, ease_rows(ease), id=f"ease-{motion}", caption="dynamic ease (over standing)"),
              h.image(ease_over_time(ease), f"{label(motion)}: change of each girth and length over time"),
              h.table(STRETCH_COLUMNS, stretch_rows(stretch), id=f"stretch-{motion}",
                      caption="fabric stretch per garment zone (95th percentile of the zone, largest over the motion)"),
-             h.image(pictures.stretch_map(motion, peaks.stretch), f"{label(motion)}: stretch map with the zones")]
+             h.image(pictures.stretch_map(motion, peaks.stretch), f"{label(motion)}: stretch map with the zones"),
+             h.paragraph(NON_EXTENSION_NOTE, "note"),
+             h.image(pictures.non_extension_map(motion, peaks.stretch, lines),
+                     f"{label(motion)}: lines of non-extension")]
     if answers.pressure is not None and peaks.pressure is not None:
         times, levels = answers.pressure[motion]
         parts += [h.table(PRESSURE_COLUMNS, pressure_rows(times, levels), id=f"pressure-{motion}",
                           caption="garment pressure per level (Laplace's law, largest over the motion)"),
                   h.image(pictures.pressure_map(motion, peaks.pressure), f"{label(motion)}: pressure map")]
-    return h.section(f"motion-{motion}", label(motion), parts)
+    return h.section(f"motion-{motion}", label(motion), parts), lines
 
 
 def overall_section(answers: FitAnswers) -> str:
@@ -209,11 +224,14 @@ def write_fit_report(folder: str | os.PathLike, answers: FitAnswers | None = Non
         sections.append(("all-motions", "all motions", overall_section(answers)))
         from hitogata.render import Renderer
 
+        lines: dict[str, list[Line]] = {}
         with Renderer() as renderer:
             pictures = FitPictures(answers, renderer)
             for ease, stretch in zip(answers.ease, answers.stretch):
-                sections.append((f"motion-{ease.motion}", label(ease.motion),
-                                 motion_section(answers, ease, stretch, pictures)))
+                html, lines[ease.motion] = motion_section(answers, ease, stretch, pictures)
+                sections.append((f"motion-{ease.motion}", label(ease.motion), html))
+        tables["non_extension.csv"] = lines_csv(lines)
+        tables["non_extension.json"] = json.dumps(lines_json(lines)) + "\n"
     if population is not None:
         tables["percentiles.csv"] = bands_csv(population.bands)
         summary["population"] = {"study": str(population.folder), "failed_tasks": len(population.failures)}
