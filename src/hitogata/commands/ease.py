@@ -129,9 +129,14 @@ def add_motion_arguments(parser: argparse.ArgumentParser, defaults: bool = True)
     parser.add_argument("--skinning", choices=("dqs", "lbs"), default=d["skinning"],
                         help="the surface's source; default dqs")
     parser.add_argument("--rate", type=float, default=d["rate"], help="frames measured per second of motion; default 5")
+    add_garment_arguments(parser, "its pressure through the motions (pressure.csv; with --fabric)")
+
+
+def add_garment_arguments(parser: argparse.ArgumentParser, what: str) -> None:
+    """--garment-ease --fabric: a stretch garment (`garment_from_args` reads them); `what` it is for."""
     parser.add_argument("--garment-ease", default=None,
                         help="a stretch garment this much smaller round than the standing body, e.g. --garment-ease=-15%%: "
-                             "its pressure through the motions (pressure.csv; with --fabric)")
+                             f"{what}")
     parser.add_argument("--fabric", default=None,
                         help="the garment's fabric: a tensile test CSV (docs/garment.md) or a modulus like 400N/m")
 

@@ -43,6 +43,7 @@ FACING = 0.5  # the rest normal's backward (forward) component, across back (fro
 MAIN = 0.5  # a vertex follows a bone group when its weight on it is at least this
 GARMENT_ZONES = ("across_back", "across_front", "shoulder", "upper_arm", "elbow", "seat", "waist", "thigh", "knee")
 PERCENTILE = 0.95
+MAP_RANGE = 50.0  # %: the stretch maps' colour scale (fit report, viewer), the same for every motion
 
 
 @dataclass(frozen=True)

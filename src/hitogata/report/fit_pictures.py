@@ -2,7 +2,7 @@
 
 - snapshots: the skinned body at a motion's frames, front and side;
 - the stretch map: the largest principal skin strain (%) at a frame, front
-  and back, on one scale for every motion (±STRAIN_RANGE), with each garment
+  and back, on one scale for every motion (±MAP_RANGE), with each garment
   zone (`garment.stretch`) outlined in its colour;
 - the lines of non-extension (`garment.non_extension`) of a frame, drawn on
   the rest body coloured by that frame's stretch, front and back;
@@ -26,7 +26,7 @@ from hitogata.garment.fit import FitAnswers, posture
 from hitogata.garment.non_extension import Line
 from hitogata.garment.pressure import MMHG
 from hitogata.garment.pressure_map import pressure_map
-from hitogata.garment.stretch import GARMENT_ZONES, garment_zones
+from hitogata.garment.stretch import GARMENT_ZONES, MAP_RANGE, garment_zones
 from hitogata.geometry.mesh_checks import boundary_edges
 from hitogata.measure.strain import skin_strain
 
@@ -36,7 +36,6 @@ if TYPE_CHECKING:
 SKIN = "#d9b59c"
 HEIGHT = 460  # pixels per view
 MAP_WIDTH = 340  # pixels per view of a map: room for its colour bar
-STRAIN_RANGE = 50.0  # %: the stretch maps' colour scale, the same for every motion (saturates beyond)
 OUTLINE_LIFT = 0.003  # m: zone outlines drawn this far outside the skin, so the surface does not hide them
 OUTLINE_PIXELS = 2.5
 LINES_HEIGHT = 720  # pixels per view of the lines of non-extension: thin lines need room
@@ -79,8 +78,8 @@ class FitPictures:
         body, clip = self.answers.body, self.answers.clips[motion]
         vertices = posture(self.answers, motion, frame)[0]
         values = skin_strain(body.vertices, vertices, body.faces).strain_max_percent
-        items: list = [Layer(vertices, body.faces, scalars=np.clip(np.nan_to_num(values), -STRAIN_RANGE, STRAIN_RANGE),
-                             colormap="RdBu_r", clim=(-STRAIN_RANGE, STRAIN_RANGE),
+        items: list = [Layer(vertices, body.faces, scalars=np.clip(np.nan_to_num(values), -MAP_RANGE, MAP_RANGE),
+                             colormap="RdBu_r", clim=(-MAP_RANGE, MAP_RANGE),
                              scalar_title="largest principal strain (%)")]
         lifted = vertices + OUTLINE_LIFT * vertex_normals(vertices, body.faces)
         colours = zone_colours()
@@ -88,7 +87,7 @@ class FitPictures:
             edges = boundary_edges(body.faces[faces])
             if len(edges):
                 items.append(Lines(lifted[edges], color=colours[zone], width=OUTLINE_PIXELS))
-        caption = f"skin stretch at t = {clip.times[frame]:.2f} s (colours saturate beyond ±{STRAIN_RANGE:.0f} %)"
+        caption = f"skin stretch at t = {clip.times[frame]:.2f} s (colours saturate beyond ±{MAP_RANGE:.0f} %)"
         return png_bytes(self._picture(items, ("front", "back"), caption, MAP_WIDTH))
 
     def non_extension_map(self, motion: str, frame: int, lines: list[Line]) -> bytes:
@@ -99,8 +98,8 @@ class FitPictures:
 
         body, clip = self.answers.body, self.answers.clips[motion]
         values = skin_strain(body.vertices, posture(self.answers, motion, frame)[0], body.faces).strain_max_percent
-        items: list = [Layer(body.vertices, body.faces, colormap="RdBu_r", clim=(-STRAIN_RANGE, STRAIN_RANGE),
-                             scalars=np.clip(np.nan_to_num(values), -STRAIN_RANGE, STRAIN_RANGE),
+        items: list = [Layer(body.vertices, body.faces, colormap="RdBu_r", clim=(-MAP_RANGE, MAP_RANGE),
+                             scalars=np.clip(np.nan_to_num(values), -MAP_RANGE, MAP_RANGE),
                              scalar_title="largest principal strain (%)")]
         normals = vertex_normals(body.vertices, body.faces)
         tree = cKDTree(body.vertices)
