@@ -216,6 +216,14 @@ def test_view_does_not_serve_a_missing_sequence(here, capsys, monkeypatch):
                     "allowed a file (.npz, .toml) or a folder")
 
 
+def test_view_needs_the_whole_garment_before_serving(here, capsys, monkeypatch):
+    import hitogata.viewer.app as app
+
+    monkeypatch.setattr(app, "serve", lambda *_, **__: pytest.fail("served"))
+    line = mistake(["view", "--garment-ease=-15%"], capsys)
+    assert line == "hitogata: error: --garment-ease and --fabric: give both (e.g. --garment-ease -15% --fabric 400N/m)"
+
+
 def test_body_options_that_do_not_apply_are_refused(here, capsys):
     (here / "body.glb").write_bytes(b"glTF")
     line = mistake(["measure", "body.glb", "--stature", "180cm", "--out", "report"], capsys)
