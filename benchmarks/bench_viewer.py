@@ -127,7 +127,7 @@ def main() -> None:
         app.wait_idle()
         frame = app.frame
         t_measure = statistics.median(_times(lambda: measurement_table(body, frame), 10))
-        t_strain = statistics.median(_times(lambda: app.colouring.colours(frame.vertices), 10))
+        t_strain = statistics.median(_times(lambda: app.colouring.colours("skin strain", frame.vertices, frame.rig_joints), 10))
         print(f"  measurement table (12 ISO 8559-1 measurements): {1e3 * t_measure:.0f} ms")
         print(f"  strain colours (per-triangle strain -> vertex colours): {1e3 * t_strain:.0f} ms")
         drain(client)

@@ -102,6 +102,8 @@ FOLDER_COMMANDS = {
     "modes": ["modes", "--pictures", "0"],
     "simulate": ["simulate", "rectus_stretch"],
     "demo": ["demo"],
+    "fit-report": ["fit-report", "--motions", "reach"],
+    "ease": ["ease", "--motions", "reach"],
 }
 FILE_COMMANDS = {
     "body": (["body"], ".glb"),
@@ -141,6 +143,22 @@ def test_an_output_that_cannot_be_written_is_refused_before_the_work(here, capsy
     argv, suffix = FILE_COMMANDS.get(command, (FOLDER_COMMANDS.get(command), ""))
     line = mistake([*argv, "--out", f"/proc/x{suffix}"], capsys)
     assert line.startswith(f"hitogata: error: --out /proc/x{suffix}: cannot write in /proc")
+    assert files_in(here) == []
+
+
+def test_ease_writes_through_a_staging_folder(here, capsys, monkeypatch):
+    """`hitogata ease` as every folder command: into a hidden staging folder, nothing left when it fails."""
+    import hitogata.commands.ease as ease
+
+    def stop(args):
+        assert [p.name for p in here.iterdir()] == [args.workdir.name] and args.workdir.name.startswith(".out.partial")
+        raise HitogataError("stopped in the middle")
+
+    monkeypatch.setattr(ease, "body_from_args", stop)
+    assert mistake(["ease", "--motions", "reach", "--out", "out"], capsys) == "hitogata: error: stopped in the middle"
+    assert files_in(here) == []
+    line = mistake(["ease", "--motions", "nowhere"], capsys)  # the default --out ease/ is checked as well
+    assert line.startswith("hitogata: error: --motions: 'nowhere'; allowed")
     assert files_in(here) == []
 
 
@@ -196,6 +214,14 @@ def test_view_does_not_serve_a_missing_sequence(here, capsys, monkeypatch):
     line = mistake(["view", "--play", "missing.npz"], capsys)
     assert line == ("hitogata: error: argument --play: missing.npz: no such file or folder; "
                     "allowed a file (.npz, .toml) or a folder")
+
+
+def test_view_needs_the_whole_garment_before_serving(here, capsys, monkeypatch):
+    import hitogata.viewer.app as app
+
+    monkeypatch.setattr(app, "serve", lambda *_, **__: pytest.fail("served"))
+    line = mistake(["view", "--garment-ease=-15%"], capsys)
+    assert line == "hitogata: error: --garment-ease and --fabric: give both (e.g. --garment-ease -15% --fabric 400N/m)"
 
 
 def test_body_options_that_do_not_apply_are_refused(here, capsys):

@@ -19,7 +19,7 @@ REPO = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(REPO / "tools"))
 from readme_examples import SERVERS, examples, run  # noqa: E402
 
-LONG = ("modes", "simulate", "demo", "study", "ease")
+LONG = ("modes", "simulate", "demo", "study", "ease", "fit-report")
 
 
 def outputs(argv: list[str]) -> str | None:
@@ -55,7 +55,7 @@ def test_the_quick_examples_run_in_order(tmp_path, worktree_python_path):
 
 
 @pytest.mark.skipif(os.environ.get("HITOGATA_README_ALL") != "1",
-                    reason="the long examples (modes, simulate, demo, study, ease) take minutes: HITOGATA_README_ALL=1")
+                    reason="the long examples (modes, simulate, demo, study, ease, fit-report) take minutes: HITOGATA_README_ALL=1")
 def test_all_examples_run_in_order(tmp_path, worktree_python_path):
     done = run(tmp_path)
     assert len(done) == len(examples()) - len(SERVERS)

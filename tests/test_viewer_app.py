@@ -13,6 +13,9 @@ pytest.importorskip("viser", reason="the viewer needs viser (pip install viser)"
 
 from hitogata.errors import HitogataError  # noqa: E402
 from hitogata.viewer import serve  # noqa: E402
+from hitogata.garment.fabric import Fabric  # noqa: E402
+from hitogata.garment.pressure import Garment  # noqa: E402
+from hitogata.viewer.colouring import SKIN_RGB  # noqa: E402
 from hitogata.viewer.player import RESULT_FILE  # noqa: E402
 from waiting import PATIENCE, wait_for  # noqa: E402
 
@@ -116,6 +119,59 @@ def test_strain_and_tissue_layers(app):
     np.testing.assert_allclose(handle.vertices, surface.posed(app.state.posed.pose), atol=1e-5)
     app.set_layer("tissue", False)
     assert not any(h.visible for _, h in app.scene.tissue)
+
+
+def test_the_colour_map_choice_is_shown_and_a_missing_garment_is_a_message(app):
+    assert app.panels.colour_map.options == ("skin strain", "zone stretch")
+    app.move_muscle("iliopsoas_r", 30.0)
+    app.set_colour_map("zone stretch")
+    assert app.wait_idle(PATIENCE) and app.scene.strain.visible and app.panels.colours.value
+    frame = app.frame
+    np.testing.assert_array_equal(app.scene.strain_colours,
+                                  app.colouring.colours("zone stretch", frame.vertices, frame.rig_joints))
+    outside = ~app.colouring.in_zones()
+    assert (app.scene.strain_colours[outside] == SKIN_RGB).all() and "fit report's scale" in app.panels.legend.content
+    app.set_colour_map("pressure")
+    assert app.panels.message.content.startswith("**Error:** colour map 'pressure' (pressure needs a garment")
+    assert app.colour_map == "zone stretch"
+    app.set_colour_map("skin strain")
+    app.set_layer("strain", False)
+
+
+@pytest.fixture(scope="module")
+def dressed(female):
+    """A viewer with a stretch garment: 15 % smaller round than the standing body, 400 N/m."""
+    viewer = serve(female, port=0, garment=(Garment(ease=-0.15), Fabric.linear(400.0)))
+    yield viewer
+    viewer.stop()
+
+
+def test_the_pressure_map_follows_the_played_motion(dressed, tmp_path):
+    """Played to its end (a knee bending to 70°), the colours are the last frame's pressure; scrubbed back, the
+    rest's. The map is state: what `SkinColours` gives for the shown frame (no timing is asserted)."""
+    app = dressed
+    assert app.panels.colour_map.options == ("skin strain", "zone stretch", "pressure")
+    poser = app.state.poser
+    q = np.zeros((6, poser.skeleton.n_dofs))
+    q[:, poser.skeleton.dof_index("shank_r.flexion")] = np.linspace(0.0, 1.2, 6)
+    np.savez(tmp_path / RESULT_FILE, times=np.linspace(0.0, 0.2, 6), vertices=poser.pose_many(q), angles=q)
+    app.load_sequence(str(tmp_path))
+    app.set_colour_map("pressure")
+    assert "mmHg" in app.panels.legend.content
+    app.play()
+    assert app.wait_playback(timeout=PATIENCE) and app.wait_idle(PATIENCE)
+    last = app.frame
+    bent = app.colouring.values("pressure", last.vertices, last.rig_joints)
+    np.testing.assert_array_equal(app.scene.strain_colours,
+                                  app.colouring.colours("pressure", last.vertices, last.rig_joints))
+    app.scrub(0.0)
+    assert app.wait_idle(PATIENCE)
+    rest = app.colouring.values("pressure", app.frame.vertices, app.frame.rig_joints)
+    np.testing.assert_array_equal(app.scene.strain_colours,
+                                  app.colouring.colours("pressure", app.frame.vertices, app.frame.rig_joints))
+    knee = np.isfinite(bent) & np.isfinite(rest)
+    assert (round(np.nanmax(bent), 1), round(np.nanmax(rest), 1), int(knee.sum())) == (32.0, 25.4, 807)  # mmHg
+    assert np.isnan(rest).sum() > len(rest) // 2  # the stocking covers the right leg only
 
 
 def test_snapshot_html_is_self_contained(app):

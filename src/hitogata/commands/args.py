@@ -47,9 +47,14 @@ def add_body_arguments(parser: argparse.ArgumentParser) -> None:
                         help="0..1, 0.5 = average")
 
 
+def body_options_given(args: argparse.Namespace) -> list[str]:
+    """The body options given a value other than their default."""
+    return [option for option, (name, default) in BODY_DEFAULTS.items() if getattr(args, name) != default]
+
+
 def refuse_body_options(args: argparse.Namespace, why: str) -> None:
     """A one-line error if a body option was given where it does not apply (it would be silently ignored)."""
-    given = [option for option, (name, default) in BODY_DEFAULTS.items() if getattr(args, name) != default]
+    given = body_options_given(args)
     if given:
         value = getattr(args, BODY_DEFAULTS[given[0]][0])
         raise HitogataError(f"{given[0]} {value}: does not apply here ({why}); leave out {', '.join(given)}")

@@ -4,26 +4,33 @@ from __future__ import annotations
 
 import argparse
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from hitogata import units
 from hitogata.commands.args import add_body_arguments
 from hitogata.commands.body import body_from_args
-from hitogata.dynamics.scenario import load_scenario, shipped_scenarios
+from hitogata.commands.paths import add_output
+from hitogata.dynamics.scenario import Scenario, load_scenario, shipped_scenarios
 from hitogata.errors import HitogataError
 from hitogata.export.atomic import write_bytes_atomically
-from hitogata.garment.ease import dynamic_ease, ease_csv, ease_json, overall, skinned_surface
+from hitogata.garment.ease import ease_csv, ease_json, overall, skinned_surface
 from hitogata.garment.fabric import Fabric, read_fabric_csv
+from hitogata.garment.fit import FitAnswers, fit_answers
 from hitogata.garment.pressure import Garment
-from hitogata.garment.pressure_motion import pressure_csv, pressure_series
-from hitogata.garment.stretch import stretch_csv, stretch_table
+from hitogata.garment.pressure_motion import pressure_csv
+from hitogata.garment.stretch import stretch_csv
 from hitogata.motion.clip import scenario_clip
 from hitogata.pose import poser_for
+
+if TYPE_CHECKING:
+    from hitogata.body import Body
 
 DEFAULT_MOTIONS = "reach_forward,arms_crossed,arms_overhead,sit,deep_squat,stride,toe_touch,trunk_twist"
 
 
 def scenario_path(name: str) -> Path:
-    """A shipped scenario by name (with or without 'mobility_') or a scenario file."""
+    """A shipped scenario by name (with or without 'mobility_'), a short name that starts one word of
+    exactly one mobility motion's name ('reach', 'squat', 'cross'), or a scenario file."""
     shipped = shipped_scenarios()
     for candidate in (name, f"mobility_{name}"):
         if candidate in shipped:
@@ -31,7 +38,24 @@ def scenario_path(name: str) -> Path:
     if Path(name).suffix == ".toml":
         return Path(name)
     mobility = sorted(n.removeprefix("mobility_") for n in shipped if n.startswith("mobility_"))
-    raise HitogataError(f"--motions: {name!r}; allowed a scenario file (.toml) or {', '.join(mobility)}")
+    short = [m for m in mobility if name and any(word.startswith(name) for word in m.split("_"))]
+    if len(short) == 1:
+        return shipped[f"mobility_{short[0]}"]
+    why = f" (stands for {' and '.join(short)})" if short else ""
+    raise HitogataError(f"--motions: {name!r}{why}; allowed a scenario file (.toml) or {', '.join(mobility)}")
+
+
+def motion_name(path: Path) -> str:
+    """The name a motion goes by in the tables: the scenario file's stem without 'mobility_'."""
+    return path.stem.removeprefix("mobility_")
+
+
+def load_motions(text: str) -> dict[str, Scenario]:
+    """The scenarios of a comma-separated --motions, all loaded (and so checked) before any long work."""
+    names = [n.strip() for n in text.split(",") if n.strip()]
+    if not names:
+        raise HitogataError(f"--motions {text!r}: allowed comma-separated motion names or scenario files")
+    return {motion_name(path): load_scenario(path) for path in map(scenario_path, names)}
 
 
 def garment_from_args(args: argparse.Namespace) -> tuple[Garment, Fabric] | None:
@@ -48,51 +72,78 @@ def garment_from_args(args: argparse.Namespace) -> tuple[Garment, Fabric] | None
     return Garment(ease=ease), fabric
 
 
+def checked_inputs(args: argparse.Namespace) -> tuple[dict[str, Scenario], tuple[Garment, Fabric] | None]:
+    """The motions and the garment of the shared options, checked before any long work."""
+    scenarios = load_motions(args.motions)
+    if not (args.rate > 0):
+        raise HitogataError(f"--rate {args.rate}: allowed frames per second > 0")
+    return scenarios, garment_from_args(args)
+
+
+def compute(args: argparse.Namespace, body: Body, scenarios: dict[str, Scenario],
+            garment: tuple[Garment, Fabric] | None) -> FitAnswers:
+    """The fit answers of `body` through the scenarios' motions, with the options' surface and rate."""
+    poser = poser_for(body)
+    clips = {name: scenario_clip(s, poser) for name, s in scenarios.items()}
+    return fit_answers(body, clips, skinned_surface(body, args.skinning), args.rate, garment)
+
+
+def write_tables(answers: FitAnswers, folder: Path) -> list[str]:
+    """ease.csv, ease.json, stretch.csv and, with a garment, pressure.csv in `folder`; the names written."""
+    tables = {"ease.csv": ease_csv(answers.ease), "ease.json": ease_json(answers.ease),
+              "stretch.csv": stretch_csv(answers.stretch)}
+    if answers.pressure is not None:
+        tables["pressure.csv"] = pressure_csv(dict(answers.pressure))
+    for name, text in tables.items():
+        write_bytes_atomically(folder / name, text.encode())
+    return list(tables)
+
+
 def run(args: argparse.Namespace) -> None:
     from hitogata.garment.ease_plot import ease_plot
 
-    out = Path(args.out)
-    names = [n.strip() for n in args.motions.split(",") if n.strip()]
-    paths = {Path(n).stem.removeprefix("mobility_"): scenario_path(n) for n in names}
-    scenarios = {name: load_scenario(path) for name, path in paths.items()}  # all checked before the long work
-    if not (args.rate > 0):
-        raise HitogataError(f"--rate {args.rate}: allowed frames per second > 0")
-    garment = garment_from_args(args)
-    out.mkdir(parents=True, exist_ok=True)
+    out, folder = Path(args.out), args.workdir  # written into the staging folder, renamed to --out at the end
+    scenarios, garment = checked_inputs(args)
     body = body_from_args(args)
-    poser = poser_for(body)
-    clips = {name: scenario_clip(s, poser) for name, s in scenarios.items()}
-    surface = skinned_surface(body, args.skinning)
-    results = dynamic_ease(body, clips, surface, args.rate)
-    stretch = stretch_table(body, clips, surface, args.rate)
-    write_bytes_atomically(out / "ease.csv", ease_csv(results).encode())
-    write_bytes_atomically(out / "ease.json", ease_json(results).encode())
-    write_bytes_atomically(out / "ease.png", ease_plot(results, f"dynamic ease: {body.stature * 100:.0f} cm, "
-                                                                 f"{body.mass:.0f} kg"))
-    write_bytes_atomically(out / "stretch.csv", stretch_csv(stretch).encode())
-    written = "ease.csv, ease.json, ease.png, stretch.csv"
-    if garment is not None:
-        series = {name: pressure_series(body, *garment, clip, surface, args.rate) for name, clip in clips.items()}
-        write_bytes_atomically(out / "pressure.csv", pressure_csv(series).encode())
-        written += ", pressure.csv"
-    print(f"{out}/: {written} ({len(results)} motions)")
-    for row in overall(results):
+    answers = compute(args, body, scenarios, garment)
+    written = write_tables(answers, folder)
+    write_bytes_atomically(folder / "ease.png", ease_plot(answers.ease, f"dynamic ease: {body.stature * 100:.0f} cm, "
+                                                                     f"{body.mass:.0f} kg"))
+    print(f"{out}/: {', '.join([*written, 'ease.png'])} ({len(answers.ease)} motions)")
+    for row in overall(answers.ease):
         if row["increase_cm"] > 0.05 or row["decrease_cm"] < -0.05:
             print(f"  {row['measurement']:20s} {row['standing_cm']:6.1f} cm  +{row['increase_cm']:5.1f} "
                   f"({row['increase_in']})  {row['decrease_cm']:6.1f} ({row['decrease_in']})")
 
 
+MOTION_DEFAULTS = {"motions": DEFAULT_MOTIONS, "skinning": "dqs", "rate": 5.0}
+
+
+def add_motion_arguments(parser: argparse.ArgumentParser, defaults: bool = True) -> None:
+    """--motions --skinning --rate --garment-ease --fabric: the motions and the garment, as `ease` takes them.
+    `defaults=False`: left None when not given (MOTION_DEFAULTS says what they stand for)."""
+    d = {name: value if defaults else None for name, value in MOTION_DEFAULTS.items()}
+    parser.add_argument("--motions", default=d["motions"],
+                        help="comma-separated shipped motions (short names like reach, squat, cross will do) or "
+                             f"scenario files; default {DEFAULT_MOTIONS}")
+    parser.add_argument("--skinning", choices=("dqs", "lbs"), default=d["skinning"],
+                        help="the surface's source; default dqs")
+    parser.add_argument("--rate", type=float, default=d["rate"], help="frames measured per second of motion; default 5")
+    add_garment_arguments(parser, "its pressure through the motions (pressure.csv; with --fabric)")
+
+
+def add_garment_arguments(parser: argparse.ArgumentParser, what: str) -> None:
+    """--garment-ease --fabric: a stretch garment (`garment_from_args` reads them); `what` it is for."""
+    parser.add_argument("--garment-ease", default=None,
+                        help="a stretch garment this much smaller round than the standing body, e.g. --garment-ease=-15%%: "
+                             f"{what}")
+    parser.add_argument("--fabric", default=None,
+                        help="the garment's fabric: a tensile test CSV (docs/garment.md) or a modulus like 400N/m")
+
+
 def register(sub: argparse._SubParsersAction) -> None:
     parser = sub.add_parser("ease", help="dynamic ease: each girth and length through mobility motions")
     add_body_arguments(parser)
-    parser.add_argument("--motions", default=DEFAULT_MOTIONS,
-                        help=f"comma-separated shipped motions or scenario files; default {DEFAULT_MOTIONS}")
-    parser.add_argument("--skinning", choices=("dqs", "lbs"), default="dqs", help="the surface's source; default dqs")
-    parser.add_argument("--rate", type=float, default=5.0, help="frames measured per second of motion; default 5")
-    parser.add_argument("--garment-ease", default=None,
-                        help="a stretch garment this much smaller round than the standing body, e.g. --garment-ease=-15%%: "
-                             "its pressure through the motions (pressure.csv; with --fabric)")
-    parser.add_argument("--fabric", default=None,
-                        help="the garment's fabric: a tensile test CSV (docs/garment.md) or a modulus like 400N/m")
-    parser.add_argument("--out", default="ease", help="output folder; default ./ease")
+    add_motion_arguments(parser)
+    add_output(parser, "folder", "output folder (a new or empty folder); default ./ease", default="ease")
     parser.set_defaults(run=run)

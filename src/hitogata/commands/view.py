@@ -8,6 +8,7 @@ import time
 
 from hitogata.commands.args import add_body_arguments
 from hitogata.commands.body import body_from_args
+from hitogata.commands.ease import add_garment_arguments, garment_from_args
 from hitogata.commands.paths import input_path
 
 
@@ -36,8 +37,9 @@ def run(args: argparse.Namespace) -> None:
     from hitogata.viewer.app import check_host, serve  # needs viser: only when a viewer starts
 
     check_host(args.host)  # before the body is built: a wrong address fails at once
+    garment = garment_from_args(args)
     body = body_from_args(args)
-    app = serve(body, host=args.host, port=args.port)
+    app = serve(body, host=args.host, port=args.port, garment=garment)
     if args.play:
         try:
             app.open_sequence(str(args.play))  # a broken file ends the command: nothing is served
@@ -63,4 +65,5 @@ def register(sub: argparse._SubParsersAction) -> None:
     parser.add_argument("--port", type=port_number, default=8080, help="port; default 8080 (the next free one if taken)")
     parser.add_argument("--play", default=None, type=input_path("file", "folder", suffixes=(".npz", ".toml")),
                         help="a sequence (.npz), pose keyframes (.toml) or a results folder to load")
+    add_garment_arguments(parser, "the skin's pressure colour map (with --fabric)")
     parser.set_defaults(run=run)

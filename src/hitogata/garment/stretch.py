@@ -42,6 +42,7 @@ FACING = 0.5  # the rest normal's backward (forward) component, across back (fro
 MAIN = 0.5  # a vertex follows a bone group when its weight on it is at least this
 GARMENT_ZONES = ("across_back", "across_front", "shoulder", "upper_arm", "elbow", "seat", "waist", "thigh", "knee")
 PERCENTILE = 0.95
+MAP_RANGE = 50.0  # %: the stretch maps' colour scale (fit report, viewer), the same for every motion
 
 
 @dataclass(frozen=True)
@@ -142,7 +143,8 @@ def directional_strain(rest: np.ndarray, posed: np.ndarray, faces: np.ndarray, d
     return np.linalg.norm(e1 @ coords, axis=(1, 2)) - 1.0
 
 
-def _percentile(values: np.ndarray, area: np.ndarray, q: float) -> float:
+def area_percentile(values: np.ndarray, area: np.ndarray, q: float) -> float:
+    """The area-weighted `q` quantile (0..1) of per-face values."""
     order = np.argsort(values)
     cumulative = np.cumsum(area[order]) / area.sum()
     return float(values[order][min(np.searchsorted(cumulative, q), len(values) - 1)])
@@ -169,9 +171,9 @@ def zone_stretch(body: Body, name: str, clip: MotionClip, surface: Surface | Non
         for k, zone in enumerate(names):
             faces = zones[zone]
             for key, values in strains.items():
-                out[key][k] = max(out[key][k], 100 * _percentile(values[faces], area[faces], PERCENTILE))
+                out[key][k] = max(out[key][k], 100 * area_percentile(values[faces], area[faces], PERCENTILE))
             for key in ("l", "c"):
-                low[key][k] = min(low[key][k], 100 * _percentile(strains[key][faces], area[faces], 1 - PERCENTILE))
+                low[key][k] = min(low[key][k], 100 * area_percentile(strains[key][faces], area[faces], 1 - PERCENTILE))
     return ZoneStretch(name, names, out["l"], out["c"], out["p"], low["l"], low["c"])
 
 

@@ -30,7 +30,7 @@ Describe what to draw as plain data, render it from named views, save PNGs::
   window open from call to call (an animation's frames); close it or use `with`.
   `supersample=1` skips the edge smoothing (~2.6x cheaper on software OpenGL).
 - `side_by_side(images, gap, background)`, `titled(image, title)` (a band with a
-  centred title on top), `save_png(path, image)` (atomic).
+  centred title on top), `save_png(path, image)` (atomic), `png_bytes(image)`.
 - `hitogata.render.figures.skeleton_items(posed, skin=, muscles=, other_muscles=)`:
   the items of the paper's Fig. 3(a) for a `PosedBody`.
 
@@ -41,7 +41,7 @@ gives when they are missing. pyvista is imported only when rendering.
 """
 
 from hitogata.render.gl_check import ensure_offscreen_gl
-from hitogata.render.images import save_png, side_by_side, titled
+from hitogata.render.images import png_bytes, save_png, side_by_side, titled
 from hitogata.render.offscreen import Renderer, render_views
 from hitogata.render.scene import Layer, Lines, Points
 from hitogata.render.views import VIEWS, View
@@ -54,6 +54,7 @@ __all__ = [
     "Renderer",
     "View",
     "ensure_offscreen_gl",
+    "png_bytes",
     "render_views",
     "save_png",
     "side_by_side",

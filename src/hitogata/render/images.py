@@ -60,11 +60,16 @@ def titled(image: np.ndarray, title: str, background: Color = "white", color: Co
     return np.concatenate([np.asarray(band), a], axis=0)
 
 
+def png_bytes(image: np.ndarray) -> bytes:
+    """An (H, W, 3|4) uint8 image as PNG bytes."""
+    buffer = io.BytesIO()
+    imsave(buffer, _image(image, "png image"), format="png")
+    return buffer.getvalue()
+
+
 def save_png(path: str | os.PathLike, image: np.ndarray) -> Path:
     """Write an (H, W, 3|4) uint8 image as PNG, atomically; return the path."""
     path = Path(path)
     if path.suffix.lower() != ".png":
         raise HitogataError(f"{path}: save_png writes .png files only, got suffix {path.suffix!r}")
-    buffer = io.BytesIO()
-    imsave(buffer, _image(image, "save_png image"), format="png")
-    return write_bytes_atomically(path, buffer.getvalue())
+    return write_bytes_atomically(path, png_bytes(image))

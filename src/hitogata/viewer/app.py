@@ -25,7 +25,7 @@ from hitogata.body import Body
 from hitogata.errors import HitogataError
 from hitogata.export.body_files import body_figures
 from hitogata.measure import measure
-from hitogata.viewer.colouring import StrainColouring
+from hitogata.viewer.colouring import SkinColours, legend
 from hitogata.viewer.export import pose_glb, snapshot_html
 from hitogata.viewer.frame import Frame, posed_frame, sequence_frame
 from hitogata.viewer.panels import build_panels
@@ -38,6 +38,9 @@ from hitogata.volume import build_trunk_model
 
 if TYPE_CHECKING:
     import viser
+
+    from hitogata.garment.fabric import Fabric
+    from hitogata.garment.pressure import Garment
 
 PLAYBACK_TICK = 1.0 / 30.0  # s between shown frames while playing
 MEASURE_DELAY = 0.03  # s: the skin update goes out before the measurements start (see Worker)
@@ -75,13 +78,16 @@ def figures_text(body: Body) -> str:
 class ViewerApp:
     """The viewer of one body on a running viser server."""
 
-    def __init__(self, server: "viser.ViserServer", body: Body) -> None:
+    def __init__(self, server: "viser.ViserServer", body: Body,
+                 garment: "tuple[Garment, Fabric] | None" = None) -> None:
         self.server = server
         server.gui.configure_theme(control_width="large", show_share_button=False)  # no tunnel off this machine
         self.lock = threading.RLock()
         self.state = PoseState(body)
         self.frame = posed_frame(self.state.posed)
-        self.colouring = StrainColouring(body.vertices, body.faces)
+        self.garment = garment
+        self.colouring = SkinColours(body, garment)
+        self.colour_map = "skin strain"
         self.sequence: Sequence | None = None
         self.clock: Clock | None = None
         self.showing_sequence = False
@@ -91,7 +97,7 @@ class ViewerApp:
         self._aim_camera(body)
         inputs = {"sex": "male" if body.params.sex >= 0.5 else "female", "age": body.params.age,
                   "stature_cm": round(body.stature * 100, 1), "mass_kg": round(body.mass, 1)}
-        self.panels = build_panels(server.gui, self.state, inputs, self)
+        self.panels = build_panels(server.gui, self.state, inputs, self, self.colouring.maps)
         self.panels.figures.content = figures_text(body)
         self.measurer = Worker(self._measure, "measurements", self._fail, delay=MEASURE_DELAY)
         self.painter = Worker(self._paint_strain, "strain colours", self._fail)
@@ -128,9 +134,9 @@ class ViewerApp:
 
     def _paint_strain(self) -> None:
         with self.lock:
-            frame, colouring = self.frame, self.colouring
-        colours = colouring.colours(frame.vertices)
-        with self.lock:
+            frame, colouring, name = self.frame, self.colouring, self.colour_map
+        colours = colouring.colours(name, frame.vertices, frame.rig_joints)
+        with self.lock:  # a newer frame or map has requested its own run meanwhile (`show`, `set_colour_map`)
             self.scene.show_strain(frame.vertices, colours)
 
     def _echo_sliders(self, moved: str | None = None) -> None:
@@ -170,7 +176,7 @@ class ViewerApp:
                     raise HitogataError(f"{label} {value!r}: allowed a number")
             self.say(f"building a body of {stature_cm:g} cm, {mass_kg:g} kg…")
             body = Body.from_measurements(sex, float(age), float(stature_cm) / 100.0, float(mass_kg))
-            colouring = StrainColouring(body.vertices, body.faces)
+            colouring = SkinColours(body, self.garment)
             with self.lock:
                 self._drop_sequence()
                 posed = self.state.set_body(body)
@@ -201,6 +207,19 @@ class ViewerApp:
                 self.painter.request()
             if layer == "tissue" and on and self._tissue_for is not self.state.body:
                 self._build_tissue()
+
+    @reported
+    def set_colour_map(self, name: str) -> None:
+        """Colour the skin by map `name` (`viewer.colouring.MAPS`); the colour layer is turned on."""
+        with self.lock:
+            if name not in self.colouring.maps:
+                self.colouring.values(name, self.frame.vertices, self.frame.rig_joints)  # its one-line error
+            self.colour_map = name
+            self.panels.legend.content = legend(name)
+            self.panels.colour_map.value = name
+            self.panels.colours.value = True
+            self.scene.set_layer("strain", True)
+            self.painter.request()
 
     @reported
     def set_skin_opacity(self, opacity: float) -> None:
@@ -361,12 +380,14 @@ def check_host(host: str) -> None:
         raise HitogataError(f"host {host!r}: cannot listen there ({exc.strerror or exc}); e.g. 127.0.0.1") from None
 
 
-def serve(body: Body, host: str = "127.0.0.1", port: int = 8080) -> ViewerApp:
-    """Start a viewer of `body` on host:port (the next free port if taken); returns the running app."""
+def serve(body: Body, host: str = "127.0.0.1", port: int = 8080,
+          garment: "tuple[Garment, Fabric] | None" = None) -> ViewerApp:
+    """Start a viewer of `body` on host:port (the next free port if taken); returns the running app.
+    `garment`: a stretch garment and its fabric, for the pressure colour map."""
     try:
         import viser
     except ImportError:
         raise HitogataError("the viewer needs viser: pip install viser") from None
     check_host(host)
     server = viser.ViserServer(host=host, port=port, label="hitogata", verbose=False)
-    return ViewerApp(server, body)
+    return ViewerApp(server, body, garment)

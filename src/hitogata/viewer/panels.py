@@ -31,6 +31,7 @@ class Actions(Protocol):
     def reset_pose(self) -> None: ...
     def rebuild_body(self, sex: str, age: float, stature_cm: float, mass_kg: float) -> None: ...
     def set_layer(self, layer: str, on: bool) -> None: ...
+    def set_colour_map(self, name: str) -> None: ...
     def set_skin_opacity(self, opacity: float) -> None: ...
     def load_sequence(self, path: str) -> None: ...
     def play(self) -> None: ...
@@ -55,6 +56,9 @@ class Panels:
     rebuild: "viser.GuiButtonHandle"
     figures: "viser.GuiMarkdownHandle"
     tissue: "viser.GuiCheckboxHandle"
+    colours: "viser.GuiCheckboxHandle"
+    colour_map: "viser.GuiDropdownHandle"
+    legend: "viser.GuiMarkdownHandle"
     sequence_path: "viser.GuiTextHandle"
     sequence_info: "viser.GuiMarkdownHandle"
     time: "viser.GuiSliderHandle"
@@ -76,8 +80,10 @@ def by_person(handler: Callable[[Any], None]) -> Callable[[Any], None]:
     return run
 
 
-def build_panels(gui: "viser.GuiApi", state: PoseState, body_inputs: dict[str, Any], actions: Actions) -> Panels:
-    """Make every widget and wire it to `actions`; body_inputs: sex, age, stature_cm, mass_kg to show."""
+def build_panels(gui: "viser.GuiApi", state: PoseState, body_inputs: dict[str, Any], actions: Actions,
+                 colour_maps: tuple[str, ...]) -> Panels:
+    """Make every widget and wire it to `actions`; body_inputs: sex, age, stature_cm, mass_kg to show;
+    colour_maps: the skin's colour maps to offer (`viewer.colouring.SkinColours.maps`)."""
     message = gui.add_markdown("")
     with gui.add_folder("Measurements"):
         measurements = gui.add_markdown("measuring…")
@@ -87,12 +93,12 @@ def build_panels(gui: "viser.GuiApi", state: PoseState, body_inputs: dict[str, A
     with tabs.add_tab("Body"):
         body_widgets = _body_tab(gui, body_inputs, actions)
     with tabs.add_tab("Layers"):
-        tissue = _layers_tab(gui, actions)
+        layer_widgets = _layers_tab(gui, actions, colour_maps)
     with tabs.add_tab("Player"):
         player_widgets = _player_tab(gui, actions)
     with tabs.add_tab("Export"):
         _export_tab(gui, actions)
-    return Panels(message, measurements, sliders, *body_widgets, tissue, *player_widgets)
+    return Panels(message, measurements, sliders, *body_widgets, *layer_widgets, *player_widgets)
 
 
 def _muscle_tab(gui: "viser.GuiApi", state: PoseState, actions: Actions) -> dict[str, "viser.GuiSliderHandle"]:
@@ -129,21 +135,25 @@ def _body_tab(gui: "viser.GuiApi", inputs: dict[str, Any], actions: Actions) -> 
     return sex, age, stature, mass, rebuild, figures
 
 
-def _layers_tab(gui: "viser.GuiApi", actions: Actions) -> "viser.GuiCheckboxHandle":
+def _layers_tab(gui: "viser.GuiApi", actions: Actions, colour_maps: tuple[str, ...]) -> tuple[Any, Any, Any, Any]:
     checks = {
         "skin": gui.add_checkbox("skin", True),
         "skeleton": gui.add_checkbox("skeleton (65 parts)", True, hint="inside the skin: lower the skin opacity"),
         "tissue": gui.add_checkbox("tissue regions (trunk)", False,
                                    hint="nested shells: bone, viscera, muscle; built on first use (a few seconds); "
                                         "inside the skin: lower the skin opacity"),
-        "strain": gui.add_checkbox("skin strain colours", False),
+        "strain": gui.add_checkbox("skin colours", False, hint="the colour map below, on the skin"),
     }
+    colour_map = gui.add_dropdown("colour map", colour_maps, initial_value=colour_maps[0],
+                                  hint="zone stretch: the fit report's zones and scale; pressure: the garment's "
+                                       "(hitogata view --garment-ease … --fabric …)")
+    colour_map.on_update(by_person(lambda event: actions.set_colour_map(event.target.value)))
     for layer, check in checks.items():
         check.on_update(by_person(partial(_set_layer, actions, layer)))
     opacity = gui.add_slider("skin opacity", min=0.1, max=1.0, step=0.05, initial_value=1.0)
     opacity.on_update(by_person(lambda event: actions.set_skin_opacity(event.target.value)))
-    gui.add_markdown(legend())
-    return checks["tissue"]
+    key = gui.add_markdown(legend(colour_maps[0]))
+    return checks["tissue"], checks["strain"], colour_map, key
 
 
 def _player_tab(gui: "viser.GuiApi", actions: Actions) -> tuple[Any, Any, Any]:

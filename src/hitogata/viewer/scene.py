@@ -50,6 +50,7 @@ class SceneView:
             "/body/skeleton", self._bones(frame), colors=BONE_LINE_COLOUR, thickness=BONE_LINE_THICKNESS
         )
         self.strain: viser.GlbHandle | None = None
+        self.strain_colours: np.ndarray | None = None  # (V, 3) uint8: the colours last shown
         self.tissue: list[tuple[TissueSurface, viser.MeshHandle]] = []
 
     @staticmethod
@@ -92,7 +93,8 @@ class SceneView:
         self.skin.opacity = float(opacity)
 
     def show_strain(self, vertices: np.ndarray, colours: np.ndarray) -> None:
-        """Show the strain-coloured surface (a GLB, re-sent whole)."""
+        """Show the colour-mapped surface (a GLB, re-sent whole)."""
+        self.strain_colours = colours
         data = coloured_glb(vertices, self.faces, colours)
         visible = self.layers["skin"] and self.layers["strain"]
         if self.strain is None:
