@@ -59,7 +59,9 @@ RESIDUAL_UNIT = 0.1  # residuals are counted in tenths of an allowance
 MET = 1.0  # residual units: the solve stops once every measurement is this close (a tenth of its allowance)
 MAX_EVALUATIONS = 30  # bodies measured at most in one solve
 MACRO_STEP = 1e-3  # finite-difference step of the macro parameters
+HEIGHT_MATCH = 1e-4  # m: a height measurement is a landmark's if it is this close to the landmark's height
 NEAREST = 3  # skin vertices that carry a path point's motion
+JACOBIAN_REACH = 0.05  # parameter units: a Jacobian found this close is used again
 NEGLIGIBLE = 1e-6  # a modifier value this small is none
 MACROS = ("height", "weight", "muscle", "proportions")
 BREAST = ("cup", "firmness")
@@ -226,6 +228,7 @@ class _Problem:
         self.goal = np.array(list(requested.values()))
         self._bodies: dict[bytes, Body] = {}
         self._measured: dict[int, dict[str, float]] = {}
+        self._jacobian: tuple[np.ndarray, np.ndarray] | None = None
 
     # unknowns ↔ bodies
     def params(self, x: np.ndarray) -> ShapeParameters:
@@ -268,10 +271,30 @@ class _Problem:
         return np.r_[misses, REGULARISATION * (x - self.prior)]
 
     def jacobian(self, x: np.ndarray) -> np.ndarray:
+        """The steering Jacobian; the last one again while x stays within JACOBIAN_REACH of where it
+        was found (it only steers, and finding it costs a second pass over the tapes)."""
+        if self._jacobian is not None and np.abs(x - self._jacobian[0]).max() <= JACOBIAN_REACH:
+            return self._jacobian[1]
         body = self.body(x)
         motion = self.skin_motion(x)  # (V, 3, K)
         rows = measurement_rows(body, self.measured(body), self.names, motion, self.density)
-        return np.vstack([rows / self.scale[:, None], REGULARISATION * np.eye(len(x))])
+        for m in np.flatnonzero(np.isnan(rows[:, 0])):
+            rows[m] = self.differenced_row(x, self.names[m])
+        jacobian = np.vstack([rows / self.scale[:, None], REGULARISATION * np.eye(len(x))])
+        self._jacobian = (np.array(x), jacobian)
+        return jacobian
+
+    def differenced_row(self, x: np.ndarray, name: str) -> np.ndarray:
+        """A measurement's Jacobian row by differences of whole bodies' measurements (one per unknown):
+        the slow way, for a measurement that is neither a path on the skin nor a landmark's height."""
+        here = self.measured(self.body(x))[name]
+        row = np.empty(len(x))
+        for k in range(len(x)):
+            step = MACRO_STEP * 10 if x[k] + MACRO_STEP * 10 <= self.upper[k] else -MACRO_STEP * 10
+            probe = np.array(x)
+            probe[k] += step
+            row[k] = (measure(Body.from_parameters(self.params(probe), self.density)).get(name) - here) / step
+        return row
 
     def solve(self) -> np.ndarray:
         x0 = np.clip(self.prior, self.lower, self.upper)
@@ -336,7 +359,8 @@ def _cap_matrix(assets: Assets) -> np.ndarray:
 def measurement_rows(body: Body, values: dict[str, float], names: list[str], motion: np.ndarray,
                      density: float) -> np.ndarray:
     """(M, K) first-order change of each named measurement per unit of each unknown, from the skin's
-    motion (V, 3, K) (see the module note)."""
+    motion (V, 3, K) (see the module note); a row of NaN for a measurement that is neither a path
+    nor a landmark's height above the floor."""
     vertices = body.vertices
     paths = measurement_paths(body)
     tree = cKDTree(vertices)
@@ -348,7 +372,7 @@ def measurement_rows(body: Body, values: dict[str, float], names: list[str], mot
         elif name in paths:
             rows.append(_path_row(paths[name], tree, motion))
         else:
-            rows.append(_height_row(body, name, values[name], tree, motion, floor))
+            rows.append(_height_row(body, values[name], tree, motion, floor))
     return np.array(rows)
 
 
@@ -379,14 +403,14 @@ def _path_row(path: np.ndarray, tree: cKDTree, motion: np.ndarray) -> np.ndarray
     return np.einsum("pi,pik->k", pull, _point_motion(path, tree, motion))
 
 
-def _height_row(body: Body, name: str, value: float, tree: cKDTree, motion: np.ndarray, floor: int) -> np.ndarray:
+def _height_row(body: Body, value: float, tree: cKDTree, motion: np.ndarray, floor: int) -> np.ndarray:
     """Change of a height above the floor: the landmark at that height rises, the lowest skin point
-    sets the floor."""
+    sets the floor (NaN if no landmark lies at that height)."""
     vertices = body.vertices
     marks = landmark_positions(body.landmarks, vertices)
     heights = {mark: float(p[1] - vertices[floor, 1]) for mark, p in marks.items()}
     mark = min(heights, key=lambda m: abs(heights[m] - value))
-    if abs(heights[mark] - value) > 1e-4:
-        raise HitogataError(f"{name}: no path nor landmark height to solve it by; it cannot be asked for")
+    if abs(heights[mark] - value) > HEIGHT_MATCH:
+        return np.full(motion.shape[-1], np.nan)
     rise = _point_motion(marks[mark][None, :], tree, motion)[0, 1]
     return rise - motion[floor, 1]
