@@ -150,7 +150,7 @@ def body_to_measure(
     x = problem.solve()
     body = problem.body(x)
     fit = MadeToMeasure(body, requested, problem.values_of(body))
-    _judge(fit, problem)
+    judge(fit, problem.limits_reached())
     return fit
 
 
@@ -173,13 +173,13 @@ def checked_request(measurements: Mapping[str, float]) -> dict[str, float]:
     return requested
 
 
-def _judge(fit: MadeToMeasure, problem: "_Problem") -> None:
-    """Raise for what cannot be met together; warn for what is met only roughly."""
+def judge(fit: MadeToMeasure, limits: list[str] | tuple[str, ...] = ()) -> None:
+    """Raise a one-line error naming what cannot be met together (beyond `IMPOSSIBLE` allowances)
+    and the unknowns at their `limits`; warn with the residuals of what is met only roughly."""
     far = fit.outside(IMPOSSIBLE)
     if far:
         asked = ", ".join(_quantity(n, fit.requested[n]) for n in fit.requested)
         nearest = ", ".join(_quantity(n, fit.achieved[n]) for n in far)
-        limits = problem.limits_reached()
         raise HitogataError(
             f"{asked}: cannot be met together; the nearest body has {nearest}"
             + (f" (at the limit of {', '.join(limits)})" if limits else "")
@@ -223,6 +223,7 @@ class _Problem:
         n = len(self.macros)
         self.lower = np.r_[np.zeros(n), -np.ones(len(MODIFIER_NAMES))]
         self.upper = np.r_[np.ones(n), np.ones(len(MODIFIER_NAMES))]
+        self.kinks = np.r_[np.full(n, AVERAGE), np.zeros(len(MODIFIER_NAMES))]  # where the blend's slope changes
         self.names = list(requested)
         self.scale = np.array([RESIDUAL_UNIT * allowance(k, v) for k, v in requested.items()])
         self.goal = np.array(list(requested.values()))
@@ -272,9 +273,13 @@ class _Problem:
 
     def jacobian(self, x: np.ndarray) -> np.ndarray:
         """The steering Jacobian; the last one again while x stays within JACOBIAN_REACH of where it
-        was found (it only steers, and finding it costs a second pass over the tapes)."""
-        if self._jacobian is not None and np.abs(x - self._jacobian[0]).max() <= JACOBIAN_REACH:
-            return self._jacobian[1]
+        was found and on the same side of every kink (it only steers, and finding it costs a second
+        pass over the tapes)."""
+        if self._jacobian is not None:
+            last, jacobian = self._jacobian
+            same_side = np.array_equal(np.sign(x - self.kinks), np.sign(last - self.kinks))
+            if same_side and np.abs(x - last).max() <= JACOBIAN_REACH:
+                return jacobian
         body = self.body(x)
         motion = self.skin_motion(x)  # (V, 3, K)
         rows = measurement_rows(body, self.measured(body), self.names, motion, self.density)
