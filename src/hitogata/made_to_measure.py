@@ -155,7 +155,8 @@ def body_to_measure(
 
 
 def checked_request(measurements: Mapping[str, float]) -> dict[str, float]:
-    """Asked measurements by their `measure` names, each a positive finite number; stature in range."""
+    """Asked measurements by their `measure` names in `measure`'s order (the mass last), each a
+    positive finite number; stature in range."""
     requested: dict[str, float] = {}
     for given, value in measurements.items():
         name = "mass" if given == "mass" else measurement_name(given)
@@ -167,6 +168,8 @@ def checked_request(measurements: Mapping[str, float]) -> dict[str, float]:
         requested[name] = float(value)
     if not requested:
         raise HitogataError("no measurement asked: give at least one of " + ", ".join(MEASUREMENT_NAMES))
+    order = [*MEASUREMENT_NAMES, "mass"]
+    requested = dict(sorted(requested.items(), key=lambda item: order.index(item[0])))
     lo, hi = STATURE_RANGE
     if "stature" in requested and not lo <= requested["stature"] <= hi:
         raise HitogataError(f"stature {requested['stature'] * 100:.1f} cm: allowed {lo * 100:.0f}–{hi * 100:.0f} cm")
