@@ -54,10 +54,12 @@ GIRTH_ALLOWANCE, SMALL_GIRTH_ALLOWANCE, LENGTH_ALLOWANCE = 0.009, 0.004, 0.005
 SMALL_GIRTHS = ("neck", "wrist", "ankle")  # name prefixes of the small girths
 MASS_ALLOWANCE = 0.01  # relative: 1 % of the asked mass
 IMPOSSIBLE = 3.0  # allowances: a residual beyond this is an error, between 1 and this a warning
-REGULARISATION = 0.3  # residual units per unit of a parameter's distance from the plain body
+REGULARISATION = 3.0  # residual units per unit of a parameter's distance from the plain body
 RESIDUAL_UNIT = 0.1  # residuals are counted in tenths of an allowance
 MET = 1.0  # residual units: the solve stops once every measurement is this close (a tenth of its allowance)
-MAX_EVALUATIONS = 30  # bodies measured at most in one solve
+MAX_EVALUATIONS = 30  # bodies measured at most in the full solve
+BUILD_EVALUATIONS = 5  # ... in the first solve, of the build alone
+TOLERANCE, BUILD_TOLERANCE = 1e-4, 1e-2  # least_squares' ftol and xtol in each
 MACRO_STEP = 1e-3  # finite-difference step of the macro parameters
 HEIGHT_MATCH = 1e-4  # m: a height measurement is a landmark's if it is this close to the landmark's height
 NEAREST = 3  # skin vertices that carry a path point's motion
@@ -305,13 +307,31 @@ class _Problem:
         return row
 
     def solve(self) -> np.ndarray:
-        x0 = np.clip(self.prior, self.lower, self.upper)
+        """Without a mass, the build first (macro parameters alone, modifiers at 0), which then
+        becomes the plain body the modifiers are pulled towards; then everything. Either stops
+        once all is met."""
+        n = len(self.macros)
+        x = np.clip(self.prior, self.lower, self.upper)
         try:
-            result = least_squares(self.residuals, x0, jac=self.jacobian, bounds=(self.lower, self.upper),
-                                   method="trf", ftol=1e-4, xtol=1e-4, gtol=1e-6, max_nfev=MAX_EVALUATIONS)
+            if "mass" not in self.requested:  # (with the mass, the start has the build already)
+                x = self._least_squares(x, np.arange(n), BUILD_EVALUATIONS, BUILD_TOLERANCE)
+                self.prior[:n] = x[:n]
+            return self._least_squares(x, np.arange(len(x)), MAX_EVALUATIONS, TOLERANCE)
         except _Met as met:
             return met.x
-        return np.asarray(result.x)
+
+    def _least_squares(self, x0: np.ndarray, free: np.ndarray, evaluations: int, tolerance: float) -> np.ndarray:
+        """x0 with its `free` unknowns solved by least squares within their bounds."""
+        def full(sub: np.ndarray) -> np.ndarray:
+            x = np.array(x0)
+            x[free] = sub
+            return x
+
+        result = least_squares(lambda sub: self.residuals(full(sub)), x0[free],
+                               jac=lambda sub: self.jacobian(full(sub))[:, free],
+                               bounds=(self.lower[free], self.upper[free]), method="trf", ftol=tolerance,
+                               xtol=tolerance, gtol=1e-6, max_nfev=evaluations)
+        return full(np.asarray(result.x))
 
     def skin_motion(self, x: np.ndarray) -> np.ndarray:
         """(V, 3, K): how each skin point moves per unit of each unknown at x."""
