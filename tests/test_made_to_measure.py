@@ -108,9 +108,6 @@ EXTREMES = [(sex, stature, bmi) for sex, top in (("female", 33.0), ("male", 35.0
             for stature in (1.50, 1.95) for bmi in (18.0, top)]
 
 
-MASS_AGREES = {}
-
-
 @pytest.mark.slow
 @pytest.mark.parametrize("sex, stature, bmi", EXTREMES)
 def test_bodies_rebuilt_from_their_measurements(sex: str, stature: float, bmi: float) -> None:
@@ -121,7 +118,7 @@ def test_bodies_rebuilt_from_their_measurements(sex: str, stature: float, bmi: f
         fit = body_to_measure(sex, asked)
     assert len(fit.requested) == len(asked)
     assert within(fit) == {}  # girths 9 mm, small girths 4 mm, lengths 5 mm
-    assert fit.body.mass == pytest.approx(original.mass, rel=MASS_AGREES[sex, stature, bmi])
+    assert fit.body.mass == pytest.approx(original.mass, rel=0.02)  # the tape fixes the build well, not wholly
 
 
 def test_modifiers_checked_sorted_and_blended() -> None:

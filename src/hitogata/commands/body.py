@@ -15,6 +15,7 @@ from typing import TYPE_CHECKING, Any
 from hitogata import units
 from hitogata.commands.args import add_body_arguments
 from hitogata.commands.paths import Output, add_output, input_path
+from hitogata.commands.size_chart import shipped_size_charts, write_size_chart
 from hitogata.errors import HitogataError
 from hitogata.export.body_files import body_figures, write_body
 from hitogata.export.meshfiles import MESH_SUFFIXES
@@ -95,8 +96,6 @@ def solve_from_args(args: argparse.Namespace, asked: dict[str, float]) -> tuple[
 
 def run(args: argparse.Namespace) -> None:
     if args.size_chart is not None:
-        from hitogata.commands.size_chart import write_size_chart
-
         write_size_chart(args)
         return
     body, fit = solve_from_args(args, asked_measurements(args))
@@ -127,9 +126,11 @@ def register(sub: argparse._SubParsersAction) -> None:
     add_output(parser, "file", "output file: .glb (skinned, with rig), .obj or .ply; with --size-chart a "
                "folder (one .glb per size and sizes.csv)", MESH_SUFFIXES)
     parser.add_argument("--measure", action="store_true", help="also print the ISO 8559-1 measurements (cm)")
-    parser.add_argument("--size-chart", action=SizeChart, type=input_path("file", suffixes=(".csv",)),
+    parser.add_argument("--size-chart", action=SizeChart, metavar="CSV",
+                        type=input_path("file", suffixes=(".csv",), names=shipped_size_charts),
                         help="a CSV with one row per size: a 'size' column, then measurements with their unit "
-                        "in the header (e.g. stature_cm, chest_girth_cm, mass_kg)")
+                        "in the header (e.g. stature_cm, chest_girth_cm, mass_kg); or a shipped example: "
+                        "women_example")
     group = parser.add_argument_group("measurements (any of those `hitogata measure` reports; the shape is "
                                       "solved to meet them)")
     for name, options in measurement_options().items():

@@ -7,6 +7,7 @@ leaves that measurement out for that size. The whole file is checked before any
 body is made; each mistake is one line naming the file, the row, the column and
 the value. The folder gets `<size>.glb` per size and `sizes.csv` (asked against
 made, cm and kg), written in a staging folder and renamed when all are done.
+A shipped example chart is named by its short name (`shipped_size_charts`).
 """
 
 from __future__ import annotations
@@ -16,6 +17,8 @@ import csv
 import io
 import re
 from pathlib import Path
+
+from importlib import resources
 
 from hitogata import units
 from hitogata.commands.args import BODY_DEFAULTS
@@ -28,6 +31,12 @@ UNITS = {**{u: (units.LENGTH_UNITS, "a length") for u in units.LENGTH_UNITS},
          **{u: (units.MASS_UNITS, "a mass") for u in units.MASS_UNITS}}
 
 Chart = list[tuple[str, dict[str, float]]]
+
+
+def shipped_size_charts() -> dict[str, Path]:
+    """The example size charts shipped with the package, by name (e.g. `women_example`)."""
+    folder = resources.files("hitogata") / "data" / "size_charts"
+    return {p.name.removesuffix(".csv"): Path(str(p)) for p in folder.iterdir() if p.name.endswith(".csv")}
 
 
 def read_size_chart(path: Path) -> Chart:
