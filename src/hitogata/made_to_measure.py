@@ -7,8 +7,9 @@ ranges MakeHuman's own sliders allow, so the shape stays a body MakeHuman makes.
 They are solved by bounded least squares (`scipy.optimize.least_squares`, trust
 region reflective) on the measurements `hitogata.measure.measure` reports, taken
 by name: residuals in tenths of each measurement's allowance (`allowance`), plus a
-weak pull of every unknown towards the body of the asked stature and mass (or the
-default body's build), which picks the plainest of the bodies that fit.
+weak pull of every unknown towards a plain body, which picks the plainest of the
+bodies that fit. The plain body is the one of the asked stature and mass; without
+a mass, the build (macro parameters alone) that best fits the measurements.
 
 The Jacobian is not found by differencing the measurements (one full measurement
 per unknown, too slow): each tape and surface length is a polyline on the skin
@@ -33,7 +34,6 @@ from functools import cache
 
 import numpy as np
 from scipy.optimize import least_squares
-from scipy.spatial import cKDTree
 
 from hitogata.assets import Assets, load_assets
 from hitogata.body import (
@@ -45,8 +45,8 @@ from hitogata.body import (
     sex_value,
 )
 from hitogata.errors import HitogataError
-from hitogata.measure import MEASUREMENT_NAMES, measure, measurement_paths
-from hitogata.measure.landmarks import landmark_positions
+from hitogata.measure import MEASUREMENT_NAMES, measure
+from hitogata.measurement_rates import measurement_rows
 from hitogata.shape import MODIFIER_NAMES, ShapeParameters, blend
 
 # ISO 20685-1 allowed errors, m: girths 9 mm, small girths 4 mm, lengths and heights 5 mm.
@@ -61,8 +61,6 @@ MAX_EVALUATIONS = 30  # bodies measured at most in the full solve
 BUILD_EVALUATIONS = 5  # ... in the first solve, of the build alone
 TOLERANCE, BUILD_TOLERANCE = 1e-4, 1e-2  # least_squares' ftol and xtol in each
 MACRO_STEP = 1e-3  # finite-difference step of the macro parameters
-HEIGHT_MATCH = 1e-4  # m: a height measurement is a landmark's if it is this close to the landmark's height
-NEAREST = 3  # skin vertices that carry a path point's motion
 JACOBIAN_REACH = 0.05  # parameter units: a Jacobian found this close is used again
 NEGLIGIBLE = 1e-6  # a modifier value this small is none
 MACROS = ("height", "weight", "muscle", "proportions")
@@ -382,63 +380,3 @@ def _cap_matrix(assets: Assets) -> np.ndarray:
     for row, loop in enumerate(assets.cap_loops):
         caps[row, loop] = 1.0 / len(loop)
     return caps
-
-
-def measurement_rows(body: Body, values: dict[str, float], names: list[str], motion: np.ndarray,
-                     density: float) -> np.ndarray:
-    """(M, K) first-order change of each named measurement per unit of each unknown, from the skin's
-    motion (V, 3, K) (see the module note); a row of NaN for a measurement that is neither a path
-    nor a landmark's height above the floor."""
-    vertices = body.vertices
-    paths = measurement_paths(body)
-    tree = cKDTree(vertices)
-    floor = int(np.argmin(vertices[:, 1]))
-    rows = []
-    for name in names:
-        if name == "mass":
-            rows.append(density * np.einsum("vi,vik->k", volume_gradient(vertices, body.faces), motion))
-        elif name in paths:
-            rows.append(_path_row(paths[name], tree, motion))
-        else:
-            rows.append(_height_row(body, values[name], tree, motion, floor))
-    return np.array(rows)
-
-
-def volume_gradient(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
-    """(V, 3): the enclosed volume's gradient with respect to each vertex."""
-    a, b, c = (vertices[faces[:, i]] for i in range(3))
-    grad = np.zeros_like(vertices)
-    for i, part in enumerate((np.cross(b, c), np.cross(c, a), np.cross(a, b))):
-        np.add.at(grad, faces[:, i], part / 6.0)
-    return grad
-
-
-def _point_motion(points: np.ndarray, tree: cKDTree, motion: np.ndarray) -> np.ndarray:
-    """(P, 3, K): the motion at points on the skin, from their nearest vertices (inverse distance)."""
-    distance, index = tree.query(points, k=NEAREST)
-    weight = 1.0 / np.maximum(distance, 1e-9)
-    weight /= weight.sum(axis=1, keepdims=True)
-    return np.einsum("pn,pnik->pik", weight, motion[index])
-
-
-def _path_row(path: np.ndarray, tree: cKDTree, motion: np.ndarray) -> np.ndarray:
-    """Change of a polyline's length: each point's motion along the unit vectors of its two segments."""
-    step = np.diff(path, axis=0)
-    unit = step / np.maximum(np.linalg.norm(step, axis=1, keepdims=True), 1e-12)
-    pull = np.zeros_like(path)
-    pull[:-1] -= unit
-    pull[1:] += unit
-    return np.einsum("pi,pik->k", pull, _point_motion(path, tree, motion))
-
-
-def _height_row(body: Body, value: float, tree: cKDTree, motion: np.ndarray, floor: int) -> np.ndarray:
-    """Change of a height above the floor: the landmark at that height rises, the lowest skin point
-    sets the floor (NaN if no landmark lies at that height)."""
-    vertices = body.vertices
-    marks = landmark_positions(body.landmarks, vertices)
-    heights = {mark: float(p[1] - vertices[floor, 1]) for mark, p in marks.items()}
-    mark = min(heights, key=lambda m: abs(heights[m] - value))
-    if abs(heights[mark] - value) > HEIGHT_MATCH:
-        return np.full(motion.shape[-1], np.nan)
-    rise = _point_motion(marks[mark][None, :], tree, motion)[0, 1]
-    return rise - motion[floor, 1]
