@@ -47,9 +47,10 @@ def measurement_options() -> dict[str, tuple[str, ...]]:
 
 
 def asked_measurements(args: argparse.Namespace) -> dict[str, float]:
-    """The measurements given as options (m), each checked: a length with its unit."""
+    """The measurements given as options (m), each checked: a length with its unit (none for a
+    command without the measurement options)."""
     asked = {}
-    for name, options in measurement_options().items():
+    for name, options in getattr(args, "measurement_options", {}).items():
         text = getattr(args, name, None)
         if text is not None:
             value = units.length(text, options[-1])
@@ -133,6 +134,7 @@ def register(sub: argparse._SubParsersAction) -> None:
                         "women_example")
     group = parser.add_argument_group("measurements (any of those `hitogata measure` reports; the shape is "
                                       "solved to meet them)")
-    for name, options in measurement_options().items():
-        group.add_argument(*options, dest=name, metavar="LENGTH", help=f"{name} with its unit (m, cm, mm)")
-    parser.set_defaults(run=run)
+    options = measurement_options()
+    for name, names in options.items():
+        group.add_argument(*names, dest=name, metavar="LENGTH", help=f"{name} with its unit (m, cm, mm)")
+    parser.set_defaults(run=run, measurement_options=options)

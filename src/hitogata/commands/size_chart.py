@@ -103,10 +103,10 @@ def _size_row(path: Path, number: int, header: list[str], row: list[str], column
 
 def write_size_chart(args: argparse.Namespace) -> None:
     """Check the chart and the options, then make, write and report one body per size."""
-    from hitogata.commands.body import figures_line, measurement_options, solve_from_args
+    from hitogata.commands.body import figures_line, solve_from_args
     from hitogata.export.body_files import write_body
 
-    given = [options[-1] for name, options in measurement_options().items() if getattr(args, name) is not None]
+    given = [options[-1] for name, options in args.measurement_options.items() if getattr(args, name) is not None]
     given += [option for option in ("--stature", "--mass") if getattr(args, BODY_DEFAULTS[option][0]) is not None]
     if given:
         raise HitogataError(f"{given[0]}: does not apply with --size-chart (the chart gives the measurements); "
