@@ -57,6 +57,12 @@ def test_six_measurements_met_within_a_tenth_of_the_allowance() -> None:
     assert body.params == fit.body.params
 
 
+def test_girths_alone_keep_the_default_stature() -> None:
+    fit = body_to_measure("male", {"chest": 1.04, "waist": 0.86})
+    assert within(fit, MET * RESIDUAL_UNIT) == {}
+    assert fit.body.stature == pytest.approx(1.78, abs=0.005)  # the default man's, not a taller one
+
+
 def test_stature_or_mass_alone_takes_the_default_build() -> None:
     body = Body.from_measurements("male", stature=1.90)
     assert body.stature == pytest.approx(1.90, abs=1e-4)

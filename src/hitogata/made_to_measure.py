@@ -55,6 +55,10 @@ SMALL_GIRTHS = ("neck", "wrist", "ankle")  # name prefixes of the small girths
 MASS_ALLOWANCE = 0.01  # relative: 1 % of the asked mass
 IMPOSSIBLE = 3.0  # allowances: a residual beyond this is an error, between 1 and this a warning
 REGULARISATION = 3.0  # residual units per unit of a parameter's distance from the plain body
+# Without an asked stature, the default body's is asked softly: a miss of this much (m) counts as
+# one residual unit, so the stature moves only where asked lengths need it. With girths alone the
+# height parameter stays the default body's too: a girth is met by the build, not by growing taller.
+SOFT_STATURE = 0.03
 RESIDUAL_UNIT = 0.1  # residuals are counted in tenths of an allowance
 MET = 1.0  # residual units: the solve stops once every measurement is this close (a tenth of its allowance)
 MAX_EVALUATIONS = 30  # bodies measured at most in the full solve
@@ -149,7 +153,8 @@ def body_to_measure(
     problem = _Problem(ShapeParameters(sex=sex_value(sex), age=age), requested, density, muscle, proportions)
     x = problem.solve()
     body = problem.body(x)
-    fit = MadeToMeasure(body, requested, problem.values_of(body))
+    made = problem.values_of(body)
+    fit = MadeToMeasure(body, requested, {name: made[name] for name in requested})
     judge(fit, problem.limits_reached())
     return fit
 
@@ -220,16 +225,24 @@ class _Problem:
         self.density = density
         start = _start(base, requested, density, muscle, proportions)
         fixed = {"muscle": muscle, "proportions": proportions}
+        if not any(not name.endswith("_girth") and name != "mass" for name in requested):
+            fixed["height"] = start.height  # girths alone: the default stature's height (SOFT_STATURE)
         self.macros = [m for m in MACROS if fixed.get(m) is None] + (list(BREAST) if start.sex < 1.0 else [])
         self.start = start
         self.prior = np.array([getattr(start, m) for m in self.macros] + [0.0] * len(MODIFIER_NAMES))
         n = len(self.macros)
         self.lower = np.r_[np.zeros(n), -np.ones(len(MODIFIER_NAMES))]
         self.upper = np.r_[np.ones(n), np.ones(len(MODIFIER_NAMES))]
+        self.pull = np.full(len(self.prior), REGULARISATION)
         self.kinks = np.r_[np.full(n, AVERAGE), np.zeros(len(MODIFIER_NAMES))]  # where the blend's slope changes
-        self.names = list(requested)
-        self.scale = np.array([RESIDUAL_UNIT * allowance(k, v) for k, v in requested.items()])
-        self.goal = np.array(list(requested.values()))
+        targets = {**requested}
+        scale = [RESIDUAL_UNIT * allowance(k, v) for k, v in requested.items()]
+        if "stature" not in requested:
+            targets["stature"] = default_measurements(base.sex)[0]
+            scale.append(SOFT_STATURE)
+        self.names = list(targets)
+        self.scale = np.array(scale)
+        self.goal = np.array(list(targets.values()))
         self._bodies: dict[bytes, Body] = {}
         self._measured: dict[int, dict[str, float]] = {}
         self._jacobian: tuple[np.ndarray, np.ndarray] | None = None
@@ -263,16 +276,17 @@ class _Problem:
 
     # least squares
     def residuals(self, x: np.ndarray) -> np.ndarray:
-        """Measurement residuals (RESIDUAL_UNIT allowances) and the pull towards the plain body;
-        `_Met` once every measurement is within a tenth of its allowance."""
+        """Measurement residuals (RESIDUAL_UNIT allowances; the soft stature's in SOFT_STATURE) and
+        the pull towards the plain body; `_Met` once every asked measurement is within a tenth of
+        its allowance."""
         got = np.array(list(self.values_of(self.body(x)).values()))
         if not np.all(np.isfinite(got)):
             lost = [n for n, v in zip(self.names, got) if not math.isfinite(v)]
             raise HitogataError(f"{', '.join(lost)}: not measurable on the body the solver reached")
         misses = (got - self.goal) / self.scale
-        if np.all(np.abs(misses) <= MET):
+        if np.all(np.abs(misses[: len(self.requested)]) <= MET):
             raise _Met(x)
-        return np.r_[misses, REGULARISATION * (x - self.prior)]
+        return np.r_[misses, self.pull * (x - self.prior)]
 
     def jacobian(self, x: np.ndarray) -> np.ndarray:
         """The steering Jacobian; the last one again while x stays within JACOBIAN_REACH of where it
@@ -288,7 +302,7 @@ class _Problem:
         rows = measurement_rows(body, self.measured(body), self.names, motion, self.density)
         for m in np.flatnonzero(np.isnan(rows[:, 0])):
             rows[m] = self.differenced_row(x, self.names[m])
-        jacobian = np.vstack([rows / self.scale[:, None], REGULARISATION * np.eye(len(x))])
+        jacobian = np.vstack([rows / self.scale[:, None], np.diag(self.pull)])
         self._jacobian = (np.array(x), jacobian)
         return jacobian
 
@@ -306,14 +320,15 @@ class _Problem:
 
     def solve(self) -> np.ndarray:
         """Without a mass, the build first (macro parameters alone, modifiers at 0), which then
-        becomes the plain body the modifiers are pulled towards; then everything. Either stops
-        once all is met."""
+        becomes the plain body (but for its height) the modifiers are pulled towards; then
+        everything. Either stops once all is met."""
         n = len(self.macros)
         x = np.clip(self.prior, self.lower, self.upper)
         try:
             if "mass" not in self.requested:  # (with the mass, the start has the build already)
                 x = self._least_squares(x, np.arange(n), BUILD_EVALUATIONS, BUILD_TOLERANCE)
-                self.prior[:n] = x[:n]
+                build = [k for k, name in enumerate(self.macros) if name != "height"]
+                self.prior[build] = x[build]
             return self._least_squares(x, np.arange(len(x)), MAX_EVALUATIONS, TOLERANCE)
         except _Met as met:
             return met.x
