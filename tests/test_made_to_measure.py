@@ -204,6 +204,7 @@ def test_cli_size_chart(tmp_path: Path, capsys) -> None:
     ("size,stature_cm\nS,160\nS,165\n", "chart.csv: row 3, column size: 'S' is named twice; allowed once"),
     ("size,stature_cm\n../x,160\n", "chart.csv: row 2, column size: '../x'; allowed letters, digits"),
     ("size,stature_cm\nS,\n", "chart.csv: row 2: size 'S' has no measurement; allowed at least one"),
+    ("size,stature_cm,chest_cm\nS,160,84\nXL,250,120\n", "chart.csv: size XL: stature 250.0 cm: allowed 140–210"),
 ])
 def test_size_chart_mistakes_one_line_nothing_written(tmp_path: Path, capsys, monkeypatch, content: str,
                                                       message: str) -> None:

@@ -105,6 +105,7 @@ def write_size_chart(args: argparse.Namespace) -> None:
     """Check the chart and the options, then make, write and report one body per size."""
     from hitogata.commands.body import figures_line, solve_from_args
     from hitogata.export.body_files import write_body
+    from hitogata.made_to_measure import checked_request
 
     given = [options[-1] for name, options in args.measurement_options.items() if getattr(args, name) is not None]
     given += [option for option in ("--stature", "--mass") if getattr(args, BODY_DEFAULTS[option][0]) is not None]
@@ -112,6 +113,11 @@ def write_size_chart(args: argparse.Namespace) -> None:
         raise HitogataError(f"{given[0]}: does not apply with --size-chart (the chart gives the measurements); "
                             f"leave out {', '.join(given)}")
     chart = read_size_chart(args.size_chart)
+    for size, asked in chart:  # every size's request checked before the first body is made
+        try:
+            checked_request(asked)
+        except HitogataError as err:
+            raise HitogataError(f"{args.size_chart}: size {size}: {err}") from None
     lines = ["size,measurement,asked,made,difference,unit"]
     for size, asked in chart:
         try:
