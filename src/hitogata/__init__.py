@@ -27,6 +27,7 @@ _EXPORTS: dict[str, str] = {
     # the body
     "Body": "hitogata.body",
     "default_body": "hitogata.body",
+    "body_to_measure": "hitogata.made_to_measure",
     "ShapeParameters": "hitogata.shape",
     # posing by muscles and joint angles
     "Poser": "hitogata.pose",
@@ -69,6 +70,7 @@ __all__ = [
     "__version__",
     "Body",
     "BodyDynamics",
+    "body_to_measure",
     "build_elastic_model",
     "default_body",
     "ElasticModel",
@@ -113,6 +115,7 @@ if TYPE_CHECKING:
     from hitogata.export.body_files import write_body
     from hitogata.export.meshfiles import write_mesh
     from hitogata.export.pose_files import write_posed
+    from hitogata.made_to_measure import body_to_measure
     from hitogata.measure.measurements import Measurements, measure
     from hitogata.measure.strain import SkinStrain, skin_strain
     from hitogata.measure.zones import zone_strains

@@ -2,7 +2,9 @@
 
 `Body.from_measurements` solves MakeHuman's weight and height parameters so that
 the body has the asked stature and mass; mass is the skin's enclosed volume
-times a whole-body density (`WHOLE_BODY_DENSITY`).
+times a whole-body density (`WHOLE_BODY_DENSITY`). Asked for tape measurements
+too (chest, waist, ...), it solves the shape by least squares on them
+(`hitogata.made_to_measure`).
 """
 
 from __future__ import annotations
@@ -82,22 +84,38 @@ class Body:
     def from_measurements(
         cls,
         sex: float | str,
-        age: float,
-        stature: float,
-        mass: float,
+        age: float = 30.0,
+        stature: float | None = None,
+        mass: float | None = None,
         *,
         muscle: float | None = None,
-        proportions: float = 0.5,
+        proportions: float | None = None,
         density: float = WHOLE_BODY_DENSITY,
+        **measurements: float,
     ) -> "Body":
-        """The body of a given stature (m) and mass (kg): MakeHuman's shape parameters solved.
+        """The body of a given stature (m) and mass (kg), and of any other measurements `measure`
+        reports (m; e.g. chest=0.92, waist=0.74, hip=1.0, inside_leg=0.76).
 
-        Stature is met within 0.1 mm and mass within 0.02 %. With `muscle` given, only
-        weight and height are solved; without it, the mass follows MakeHuman's build
-        path (see `_build_path`). A target outside what the data supports for that sex
-        and age raises a one-line error stating the range.
+        Stature and mass alone: MakeHuman's shape parameters solved, stature met within
+        0.1 mm and mass within 0.02 %; a missing one is the default body's (its stature,
+        its BMI). With `muscle` given, only weight and height are solved; without it,
+        the mass follows MakeHuman's build path (see `_build_path`). A target outside
+        what the data supports for that sex and age raises a one-line error stating the
+        range. With other measurements, `hitogata.made_to_measure.body_to_measure`
+        solves the shape (its report of asked against made is there).
         """
         _check_positive("density", density, "kg/m³")
+        if measurements:
+            from hitogata.made_to_measure import body_to_measure
+
+            asked = {**measurements, **({} if stature is None else {"stature": stature}),
+                     **({} if mass is None else {"mass": mass})}
+            return body_to_measure(sex, asked, age=age, muscle=muscle, proportions=proportions,
+                                   density=density).body
+        if stature is None or mass is None:
+            default_stature, default_mass = default_measurements(sex)
+            stature = default_stature if stature is None else stature
+            mass = default_mass / default_stature**2 * stature**2 if mass is None else mass
         _check_positive("stature", stature, "m")
         _check_positive("mass", mass, "kg")
         lo, hi = STATURE_RANGE
@@ -106,7 +124,8 @@ class Body:
                 f"stature {stature * 100:.1f} cm: allowed {lo * 100:.0f}–{hi * 100:.0f} cm"
             )
         params = ShapeParameters(
-            sex=sex_value(sex), age=age, muscle=AVERAGE if muscle is None else muscle, proportions=proportions
+            sex=sex_value(sex), age=age, muscle=AVERAGE if muscle is None else muscle,
+            proportions=AVERAGE if proportions is None else proportions,
         )
         solved = _solve_build(params, stature, mass, density, free_muscle=muscle is None)
         return cls.from_parameters(solved, density)

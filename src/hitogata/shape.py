@@ -6,6 +6,10 @@ factor is piecewise linear in its parameter, so for fixed sex, age, muscle and
 proportions the vertices are bilinear in (weight, height) — or in (muscle,
 height) for fixed weight — inside each quadrant split at 0.5: `BilinearShape`
 uses that to evaluate bodies cheaply while solving for stature and mass.
+
+Modifiers follow MakeHuman's modifier convention: `measure-bust-circ` at value
+v in −1..1 weighs its `-decr` target by max(0, −v) and its `-incr` target by
+max(0, v), whatever the macro parameters; vertices are linear in v on each side of 0.
 """
 
 from __future__ import annotations
@@ -13,6 +17,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field, replace
 from functools import cache
+from collections.abc import Iterable, Mapping
 from typing import Any
 
 import numpy as np
@@ -28,6 +33,16 @@ YOUNG_YEARS = 25.0
 OLD_YEARS = 90.0
 MIN_AGE_YEARS = 18.0
 
+# MakeHuman's measure modifiers (each a decr and an incr target in the data file), value −1..1.
+MODIFIER_NAMES = (
+    "measure-neck-circ", "measure-neck-height", "measure-upperarm-circ", "measure-upperarm-length",
+    "measure-lowerarm-length", "measure-wrist-circ", "measure-frontchest-dist", "measure-bust-circ",
+    "measure-underbust-circ", "measure-waist-circ", "measure-napetowaist-dist", "measure-waisttohip-dist",
+    "measure-shoulder-dist", "measure-hips-circ", "measure-upperleg-height", "measure-lowerleg-height",
+    "measure-thigh-circ", "measure-knee-circ", "measure-calf-circ", "measure-ankle-circ",
+)
+Modifiers = tuple[tuple[str, float], ...]
+
 
 @dataclass(frozen=True)
 class ShapeParameters:
@@ -35,7 +50,9 @@ class ShapeParameters:
 
     sex: 0 = female … 1 = male (blends allowed); age in years (18–90);
     muscle, weight, height, proportions, cup, firmness in 0..1 with 0.5 = average;
-    race: weights of (african, asian, caucasian), normalised to sum 1.
+    race: weights of (african, asian, caucasian), normalised to sum 1;
+    modifiers: (name, value) pairs of MODIFIER_NAMES, value −1..1 (0 = none), given as
+    pairs or a mapping, kept sorted by name without the zero ones.
     """
 
     sex: float = 0.0
@@ -47,6 +64,7 @@ class ShapeParameters:
     cup: float = 0.5
     firmness: float = 0.5
     race: tuple[float, float, float] = field(default=(1 / 3, 1 / 3, 1 / 3))
+    modifiers: Modifiers = ()
 
     def __post_init__(self) -> None:
         unit = ("sex", "muscle", "weight", "height", "proportions", "cup", "firmness")
@@ -61,10 +79,29 @@ class ShapeParameters:
         race = np.asarray(self.race, dtype=float)
         if race.shape != (3,) or not np.all(np.isfinite(race)) or race.min() < 0 or race.sum() <= 0:
             raise HitogataError(f"race {self.race!r}: allowed three non-negative weights, not all zero")
+        object.__setattr__(self, "modifiers", _checked_modifiers(self.modifiers))
 
     def with_(self, **changes: Any) -> "ShapeParameters":
         """A copy with some parameters changed."""
         return replace(self, **changes)
+
+
+def _checked_modifiers(given: Mapping[str, float] | Iterable[Iterable[Any]]) -> Modifiers:
+    """Modifier (name, value) pairs, sorted and without zeros; a one-line error for a bad one."""
+    try:
+        pairs = list(given.items()) if isinstance(given, Mapping) else [tuple(pair) for pair in given]
+    except TypeError:
+        raise HitogataError(f"modifiers {given!r}: allowed (name, value) pairs") from None
+    out = {}
+    for pair in pairs:
+        if len(pair) != 2 or pair[0] not in MODIFIER_NAMES:
+            raise HitogataError(f"modifier {pair!r}: allowed (name, value) with a name of {', '.join(MODIFIER_NAMES)}")
+        name, value = pair
+        if not (isinstance(value, (int, float)) and -1.0 <= value <= 1.0):
+            raise HitogataError(f"modifier {name}={value!r}: allowed −1..1")
+        if value:
+            out[name] = float(value)
+    return tuple(sorted(out.items()))
 
 
 def _levels(value: float) -> dict[str, float]:
@@ -94,10 +131,23 @@ def _name_words(names: tuple[str, ...]) -> tuple[tuple[str, ...], ...]:
     return tuple(tuple(name.split("-")) for name in names)
 
 
+def modifier_weights(params: ShapeParameters) -> dict[str, float]:
+    """Weight of each decr/incr modifier target the parameters use (module note)."""
+    out = {}
+    for name, value in params.modifiers:
+        out[f"{name}-{'incr' if value > 0 else 'decr'}"] = abs(value)
+    return out
+
+
 def target_weights(names: tuple[str, ...], params: ShapeParameters) -> np.ndarray:
-    """Weight of each named target: the product of the factors in its name."""
+    """Weight of each named target: the product of the factors in its name (macro targets),
+    or its modifier's weight (`modifier_weights`)."""
     f = factors(params)
-    return np.array([math.prod(f[word] for word in words) for words in _name_words(names)])
+    modifiers = modifier_weights(params)
+    return np.array([
+        modifiers.get(name, 0.0) if name.startswith("measure-") else math.prod(f[word] for word in words)
+        for name, words in zip(names, _name_words(names))
+    ])
 
 
 def blend(assets: Assets, params: ShapeParameters) -> np.ndarray:
