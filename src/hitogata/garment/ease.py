@@ -28,7 +28,10 @@ from hitogata.rig import posed_rig_heads
 from hitogata.motion.clip import MotionClip
 from hitogata.pose import poser_for
 
-NAMES = MEASUREMENT_NAMES
+# The armscye is a standing measurement: its plane is set by the arm's own armpit folds, so with the arm
+# raised the tape loops round the shoulder (+33 cm reaching forward), which is no armhole's need.
+STANDING_ONLY = ("armscye_girth",)
+NAMES = tuple(n for n in MEASUREMENT_NAMES if n not in STANDING_ONLY)
 HEIGHTS = ("stature", "inside_leg")  # vertical heights: they change with the posture by definition
 Surface = Callable[[np.ndarray, np.ndarray], np.ndarray]  # (F, D) angles, (F, 4, 4) root → (F, V, 3) vertices
 
@@ -97,7 +100,7 @@ def _measure(body: Body, vertices: np.ndarray, joints: np.ndarray) -> np.ndarray
     v, posed = posture_arrays(body, vertices, joints)
     rest = JointSet(body.rig.names, body.rig.heads)
     m = measure_surface(v, body.faces, body_landmarks(body), rest, posed, tape_skin(body))
-    return np.array([m.get(n) for n in MEASUREMENT_NAMES])
+    return np.array([m.get(n) for n in NAMES])
 
 
 def dynamic_ease(body: Body, motions: Mapping[str, MotionClip], surface: Surface | None = None,

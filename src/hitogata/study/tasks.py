@@ -219,6 +219,7 @@ def dynamic_ease(standing: float, values: np.ndarray) -> tuple[float, float]:
 
 def task_rows(task: Task) -> dict[str, list]:
     """The rows of one task: one per measurement and one per zone, as wanted by `task.outputs`."""
+    from hitogata.garment.ease import STANDING_ONLY
     from hitogata.measure.axes import JointSet
     from hitogata.measure.landmarks import body_landmarks
     from hitogata.measure.measurements import GIRTHS, MEASUREMENT_NAMES, measure_surface, tape_skin
@@ -259,7 +260,7 @@ def task_rows(task: Task) -> dict[str, list]:
         for i, name in enumerate(MEASUREMENT_NAMES):
             series, standing = values[:, i], prep.standing[name]
             kind = "girth" if name in GIRTHS else "height" if name in HEIGHTS else "length"
-            increase, decrease = dynamic_ease(standing, series) if ease else (nan, nan)
+            increase, decrease = dynamic_ease(standing, series) if ease and name not in STANDING_ONLY else (nan, nan)
             finite = np.isfinite(series).any()
             add(kind=kind, name=name, standing_m=standing,
                 low_m=float(np.nanmin(series)) if finite else nan, high_m=float(np.nanmax(series)) if finite else nan,
