@@ -26,7 +26,6 @@ import numpy as np
 from hitogata.body import default_body
 from hitogata.dynamics.single_pose import elastic_dynamics, elastic_pose
 from hitogata.measure.body_lines import LINE_NAMES, body_lines
-from hitogata.measure.fine_skin import fine_skinning
 from hitogata.measure.strain import skin_strain
 
 SPINE = [f"lumbar_{i}" for i in range(1, 6)] + [f"thoracic_{i}" for i in range(1, 13)]
@@ -84,7 +83,7 @@ def main(sexes: list[str]) -> None:
         dynamics = elastic_dynamics(body)
         print(f"<!-- {sex}: whole-body model in {time.perf_counter() - start:.0f} s -->", flush=True)
         poser = dynamics.poser
-        fine = fine_skinning(body, poser.skin)
+        fine = body.fine_skinning
         lines = body_lines(body, fine.fine.vertices, fine.fine.faces)
         rest = {n: lines[n].length(fine.fine.vertices) for n in LINE_NAMES}
         for pose, clinical in poses(poser.skeleton).items():

@@ -6,7 +6,7 @@ import pytest
 
 from hitogata.body import Body
 from hitogata.measure.body_lines import body_lines
-from hitogata.measure.fine_skin import LEVELS, fine_skin, fine_skinning
+from hitogata.measure.fine_skin import LEVELS
 from hitogata.measure.strain import skin_strain
 from hitogata.measure.zones import zone_strains
 from hitogata.pose import poser_for
@@ -24,7 +24,7 @@ def body(request, female, male):
 
 
 def test_a_10cm_line_crosses_at_least_20_triangles_at_elbow_and_knee(body):
-    fine = fine_skin(body)
+    fine = body.fine_skin
     assert len(fine.faces) == 16 * len(body.faces) and LEVELS == 2
     coarse_lines, fine_lines = body_lines(body), body_lines(body, fine.vertices, fine.faces)
     for name in LINES_10CM:
@@ -43,7 +43,7 @@ def test_fine_and_coarse_stretch_agree_on_a_smooth_deformation(female):
     """A smooth nonlinear map of the whole body: each zone's mean stretch and area change agree to
     0.15 percentage points (of 3–16 %), and 99 % of the coarse triangles' stretch with their 16 fine
     ones' mean to 5 % (Loop's rest surface is the skin smoothed, its tangent planes not the facets')."""
-    fine = fine_skin(female)
+    fine = female.fine_skin
 
     def bend(x):
         y = x[:, 1]
@@ -66,7 +66,7 @@ def test_the_fine_skin_is_posed_by_the_same_skinning(female):
     """At rest it is its rest surface; a rigid motion of the whole body moves it rigidly; an elastic
     difference of the coarse skin is carried by the same stencils (a uniform one unchanged)."""
     poser = poser_for(female)
-    fs = fine_skinning(female, poser.skin)
+    fs = female.fine_skinning
     rest = poser.pose()
     assert np.abs(fs.surface(rest.pose, "lbs") - fs.fine.vertices).max() < 1e-12
     turn = np.eye(4)

@@ -21,8 +21,6 @@ from hitogata.garment.ease import skinned_surface
 from hitogata.garment.non_extension import (
     Line, body_lines, lines_csv, lines_json, non_extension_directions, streamlines,
 )
-from hitogata.garment.stretch import garment_zones
-from hitogata.measure.fine_skin import fine_skin
 from hitogata.motion.clip import scenario_clip
 from hitogata.pose import poser_for
 
@@ -116,11 +114,11 @@ def test_the_deep_squat_draws_lines_over_the_knee(female):
     frame = int(np.argmin(np.abs(clip.times - 1.5)))
     posed = skinned_surface(female)(clip.angles[[frame]], clip.root[[frame]])[0]
     lines = body_lines(female, posed)
-    fine = fine_skin(female)
+    fine = female.fine_skin
     knee = np.zeros(len(female.faces), bool)
-    knee[garment_zones(female)[0]["knee"]] = True
+    knee[female.garment_zones[0]["knee"]] = True
     tree = cKDTree(fine.vertices[fine.faces].mean(axis=1))
-    lengthwise = garment_zones(female)[1]
+    lengthwise = female.garment_zones[1]
     inside, lengths, along = 0, 0.0, 0.0
     for line in lines:
         middle, step = 0.5 * (line.points[1:] + line.points[:-1]), np.diff(line.points, axis=0)

@@ -25,6 +25,8 @@ from hitogata.rig import Rig, place_rig
 from hitogata.shape import BilinearShape, ShapeParameters, blend
 
 if TYPE_CHECKING:
+    from hitogata.dynamics.motion import BodyDynamics
+    from hitogata.measure.fine_skin import FineSkin, FineSkinning
     from hitogata.measure.landmarks import Landmarks
     from hitogata.pose import Poser
 
@@ -173,6 +175,34 @@ class Body:
         from hitogata.measure.zones import find_zones
 
         return find_zones(self)
+
+    @cached_property
+    def fine_skin(self) -> FineSkin:
+        """The skin subdivided twice (Loop), for strain and lengths (`hitogata.measure.fine_skin`)."""
+        from hitogata.measure.fine_skin import subdivide
+
+        return subdivide(self.vertices, self.faces)
+
+    @cached_property
+    def fine_skinning(self) -> FineSkinning:
+        """The fine skin prepared for skinning with the poser's part weights."""
+        from hitogata.measure.fine_skin import fine_skinning
+
+        return fine_skinning(self.fine_skin, self.poser.skin)
+
+    @cached_property
+    def garment_zones(self) -> tuple[dict[str, np.ndarray], np.ndarray]:
+        """Face indices of each garment zone and the faces' lengthwise directions at rest
+        (`hitogata.garment.stretch.garment_zones`)."""
+        from hitogata.garment.stretch import garment_zones
+
+        return garment_zones(self)
+
+    @cached_property
+    def whole_body_dynamics(self) -> dict[float, BodyDynamics]:
+        """The whole-body elastic dynamics built for held postures, by element size (mm): filled by
+        `hitogata.dynamics.single_pose.elastic_dynamics`, which builds each once."""
+        return {}
 
     @cached_property
     def tape_skin(self) -> dict[str, np.ndarray]:

@@ -10,7 +10,6 @@ builds and caches the whole-body model it needs, once per body and size.
 
 from __future__ import annotations
 
-import weakref
 from collections.abc import Mapping
 from dataclasses import dataclass
 
@@ -21,20 +20,17 @@ from hitogata.dynamics.motion import BodyDynamics
 from hitogata.dynamics.quality import STATIC_ITERATIONS, PoseQuality, pose_quality
 from hitogata.dynamics.quasistatic import rotate
 from hitogata.geometry.contact import Penetrations, separate
-from hitogata.measure.fine_skin import fine_skinning
 from hitogata.options import OnLimit
 from hitogata.pose import PosedBody
 
 ELEMENT_SIZE = 40.0  # mm: the whole body's lattice for a held posture (as the large-motion tests)
 
-_CACHE: weakref.WeakKeyDictionary[Body, dict[float, BodyDynamics]] = weakref.WeakKeyDictionary()
-
-
 def elastic_dynamics(body: Body, element_size: float = ELEMENT_SIZE) -> BodyDynamics:
-    """The whole body's elastic model ready for posing (2 modes: statics need none), built once per body."""
+    """The whole body's elastic model ready for posing (2 modes: statics need none), built once per body
+    and element size (kept in `Body.whole_body_dynamics`)."""
     from hitogata.elastic import build_elastic_model
 
-    per_size = _CACHE.setdefault(body, {})
+    per_size = body.whole_body_dynamics
     if element_size not in per_size:
         model = build_elastic_model(body, extent="body", element_size=element_size, n_modes=2)
         per_size[element_size] = BodyDynamics.build(body, model)
@@ -68,7 +64,7 @@ class ElasticPose:
     def fine_vertices(self) -> np.ndarray:
         """(Vf, 3) the fine skin (`hitogata.measure.fine_skin`) carried by the same skinning and elastic field."""
         poser = self.dynamics.poser
-        return fine_skinning(poser.body, poser.skin).surface(self.posed.pose, self.dynamics.rig.method, self.vertices)
+        return poser.body.fine_skinning.surface(self.posed.pose, self.dynamics.rig.method, self.vertices)
 
 
 def elastic_pose(

@@ -24,7 +24,6 @@ from hitogata.body import Body
 from hitogata.errors import HitogataError
 from hitogata.export.atomic import write_bytes_atomically
 from hitogata.export.body_files import body_from_extras
-from hitogata.measure.fine_skin import fine_skinning
 from hitogata.options import Skinning
 from hitogata.pose import poser_for
 from hitogata.skinning import METHODS, skin_vertices
@@ -49,7 +48,7 @@ def posture(body: Body, angles: np.ndarray, skinning: Skinning = "lbs", vertices
     pose = poser.kinematics.pose(np.asarray(angles, dtype=float))  # as written: checked when it was posed
     joints = poser.rig_joints(pose.rotations[0], pose.translations[0])
     v = skin_vertices(poser.skin, pose.rotations, pose.translations, skinning)[0] if vertices is None else vertices
-    fine = fine_skinning(body, poser.skin).surface(pose, skinning, vertices)
+    fine = body.fine_skinning.surface(pose, skinning, vertices)
     return v, joints, fine
 
 

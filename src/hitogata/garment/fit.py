@@ -22,7 +22,7 @@ from hitogata.garment.ease import HEIGHTS, MotionEase, Surface, dynamic_ease, ov
 from hitogata.garment.fabric import Fabric
 from hitogata.garment.pressure import MMHG, Garment
 from hitogata.garment.pressure_motion import pressure_series
-from hitogata.garment.stretch import PERCENTILE, ZoneStretch, area_percentile, garment_zones, stretch_table
+from hitogata.garment.stretch import PERCENTILE, ZoneStretch, area_percentile, stretch_table
 from hitogata.measure.strain import skin_strain
 from hitogata.motion.clip import MotionClip
 from hitogata.pose import poser_for
@@ -68,7 +68,7 @@ def peak_frames(answers: FitAnswers, motion: str) -> PeakFrames:
     strain over all zones' skin) and, with a garment, the frame of the highest peak pressure at any level."""
     body, clip = answers.body, answers.clips[motion]
     frames = sampled_frames(clip, answers.rate)
-    zones, _ = garment_zones(body)
+    zones, _ = body.garment_zones
     faces = np.unique(np.concatenate(list(zones.values())))
     tri = body.vertices[body.faces[faces]]
     area = 0.5 * np.linalg.norm(np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]), axis=1)

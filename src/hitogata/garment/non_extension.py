@@ -44,7 +44,6 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from hitogata.body import Body
-from hitogata.measure.fine_skin import fine_skin
 from hitogata.measure.strain import skin_strain
 
 MARGIN = 0.02  # the principal stretches at least this far apart (λ2 ≤ 1 ≤ λ1)
@@ -229,7 +228,7 @@ def streamlines(vertices: np.ndarray, faces: np.ndarray, field: NonExtension, sp
 
 def body_lines(body: Body, posed: np.ndarray) -> list[Line]:
     """The lines of non-extension on `body`'s rest fine skin for one posed skin (V, 3) of the body."""
-    fine = fine_skin(body)
+    fine = body.fine_skin
     field = non_extension_directions(fine.vertices, fine.carry(posed), fine.faces)
     return streamlines(fine.vertices, fine.faces, field)
 

@@ -21,7 +21,6 @@ the waist (trunk skin within 4 cm of the waist level).
 
 from __future__ import annotations
 
-import weakref
 from collections.abc import Mapping
 from dataclasses import dataclass
 
@@ -65,16 +64,10 @@ class ZoneStretch:
                 for k, z in enumerate(self.zones)]
 
 
-_BY_BODY: weakref.WeakKeyDictionary[Body, tuple[dict[str, np.ndarray], np.ndarray]] = weakref.WeakKeyDictionary()
-
-
 def garment_zones(body: Body) -> tuple[dict[str, np.ndarray], np.ndarray]:
-    """Face indices of each garment zone and the faces' lengthwise directions at rest (F, 3), cached."""
-    found = _BY_BODY.get(body)
-    if found is None:
-        found = (_zones(body), _lengthwise(body))
-        _BY_BODY[body] = found
-    return found
+    """Face indices of each garment zone and the faces' lengthwise directions at rest (F, 3)
+    (`Body.garment_zones` keeps them with the body)."""
+    return _zones(body), _lengthwise(body)
 
 
 def _zones(body: Body) -> dict[str, np.ndarray]:
@@ -154,7 +147,7 @@ def zone_stretch(body: Body, name: str, clip: MotionClip, surface: Surface | Non
                  rate: float = 5.0) -> ZoneStretch:
     """The stretch each garment zone needs through one motion (sampled at `rate` frames per second)."""
     surface = surface or skinned_surface(body)
-    zones, along = garment_zones(body)
+    zones, along = body.garment_zones
     tri = body.vertices[body.faces]
     normal = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
     area = 0.5 * np.linalg.norm(normal, axis=1)

@@ -15,13 +15,11 @@ skinning with those weights. The coarse mesh stays the simulation surface.
 
 from __future__ import annotations
 
-import weakref
 from dataclasses import dataclass
 
 import numpy as np
 import scipy.sparse as sp
 
-from hitogata.body import Body
 from hitogata.measure.topology import topology
 from hitogata.options import Skinning
 from hitogata.skeleton.kinematics import Pose
@@ -90,17 +88,6 @@ def _loop_step(faces: np.ndarray, n: int) -> tuple[sp.csr_matrix, np.ndarray]:
     return step, new
 
 
-_BY_BODY: weakref.WeakKeyDictionary[Body, FineSkin] = weakref.WeakKeyDictionary()
-
-
-def fine_skin(body: Body) -> FineSkin:
-    """The body's fine skin, built once per body."""
-    found = _BY_BODY.get(body)
-    if found is None:
-        found = _BY_BODY[body] = subdivide(body.vertices, body.faces)
-    return found
-
-
 @dataclass(frozen=True, eq=False)
 class FineSkinning:
     """The fine skin prepared for skinning with the coarse skin's part weights, interpolated."""
@@ -119,14 +106,8 @@ class FineSkinning:
         return out
 
 
-_BY_SKIN: weakref.WeakKeyDictionary[Skin, FineSkinning] = weakref.WeakKeyDictionary()
-
-
-def fine_skinning(body: Body, coarse: Skin) -> FineSkinning:
-    """The fine skin of `body` with the part weights of `coarse` (a `Poser.skin`), built once per skin."""
-    found = _BY_SKIN.get(coarse)
-    if found is None:
-        fine = fine_skin(body)
-        weights = sp.csr_matrix(fine.interpolation @ coarse.weights)
-        found = _BY_SKIN[coarse] = FineSkinning(fine, prepare_skin(fine.vertices, weights, coarse.parents), coarse)
-    return found
+def fine_skinning(fine: FineSkin, coarse: Skin) -> FineSkinning:
+    """The fine skin prepared for skinning with the part weights of `coarse` (a `Poser.skin`)
+    interpolated (`Body.fine_skinning` keeps the body's own)."""
+    weights = sp.csr_matrix(fine.interpolation @ coarse.weights)
+    return FineSkinning(fine, prepare_skin(fine.vertices, weights, coarse.parents), coarse)

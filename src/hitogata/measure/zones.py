@@ -18,7 +18,6 @@ import numpy as np
 
 from hitogata.body import Body
 from hitogata.errors import HitogataError
-from hitogata.measure.fine_skin import fine_skin
 from hitogata.measure.strain import SkinStrain
 
 MAIN_WEIGHT = 0.5  # a vertex follows a bone group when its summed weight on it is at least this
@@ -114,7 +113,7 @@ def zone_strain(strain: SkinStrain, faces: np.ndarray) -> ZoneStrain:
 
 def fine_zones(body: Body) -> dict[str, np.ndarray]:
     """Face indices of each zone on the body's fine skin."""
-    parent = fine_skin(body).parent
+    parent = body.fine_skin.parent
     return {name: np.flatnonzero(np.isin(parent, faces)) for name, faces in body_zones(body).items()}
 
 
@@ -123,9 +122,9 @@ def zone_strains(body: Body, strain: SkinStrain) -> dict[str, ZoneStrain]:
     n = len(strain.rest_area)
     if n == len(body.faces):
         zones = body_zones(body)
-    elif n == len(fine_skin(body).faces):
+    elif n == len(body.fine_skin.faces):
         zones = fine_zones(body)
     else:
-        allowed = f"{len(body.faces)} (the skin) or {len(fine_skin(body).faces)} (the fine skin)"
+        allowed = f"{len(body.faces)} (the skin) or {len(body.fine_skin.faces)} (the fine skin)"
         raise HitogataError(f"strain of {n} faces: allowed {allowed}")
     return {name: zone_strain(strain, faces) for name, faces in zones.items()}

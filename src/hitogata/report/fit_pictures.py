@@ -26,7 +26,7 @@ from hitogata.garment.fit import FitAnswers, posture
 from hitogata.garment.non_extension import Line
 from hitogata.garment.pressure import MMHG
 from hitogata.garment.pressure_map import pressure_map
-from hitogata.garment.stretch import GARMENT_ZONES, MAP_RANGE, garment_zones
+from hitogata.garment.stretch import GARMENT_ZONES, MAP_RANGE
 from hitogata.geometry.mesh_checks import boundary_edges
 from hitogata.measure.strain import skin_strain
 
@@ -83,7 +83,7 @@ class FitPictures:
                              scalar_title="largest principal strain (%)")]
         lifted = vertices + OUTLINE_LIFT * vertex_normals(vertices, body.faces)
         colours = zone_colours()
-        for zone, faces in garment_zones(body)[0].items():
+        for zone, faces in body.garment_zones[0].items():
             edges = boundary_edges(body.faces[faces])
             if len(edges):
                 items.append(Lines(lifted[edges], color=colours[zone], width=OUTLINE_PIXELS))

@@ -25,7 +25,6 @@ import numpy as np
 from hitogata.body import Body
 from hitogata.errors import HitogataError
 from hitogata.export.atomic import write_bytes_atomically
-from hitogata.measure.fine_skin import fine_skin
 from hitogata.measure.landmarks import body_landmarks, landmark_positions
 from hitogata.measure.measurements import Measurements, measure, measurement_paths, posture_arrays
 from hitogata.measure.strain import skin_strain
@@ -115,7 +114,7 @@ def measure_report(
     picture = render_png(v, body.faces, ("front", "right", "back"), title=title, overlays=paths)  # tapes on the right
     if posed:
         rest = measure(body)
-        fine = fine_skin(body)
+        fine = body.fine_skin
         surface = (v, body.faces) if fine_vertices is None else (fine_vertices, fine.faces)
         strain = skin_strain(body.vertices if fine_vertices is None else fine.vertices, *surface)
         zones = zone_strains(body, strain)
