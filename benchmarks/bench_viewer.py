@@ -99,7 +99,7 @@ def main() -> None:
         drain(client)
 
         def in_place(v: float) -> None:
-            app.scene.show(posed_frame(body, app.state.set_contraction(MUSCLE, v / 100.0)))
+            app.scene.show(posed_frame(app.state.set_contraction(MUSCLE, v / 100.0)))
 
         ours = timed_moves(in_place, values, client, v_bytes)
         report(f"ours: prepared, in place ({v_bytes / 1e3:.0f} kB)", ours)
@@ -119,7 +119,7 @@ def main() -> None:
 
         def from_scratch(v: float) -> None:
             posed = Poser.from_body(body).pose(contractions={MUSCLE: v / 100.0})
-            app.scene.show(posed_frame(body, posed))
+            app.scene.show(posed_frame(posed))
 
         drain(client)
         report("baseline: Poser prepared anew each move", timed_moves(from_scratch, values[:20], client, v_bytes), ours)
