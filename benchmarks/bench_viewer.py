@@ -31,7 +31,8 @@ from websockets.sync.client import ClientConnection, connect
 from hitogata.body import default_body
 from hitogata.pose import Poser
 from hitogata.viewer import serve
-from hitogata.viewer.app import ViewerApp, measurement_table
+from hitogata.measure import MEASUREMENT_NAMES
+from hitogata.viewer.app import ViewerApp, measurement_markdown
 from hitogata.viewer.frame import posed_frame
 from hitogata.viewer.scene import BONE_LINE_COLOUR, SKIN_COLOUR
 
@@ -98,7 +99,7 @@ def main() -> None:
         drain(client)
 
         def in_place(v: float) -> None:
-            app.scene.show(posed_frame(body, app.state.set_contraction(MUSCLE, v / 100.0)))
+            app.scene.show(posed_frame(app.state.set_contraction(MUSCLE, v / 100.0)))
 
         ours = timed_moves(in_place, values, client, v_bytes)
         report(f"ours: prepared, in place ({v_bytes / 1e3:.0f} kB)", ours)
@@ -118,7 +119,7 @@ def main() -> None:
 
         def from_scratch(v: float) -> None:
             posed = Poser.from_body(body).pose(contractions={MUSCLE: v / 100.0})
-            app.scene.show(posed_frame(body, posed))
+            app.scene.show(posed_frame(posed))
 
         drain(client)
         report("baseline: Poser prepared anew each move", timed_moves(from_scratch, values[:20], client, v_bytes), ours)
@@ -126,9 +127,9 @@ def main() -> None:
         print("\nwhat follows a move on the background threads (median of 10):")
         app.wait_idle()
         frame = app.frame
-        t_measure = statistics.median(_times(lambda: measurement_table(body, frame), 10))
+        t_measure = statistics.median(_times(lambda: measurement_markdown(body, frame), 10))
         t_strain = statistics.median(_times(lambda: app.colouring.colours("skin strain", frame.vertices, frame.rig_joints), 10))
-        print(f"  measurement table (12 ISO 8559-1 measurements): {1e3 * t_measure:.0f} ms")
+        print(f"  measurement table ({len(MEASUREMENT_NAMES)} ISO 8559-1 measurements): {1e3 * t_measure:.0f} ms")
         print(f"  strain colours (per-triangle strain -> vertex colours): {1e3 * t_strain:.0f} ms")
         drain(client)
         _with_browser(app, values, client, v_bytes)
