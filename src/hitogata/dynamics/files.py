@@ -31,7 +31,8 @@ from hitogata.dynamics.motion import Motion
 from hitogata.errors import HitogataError
 from hitogata.export.atomic import write_bytes_atomically
 from hitogata.export.body_files import body_from_extras, shape_extras
-from hitogata.export.gltf import GlbBuilder, add_material, named_node, vertex_normals
+from hitogata.export.gltf import GlbBuilder, add_material, named_node
+from hitogata.geometry.normals import vertex_normals
 from hitogata.export.vtu import label_arrays, write_vtu
 from hitogata.geometry.shells import region_boundary, smoothing_operator, taubin_smooth
 
