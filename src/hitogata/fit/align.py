@@ -24,10 +24,13 @@ T_POSE_ABDUCTION = np.radians(90.0)
 
 
 def principal_axes(points: np.ndarray) -> np.ndarray:
-    """(3, 3) unit principal axes as columns, largest spread first."""
+    """(3, 3) unit principal axes as columns, largest spread first, right-handed (a rotation, never a mirror)."""
     centred = points - points.mean(axis=0)
     _, vectors = np.linalg.eigh(centred.T @ centred)
-    return vectors[:, ::-1]
+    axes = vectors[:, ::-1].copy()
+    if np.linalg.det(axes) < 0:
+        axes[:, 2] *= -1
+    return axes
 
 
 def axis_matchings() -> list[np.ndarray]:
@@ -51,10 +54,12 @@ def arm_poses(model: BodyModel) -> list[np.ndarray]:
     return [rest, t_pose]
 
 
-def initial_alignment(model: BodyModel, points: np.ndarray, seed: int = 0) -> Registration:
-    """The best rigid start (and arm pose) for a scan (P, 3) in metres, in any orientation.
+def initial_alignments(model: BodyModel, points: np.ndarray, seed: int = 0) -> list[Registration]:
+    """The best rigid starts (and arm poses) for a scan (P, 3) in metres, in any orientation, best first.
 
     Every candidate takes `ALIGN_STEPS` rigid steps; the `KEEP` best take as many again.
+    A body facing the wrong way differs mostly at the feet and face, which a rigid
+    fit of the average body cannot always tell: the caller tries the first few further.
     """
     rng = np.random.default_rng(seed)
     sample = points[rng.choice(len(points), min(ALIGN_POINTS, len(points)), replace=False)]
@@ -72,12 +77,12 @@ def initial_alignment(model: BodyModel, points: np.ndarray, seed: int = 0) -> Re
             candidates.append((*_rigid(model, sample, start, surface), surface))
     candidates.sort(key=lambda c: c[0])
     refined = [_rigid(model, sample, found, surface) for _, found, surface in candidates[:KEEP]]
-    return min(refined, key=lambda c: c[0])[1]
+    return [found for _, found in sorted(refined, key=lambda c: c[0])]
 
 
 def _rigid(model: BodyModel, points: np.ndarray, start: Registration, surface: Surface) -> tuple[float, Registration]:
-    """`ALIGN_STEPS` rigid-only steps on a fixed surface; the median distance (m) and the registration."""
-    state, median = start, np.inf
+    """`ALIGN_STEPS` rigid-only steps on a fixed surface; the score (`register.score`) and the registration."""
+    state, score = start, np.inf
     for _ in range(ALIGN_STEPS):
-        state, median = gauss_newton_step(model, points, state, surface, SIGMA[0])
-    return median, state
+        state, score = gauss_newton_step(model, points, state, surface, SIGMA[0])
+    return score, state

@@ -16,7 +16,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from hitogata.body import WHOLE_BODY_DENSITY, Body, sex_value
-from hitogata.fit.align import initial_alignment
+from hitogata.fit.align import initial_alignments
 from hitogata.fit.closest import SurfaceQuery, face_normals
 from hitogata.fit.detail import detailed_body, solve_detail
 from hitogata.fit.girths import scan_girths
@@ -29,7 +29,8 @@ from hitogata.shape import ShapeParameters
 
 FIT_POINTS = 6000  # scan points the shape and pose are solved on
 DETAIL_POINTS = 60_000  # scan points the detail is solved on
-ITERATIONS = 24
+ITERATIONS = 30  # Gauss-Newton iterations in all
+TRIED, TRIAL = 2, 6  # the best rigid starts, each given this many iterations before the better goes on
 
 
 @dataclass(frozen=True)
@@ -74,8 +75,9 @@ def fit_scan(scan: Scan, sex: float | str, *, detail: bool = True, density: floa
              iterations: int = ITERATIONS, seed: int = 0) -> ScanFit:
     """The body of sex `sex` fitted to the scan (see the module note)."""
     model = BodyModel(ShapeParameters(sex=sex_value(sex)), density)
-    start = initial_alignment(model, scan.points, seed)
-    reg, _ = register(model, scan.sample(FIT_POINTS, seed), start, iterations)
+    sample = scan.sample(FIT_POINTS, seed)
+    tried = [register(model, sample, start, TRIAL) for start in initial_alignments(model, scan.points, seed)[:TRIED]]
+    reg, _ = register(model, sample, min(tried, key=lambda t: t[1])[0], iterations - TRIAL, first=TRIAL)
     params = model.params(reg.shape)
     plain = model.body(reg.shape)
     posed, _ = model.posed(plain.poser, reg.pose)
