@@ -19,7 +19,7 @@ REPO = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(REPO / "tools"))
 from readme_examples import SERVERS, examples, run  # noqa: E402
 
-LONG = ("modes", "simulate", "demo", "study", "ease")
+LONG = ("modes", "simulate", "demo", "study", "ease", "fit")
 
 
 def outputs(argv: list[str]) -> str | None:
