@@ -9,7 +9,7 @@ import sys
 import pytest
 
 COMPUTATION = ["body", "shape", "rig", "skeleton", "muscles", "pose", "skinning", "volume", "fem", "elastic",
-               "dynamics", "measure", "geometry", "options", "units"]
+               "dynamics", "measure", "geometry", "options", "units", "fit"]
 PRESENTATION = ("matplotlib", "pyvista", "vtk", "vtkmodules", "meshio", "pygltflib", "viser", "trimesh", "PIL", "tqdm")
 
 

@@ -5,12 +5,15 @@ Each girth's plane is the fitted body's in the scan's pose
 plane — the crossing points of a scan mesh, or the points of a cloud within
 `SLAB` of the plane — that lie against the girth's own skin (their nearest
 body vertex is skin the tape may rest on, `Body.tape_skin`) and near the
-fitted tape are binned by angle round the fitted tape's centre; each bin's
-median radius makes one point (a median, so scan noise does not widen the
-girth as the outermost points would), and the tape is the convex hull of those
+fitted tape are binned by angle round the fitted tape's centre; in each bin
+the points' median radius stands for the bin (so scan noise does not widen
+the girth as the outermost points would); the medians joined round the
+circle linearly in the angle make a closed curve, sampled finely (so the bins'
+chords do not shorten it), and the tape is the convex hull of that
 (`hitogata.measure.sections.hull_perimeter`). Where the scan has a hole across
-the plane (an inner thigh next to a crotch hole) a gap of more than
-`MAX_GAP` of the angle is left: that girth is not measurable on the scan (NaN).
+the plane (an inner thigh next to a crotch hole, the side of the chest under
+an arm) that leaves more than `MAX_GAP` of the angle without points, the girth
+is not measurable on the scan (NaN).
 """
 
 from __future__ import annotations
@@ -29,7 +32,8 @@ SLAB = 0.003  # m: half-thickness of the slab of cloud points taken as lying in 
 NEAR = 0.02  # m: scan points further than this (radially) from the fitted tape are not that part
 BIN_LENGTH = 0.01  # m of the fitted girth per angle bin, between MIN_BINS and MAX_BINS bins
 MIN_BINS, MAX_BINS = 12, 72
-MAX_GAP = 60.0  # degrees of angle without scan points: a hole, not a girth
+SAMPLES_PER_BIN = 8  # samples of the median curve per bin, for the hull
+MAX_GAP = 30.0  # degrees of angle without scan points: a hole, not a girth
 
 
 def scan_girths(points: np.ndarray, faces: np.ndarray | None, body: Body, vertices: np.ndarray,
@@ -92,18 +96,23 @@ def _binned_girth(points: np.ndarray, tape: np.ndarray, girth: float, normal: np
     if len(known) < bins:
         gap = np.abs(np.angle(np.exp(1j * (centres[:, None] - centres[known][None, :]))))
         reach = reach[known][gap.argmin(axis=1)]
-    near = np.abs(radius - reach[np.clip(point_bin, 0, bins - 1)]) < NEAR
-    ring = []
+    point_bin = np.clip(point_bin, 0, bins - 1)
+    near = np.abs(radius - reach[point_bin]) < NEAR
+    angle, radius, point_bin = angle[near], radius[near], point_bin[near]
     filled = np.zeros(bins, dtype=bool)
+    middle = np.zeros(bins)
     for k in range(bins):
-        mine = near & (point_bin == k)
+        mine = point_bin == k
         if np.any(mine):
-            r, a = float(np.median(radius[mine])), float(np.median(angle[mine]))
-            ring.append(centre + r * (np.cos(a) * u + np.sin(a) * v))
-            filled[k] = True
-    if len(ring) < 3 or _largest_gap(filled) * 360.0 / bins > MAX_GAP:
+            filled[k], middle[k] = True, np.median(radius[mine])
+    if np.count_nonzero(filled) < 3 or _largest_gap(filled) * 360.0 / bins > MAX_GAP:
         return float("nan")
-    return hull_perimeter(np.array(ring), n).girth
+    # The bins' median radii joined round the circle, linearly in the angle: a closed curve, sampled finely.
+    known = np.flatnonzero(filled)
+    fine = np.linspace(-np.pi, np.pi, bins * SAMPLES_PER_BIN, endpoint=False)
+    r = np.interp(fine, centres[known], middle[known], period=2.0 * np.pi)
+    ring = centre + r[:, None] * (np.cos(fine)[:, None] * u + np.sin(fine)[:, None] * v)
+    return hull_perimeter(ring, n).girth
 
 
 def _largest_gap(filled: np.ndarray) -> int:
