@@ -16,13 +16,17 @@ import json
 import numpy as np
 import pytest
 
+from gltf_validator import needs_validator, validate_gltf
 from hitogata import cli
+from hitogata.assets import load_assets
 from hitogata.body import Body
+from hitogata.dynamics.files import read_sequence_body
 from hitogata.errors import HitogataError
-from hitogata.export.body_files import body_from_extras, write_body
+from hitogata.export.body_files import body_from_extras, detail_extras, shape_extras, write_body
 from hitogata.export.gltf import read_glb_skin
-from hitogata.fit import fit_scan, make_scan
-from hitogata.fit.regions import vertex_regions, REGIONS
+from hitogata.fit import detailed_body, fit_scan, make_scan
+from hitogata.fit.detail import detail_offsets
+from hitogata.fit.regions import REGIONS, vertex_regions
 from hitogata.fit.synthetic import Perturbation, synthetic_scan
 from hitogata.measure import measure
 from hitogata.measure.measurements import GIRTHS
@@ -157,3 +161,42 @@ def test_fit_mistakes_are_one_line(tmp_path, capsys):
         err = capsys.readouterr().err.strip().splitlines()
         assert len(err) == 1 and expected in err[0], err
     assert sorted(p.name for p in tmp_path.iterdir()) == ["broken.ply"]
+
+
+def detailed(seed: int = 0) -> Body:
+    """A body with smooth per-vertex detail (a few mm), as a fit makes one — without the fit."""
+    base = Body.from_parameters(WOMAN)
+    n = load_assets().n_surface
+    offsets = 0.004 * np.sin(base.vertices[:n, 1] * 20.0 + seed) * np.cos(base.vertices[:n, 0] * 15.0)
+    return detailed_body(WOMAN, np.round(offsets * 1e5) * 1e-5)
+
+
+def test_pose_and_measure_take_a_detailed_body_from_its_glb(tmp_path, capsys):
+    body = detailed()
+    path = write_body(tmp_path / "fitted.glb", body)
+    assert np.abs(detail_offsets(body_from_extras(path, read_glb_skin(path).extras)) - detail_offsets(body)).max() < 1e-9
+    posed = tmp_path / "posed.glb"
+    assert cli.main(["pose", "--body", str(path), "--angle", "shoulder_l.abduction=90deg", "--out", str(posed)]) == 0
+    skin = read_glb_skin(posed)
+    again = body_from_extras(posed, skin.extras)
+    assert np.abs(again.vertices - body.vertices).max() < 1e-9  # the posed file's rest body is the detailed one
+    assert cli.main(["measure", str(posed), "--out", str(tmp_path / "report")]) == 0
+    assert cli.main(["pose", "--body", str(path), "--sex", "male", "--out", str(tmp_path / "x.glb")]) == 2
+    assert "--sex male: does not apply here (the body comes from" in capsys.readouterr().err
+
+
+def test_a_motion_sequence_keeps_the_detail(tmp_path):
+    body = detailed(1)
+    extras = detail_extras(body)
+    path = tmp_path / "sequence.npz"
+    np.savez(path, times=np.zeros(1), vertices=body.vertices[None].astype(np.float32), joints=body.rig.heads[None],
+             shape=np.array(json.dumps(shape_extras(body.params))), density=np.array(body.density),
+             **{k: np.asarray(v, dtype=np.int32) for k, v in extras.items()})
+    again, _ = read_sequence_body(path)
+    assert np.abs(again.vertices - body.vertices).max() < 1e-9
+
+
+@needs_validator
+def test_a_detailed_body_glb_is_valid_gltf(tmp_path):
+    report, code = validate_gltf(write_body(tmp_path / "fitted.glb", detailed()))
+    assert code == 0 and report["issues"]["numErrors"] == 0 and report["issues"]["numWarnings"] == 0
