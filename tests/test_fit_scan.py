@@ -149,9 +149,19 @@ def test_hitogata_fit_writes_the_body_and_its_report_and_measure_reads_it(tmp_pa
 
 
 def test_fit_mistakes_are_one_line(tmp_path, capsys):
+    import trimesh
+
     bad = tmp_path / "broken.ply"
     bad.write_bytes(b"ply\nformat nonsense\n")
+    body = Body.from_parameters(WOMAN)
+    trimesh.PointCloud(body.vertices[:500] * 1000).export(tmp_path / "few.ply")
+    trimesh.PointCloud(body.vertices * 100).export(tmp_path / "cm.ply")
     for argv, expected in [
+        (["fit", str(tmp_path / "few.ply"), "--sex", "female", "--out", str(tmp_path / "a.glb")],
+         "few.ply: 500 points; allowed a scan of at least 2000 points"),
+        (["fit", str(tmp_path / "cm.ply"), "--sex", "female", "--out", str(tmp_path / "a.glb")],
+         "unit unclear (a standing person spans 1–2.6 m or 1000–2600 mm); give --units mm or --units m"),
+        (["fit", str(tmp_path / "cm.ply"), "--sex", "robot", "--out", str(tmp_path / "a.glb")], "sex 'robot'"),
         (["fit", str(bad), "--sex", "female", "--out", str(tmp_path / "a.glb")], "not a readable scan"),
         (["fit", str(bad), "--sex", "female", "--units", "cm", "--out", str(tmp_path / "a.glb")], "invalid choice"),
         (["fit", str(tmp_path / "none.ply"), "--sex", "female", "--out", str(tmp_path / "a.glb")], "no such file"),
@@ -160,7 +170,7 @@ def test_fit_mistakes_are_one_line(tmp_path, capsys):
         assert cli.main(argv) == 2
         err = capsys.readouterr().err.strip().splitlines()
         assert len(err) == 1 and expected in err[0], err
-    assert sorted(p.name for p in tmp_path.iterdir()) == ["broken.ply"]
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["broken.ply", "cm.ply", "few.ply"]
 
 
 def detailed(seed: int = 0) -> Body:
