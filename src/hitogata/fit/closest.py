@@ -68,11 +68,6 @@ class SurfaceQuery:
         return Closest(dist, face, barycentric(near_point, t[:, 0], t[:, 1], t[:, 2]), near_point)
 
 
-def closest_on_surface(vertices: np.ndarray, faces: np.ndarray, points: np.ndarray, k: int = 8) -> Closest:
-    """The closest point of the surface (vertices, faces) to each of `points` (P, 3)."""
-    return SurfaceQuery(vertices, faces).closest(points, k)
-
-
 def face_normals(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
     """(F, 3) unit face normals (outward on an outward-oriented surface)."""
     tri = vertices[faces]

@@ -9,7 +9,8 @@ directions count: scan → body holds the body to the scan where it was seen,
 body → scan pulls limbs onto scanned limbs. Holes in the scan (armpits,
 crotch) leave body vertices far from any scan point; the Cauchy weights
 w = 1 / (1 + (r/σ)²), σ shrinking over the iterations, make those and
-outliers count for little.
+outliers count for little. A weak prior (`POSE_PRIOR`) keeps joint angles
+the surface hardly shows near rest.
 """
 
 from __future__ import annotations
@@ -28,9 +29,10 @@ BODY_TO_SCAN = 0.5  # weight of the body → scan rows against the scan → body
 TRUST = {"rotation": np.radians(5.0), "translation": 0.03, "shape": 0.15, "pose": np.radians(12.0)}
 SIGMA = (0.03, 0.003)  # m: the Cauchy scale, first and last
 SIGMA_DECAY = 0.75
-# A weak pull of the joint angles (but the arms' abduction, A- or T-pose) towards the rest pose, as if every scan point were 1 mm off per 10°
-# away: it settles the angles the surface hardly sees (flexion of an arm held out sideways turns it
-# about its own axis) without moving what the scan shows.
+# A weak pull of the joint angles towards the rest pose (all but the shoulders' abduction: A- or
+# T-pose is the scan's to say), as if every scan point were 1 mm off per 10° away: it settles the
+# angles the surface hardly sees (flexion of an arm held out sideways turns it about its own axis)
+# without moving what the scan shows.
 POSE_PRIOR = 0.001 / np.radians(10.0)
 CLIP = 0.05  # m: distances are clipped here in the fit's score (a mean that still sees feet turned backwards)
 
@@ -146,8 +148,8 @@ def gauss_newton_step(
     b = -np.concatenate([r1 * w1, r2 * w2])
     if jac is not None:  # the prior on the pose: rows for (pose − rest pose) but the arms' abduction
         n_pose = len(state.pose)
-        weight = POSE_PRIOR * np.sqrt(len(r1)) * np.array([not n.endswith(".abduction") or n.startswith("thigh")
-                                                          for n in POSE_NAMES])
+        free = np.array([n.startswith("shoulder_") and n.endswith(".abduction") for n in POSE_NAMES])
+        weight = POSE_PRIOR * np.sqrt(len(r1)) * ~free
         prior = np.zeros((n_pose, a.shape[1]))
         prior[:, -n_pose:] = np.diag(weight)
         a = np.concatenate([a, prior])
