@@ -18,6 +18,7 @@ import numpy as np
 
 from hitogata.body import Body
 from hitogata.muscles.activation import MuscleLimitWarning
+from hitogata.muscles.geometry import MuscleGeometryWarning
 from hitogata.pose import Poser
 from hitogata.shape import OLD_YEARS, YOUNG_YEARS, ShapeParameters
 
@@ -98,7 +99,9 @@ class BodyModel:
         iteration, which rebuilds the body.
         """
         body = self.body(shape)
-        poser = body.poser
+        with warnings.catch_warnings():  # the solver's passing bodies: their muscle notes are not the user's
+            warnings.simplefilter("ignore", MuscleGeometryWarning)
+            poser = body.poser
         lo, hi = self.pose_bounds
         probes = [pose]
         steps = []
