@@ -119,9 +119,11 @@ class BodyModel:
         linear = (poser.skin.weights @ kin.rotations[0].reshape(-1, 9)).reshape(-1, 3, 3)
         shape_cols = []
         for j in range(len(shape)):
-            step = SHAPE_STEP if shape[j] + SHAPE_STEP <= 1.0 else -SHAPE_STEP
-            probe = shape.copy()
-            probe[j] += step
-            shape_cols.append(np.einsum("vij,vj->vi", linear, (self.body(probe).vertices - body.vertices) / step))
+            # central differences within 0..1: every parameter's targets switch at 0.5 (MakeHuman's
+            # min/average/max), where a one-sided slope would hold the solver on the side it started
+            lo_probe, hi_probe = shape.copy(), shape.copy()
+            lo_probe[j], hi_probe[j] = max(shape[j] - SHAPE_STEP, 0.0), min(shape[j] + SHAPE_STEP, 1.0)
+            change = self.body(hi_probe).vertices - self.body(lo_probe).vertices
+            shape_cols.append(np.einsum("vij,vj->vi", linear, change / (hi_probe[j] - lo_probe[j])))
         jac = np.concatenate([np.stack(shape_cols, axis=2), pose_cols.transpose(1, 2, 0)], axis=2)
         return body, poser, posed, jac

@@ -11,7 +11,7 @@ where the scan leaves the model's space) and of the fitted body.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -20,7 +20,7 @@ from hitogata.fit.align import initial_alignments
 from hitogata.fit.closest import SurfaceQuery, face_normals
 from hitogata.fit.detail import detailed_body, solve_detail
 from hitogata.fit.girths import scan_girths
-from hitogata.fit.model import POSE_NAMES, BodyModel
+from hitogata.fit.model import POSE_NAMES, SHAPE_NAMES, BodyModel
 from hitogata.fit.regions import RegionResidual, cannot_follow, region_residuals, vertex_regions
 from hitogata.fit.register import Registration, register
 from hitogata.fit.scan import Scan
@@ -31,6 +31,10 @@ FIT_POINTS = 6000  # scan points the shape and pose are solved on
 DETAIL_POINTS = 60_000  # scan points the detail is solved on
 ITERATIONS = 30  # Gauss-Newton iterations in all
 TRIED, TRIAL = 2, 6  # the best rigid starts, each given this many iterations before the better goes on
+# Muscle tone and weight trade against each other (MakeHuman's lean bodies are low in both): the
+# fit is restarted from low and from high muscle tone, RESTART iterations each, and the best kept.
+MUSCLE_RESTARTS = (0.2, 0.8)
+RESTART = 8
 
 
 @dataclass(frozen=True)
@@ -77,7 +81,13 @@ def fit_scan(scan: Scan, sex: float | str, *, detail: bool = True, density: floa
     model = BodyModel(ShapeParameters(sex=sex_value(sex)), density)
     sample = scan.sample(FIT_POINTS, seed)
     tried = [register(model, sample, start, TRIAL) for start in initial_alignments(model, scan.points, seed)[:TRIED]]
-    reg, _ = register(model, sample, min(tried, key=lambda t: t[1])[0], iterations - TRIAL, first=TRIAL)
+    reg, score = register(model, sample, min(tried, key=lambda t: t[1])[0], iterations - TRIAL, first=TRIAL)
+    for value in MUSCLE_RESTARTS:  # lean-and-muscular against lean-and-slight: a second opinion from each side
+        shape = reg.shape.copy()
+        shape[SHAPE_NAMES.index("muscle")] = value
+        other, other_score = register(model, sample, replace(reg, shape=shape), RESTART, first=TRIAL + RESTART)
+        if other_score < score:
+            reg, score = other, other_score
     params = model.params(reg.shape)
     plain = model.body(reg.shape)
     posed, _ = model.posed(plain.poser, reg.pose)
