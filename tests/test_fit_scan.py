@@ -88,6 +88,20 @@ def test_fit_comes_within_2_mm_and_iso_20685_allowances(case, request):
 
 
 @pytest.mark.slow
+@pytest.mark.parametrize("sex, stature, bmi", [("female", 1.50, 33.0), ("female", 2.00, 19.0),
+                                               ("male", 1.45, 35.0), ("male", 1.95, 18.0)])
+def test_bodies_at_the_ends_of_the_supported_range(sex, stature, bmi):
+    """Short and heavy, tall and lean (`Body.from_measurements`: muscle tone follows the build path)."""
+    truth = Body.from_measurements(sex, 30.0, stature, bmi * stature**2)
+    fit = fit_scan(scan_of(truth, truth.vertices, truth.rig.heads, 60_000), sex)
+    assert fit.model_error.median <= 0.0011 and fit.not_followed == []
+    known, fitted = measure(truth).as_dict(), fit.measurements.as_dict()
+    assert {n: round((fitted[n] - known[n]) * 1000, 1) for n in known
+            if abs(fitted[n] - known[n]) * 1000 > allowed_mm(n)} == {}
+    assert abs(fit.body.params.muscle - truth.params.muscle) < 0.02  # not a lean body made muscular
+
+
+@pytest.mark.slow
 def test_fit_figures_are_pinned(woman_cloud, man_mesh_t_pose):
     _, woman = woman_cloud
     _, man = man_mesh_t_pose

@@ -13,14 +13,13 @@ import itertools
 
 import numpy as np
 
-from hitogata.fit.model import POSE_NAMES, BodyModel
+from hitogata.fit.model import POSE_NAMES, T_POSE, BodyModel
 from hitogata.fit.register import SIGMA, Registration, Surface, gauss_newton_step
 
 ALIGN_POINTS = 800  # scan points per candidate
 ALIGN_STEPS = 3  # rigid-only iterations per candidate and round
 KEEP = 4  # candidates refined in the second round
 ALIGN_EVERY = 8  # every 8th body vertex pulls towards the scan while aligning
-T_POSE_ABDUCTION = np.radians(90.0)
 
 
 def principal_axes(points: np.ndarray) -> np.ndarray:
@@ -50,7 +49,7 @@ def arm_poses(model: BodyModel) -> list[np.ndarray]:
     rest = model.pose_start()
     t_pose = rest.copy()
     for side in ("l", "r"):
-        t_pose[POSE_NAMES.index(f"shoulder_{side}.abduction")] = T_POSE_ABDUCTION
+        t_pose[POSE_NAMES.index(f"shoulder_{side}.abduction")] = T_POSE
     return [rest, t_pose]
 
 

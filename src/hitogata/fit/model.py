@@ -35,6 +35,7 @@ POSE_SPEC = (
     ("thigh_r.abduction", (-15.0, 30.0), 0.0),
 )
 POSE_NAMES = tuple(name for name, _, _ in POSE_SPEC)
+T_POSE = np.radians(90.0)  # shoulder abduction of a T-pose
 SHAPE_STEP = 0.01  # finite-difference steps: parameter units
 POSE_STEP = np.radians(0.5)
 
@@ -74,9 +75,27 @@ class BodyModel:
     def body(self, shape: np.ndarray) -> Body:
         return Body.from_parameters(self.params(shape), self.density)
 
+    @classmethod
+    def angles(cls, poser: Poser, pose: np.ndarray) -> np.ndarray:
+        """(D,) rest-relative joint angles of a pose vector (clamped onto the ranges of motion, silently).
+
+        MakeHuman's rest pose holds the arms at 42° with the shoulder girdle at 0,
+        where the scapulohumeral rhythm would have raised it a little: the complex's
+        angles at the rest pose's own values are taken off, in full there and fading
+        out by a T-pose, so that the rest pose is one the fit can reach exactly.
+        """
+        q = cls._complex(poser, pose)
+        rest = cls._complex(poser, cls.pose_start())
+        names = poser.skeleton.dof_names
+        for side in ("l", "r"):
+            k = POSE_NAMES.index(f"shoulder_{side}.abduction")
+            fade = np.clip((T_POSE - pose[k]) / (T_POSE - cls.pose_start()[k]), 0.0, 1.0)
+            mine = np.array([f"_{side}." in name for name in names])
+            q[mine] -= fade * rest[mine]
+        return q
+
     @staticmethod
-    def angles(poser: Poser, pose: np.ndarray) -> np.ndarray:
-        """(D,) rest-relative joint angles of a pose vector (clamped onto the ranges of motion, silently)."""
+    def _complex(poser: Poser, pose: np.ndarray) -> np.ndarray:
         clinical = {n: float(v) for n, v in zip(POSE_NAMES, pose) if n.startswith("shoulder_")}
         relative = {n: float(v) for n, v in zip(POSE_NAMES, pose) if not n.startswith("shoulder_")}
         with warnings.catch_warnings():
