@@ -3,8 +3,8 @@
 Always: the order is checked (every file an example reads was made by an
 earlier one, each `measure` writes its own folder), and the quick examples
 run for real in a temporary folder. The long ones (`modes`, `simulate`,
-`demo`, `study`, `ease`: minutes each; `fit`: seconds) run with them when HITOGATA_README_ALL=1; `view` is a
-server and never runs here.
+`demo`, `study`, `ease`: minutes each; `fit`: some seconds) run with them
+when HITOGATA_README_ALL=1; `view` is a server and never runs here.
 """
 
 from __future__ import annotations
