@@ -102,6 +102,16 @@ def test_bodies_at_the_ends_of_the_supported_range(sex, stature, bmi):
 
 
 @pytest.mark.slow
+@pytest.mark.parametrize("rotation", [(np.pi / 2, 0.0, 0.0), (0.0, np.pi, 0.0)], ids=["z-up", "facing-away"])
+def test_a_scan_in_any_orientation(rotation):
+    body = Body.from_parameters(WOMAN)
+    cloud, _ = synthetic_scan(body, body.vertices, body.rig.heads, Perturbation(rotation=rotation), points=30_000)
+    fit = fit_scan(make_scan(cloud, None, "scan"), "female")
+    assert fit.model_error.median <= 0.0011 and fit.not_followed == []
+    assert fit.body.params.weight == pytest.approx(WOMAN.weight, abs=0.01)
+
+
+@pytest.mark.slow
 def test_fit_figures_are_pinned(woman_cloud, man_mesh_t_pose):
     _, woman = woman_cloud
     _, man = man_mesh_t_pose
