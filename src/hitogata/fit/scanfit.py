@@ -32,7 +32,8 @@ DETAIL_POINTS = 60_000  # scan points the detail is solved on
 ITERATIONS = 30  # Gauss-Newton iterations in all
 TRIED, TRIAL = 2, 6  # the best rigid starts, each given this many iterations before the better goes on
 # Muscle tone and weight trade against each other (MakeHuman's lean bodies are low in both): the
-# fit is restarted from low and from high muscle tone, RESTART iterations each, and the best kept.
+# fit is restarted from low and from high muscle tone, RESTART iterations each (the Cauchy scale at its
+# floor), and the best kept.
 MUSCLE_RESTARTS = (0.2, 0.8)
 RESTART = 8
 
@@ -85,7 +86,7 @@ def fit_scan(scan: Scan, sex: float | str, *, detail: bool = True, density: floa
     for value in MUSCLE_RESTARTS:  # lean-and-muscular against lean-and-slight: a second opinion from each side
         shape = reg.shape.copy()
         shape[SHAPE_NAMES.index("muscle")] = value
-        other, other_score = register(model, sample, replace(reg, shape=shape), RESTART, first=TRIAL + RESTART)
+        other, other_score = register(model, sample, replace(reg, shape=shape), RESTART, first=iterations)
         if other_score < score:
             reg, score = other, other_score
     params = model.params(reg.shape)
