@@ -53,8 +53,7 @@ def viewer_skinning(path: Path) -> np.ndarray:
 @pytest.fixture()
 def female_args(female: Body, monkeypatch):
     """The CLI's body is the session's default female (saves building one per call)."""
-    monkeypatch.setattr("hitogata.commands.posing.body_from_args", lambda args: female)
-    monkeypatch.setattr("hitogata.commands.pose.body_from_args", lambda args: female)
+    monkeypatch.setattr("hitogata.commands.body_file.body_from_args", lambda args: female)
     return female
 
 

@@ -22,7 +22,7 @@ SMALL = ["--height", "270"]
 
 @pytest.fixture()
 def female_args(female: Body, monkeypatch):
-    monkeypatch.setattr("hitogata.commands.posing.body_from_args", lambda args: female)
+    monkeypatch.setattr("hitogata.commands.body_file.body_from_args", lambda args: female)
     return female
 
 

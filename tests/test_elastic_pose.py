@@ -13,8 +13,7 @@ from hitogata.measure.body_lines import body_lines
 
 @pytest.fixture()
 def female_args(female, monkeypatch):
-    monkeypatch.setattr("hitogata.commands.posing.body_from_args", lambda args: female)
-    monkeypatch.setattr("hitogata.commands.pose.body_from_args", lambda args: female)
+    monkeypatch.setattr("hitogata.commands.body_file.body_from_args", lambda args: female)
     return female
 
 

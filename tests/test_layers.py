@@ -9,7 +9,7 @@ import sys
 import pytest
 
 COMPUTATION = ["body", "shape", "rig", "skeleton", "muscles", "pose", "skinning", "volume", "fem", "elastic",
-               "dynamics", "measure", "geometry", "options", "units", "made_to_measure", "measurement_rates"]
+               "dynamics", "measure", "geometry", "options", "units", "made_to_measure", "measurement_rates", "fit"]
 PRESENTATION = ("matplotlib", "pyvista", "vtk", "vtkmodules", "meshio", "pygltflib", "viser", "trimesh", "PIL", "tqdm")
 
 

@@ -3,8 +3,8 @@
 Always: the order is checked (every file an example reads was made by an
 earlier one, each `measure` writes its own folder), and the quick examples
 run for real in a temporary folder. The long ones (`modes`, `simulate`,
-`demo`: minutes each) run with them when HITOGATA_README_ALL=1; `view` is a
-server and never runs here.
+`demo`, `study`, `ease`: minutes each; `fit`: some seconds) run with them
+when HITOGATA_README_ALL=1; `view` is a server and never runs here.
 """
 
 from __future__ import annotations
@@ -19,7 +19,7 @@ REPO = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(REPO / "tools"))
 from readme_examples import SERVERS, examples, run  # noqa: E402
 
-LONG = ("modes", "simulate", "demo", "study", "ease", "fit-report")
+LONG = ("modes", "simulate", "demo", "study", "ease", "fit-report", "fit")
 
 
 def outputs(argv: list[str]) -> str | None:
@@ -55,7 +55,7 @@ def test_the_quick_examples_run_in_order(tmp_path, worktree_python_path):
 
 
 @pytest.mark.skipif(os.environ.get("HITOGATA_README_ALL") != "1",
-                    reason="the long examples (modes, simulate, demo, study, ease, fit-report) take minutes: HITOGATA_README_ALL=1")
+                    reason="the long examples (modes, simulate, demo, study, ease, fit-report, fit) take minutes: HITOGATA_README_ALL=1")
 def test_all_examples_run_in_order(tmp_path, worktree_python_path):
     done = run(tmp_path)
     assert len(done) == len(examples()) - len(SERVERS)

@@ -105,8 +105,7 @@ def test_a_limit_accepts_its_own_printed_value(poser):
 
 
 def test_cli_poses_the_arm_overhead_with_one_angle(tmp_path, female, monkeypatch, capsys):
-    monkeypatch.setattr("hitogata.commands.posing.body_from_args", lambda args: female)
-    monkeypatch.setattr("hitogata.commands.pose.body_from_args", lambda args: female)
+    monkeypatch.setattr("hitogata.commands.body_file.body_from_args", lambda args: female)
     assert main(["pose", "--angle", "shoulder_l.flexion=180deg", "--out", str(tmp_path / "up.obj")]) == 0
     out = capsys.readouterr().out
     assert "--angle shoulder_l.flexion 180.0° (shoulder complex): clavicle_l.elevation 0.0° → 15.0°" in out

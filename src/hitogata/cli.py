@@ -28,6 +28,7 @@ COMMANDS = {
     "body": ("hitogata.commands.body", "build a body from sex, age, stature and mass, and write it"),
     "demo": ("hitogata.commands.demo", "run the main job on the built-in default bodies"),
     "ease": ("hitogata.commands.ease", "dynamic ease and fabric stretch of a body through mobility motions"),
+    "fit": ("hitogata.commands.fit", "fit the body to a scan (OBJ/PLY mesh or point cloud) and write it"),
     "fit-report": ("hitogata.commands.fit_report", "a self-contained HTML fit report of a body through motions"),
     "measure": ("hitogata.commands.measure", "apparel measurements of a body (a hitogata .glb or the body options)"),
     "modes": ("hitogata.commands.modes", "the elastic body's lowest vibration modes: CSV, VTU (ParaView), pictures"),

@@ -13,7 +13,7 @@ from __future__ import annotations
 import warnings
 from collections.abc import Mapping
 from dataclasses import dataclass
-from functools import cached_property
+from functools import cache, cached_property
 from pathlib import Path
 
 import numpy as np
@@ -26,17 +26,24 @@ from hitogata.muscles.activation import (
     muscle_lengths,
 )
 from hitogata.muscles.geometry import MuscleSet, place_muscles
-from hitogata.muscles.spec import load_muscle_spec
+from hitogata.muscles.spec import MuscleListSpec, load_muscle_spec
 from hitogata.options import ON_LIMIT, OnLimit, Skinning
 from hitogata.skeleton.combined import clamp_combined, combined_violation
 from hitogata.skeleton.kinematics import LIMIT_TOLERANCE, Kinematics, Pose, limit_violations
 from hitogata.skeleton.placement import Skeleton, place_skeleton
 from hitogata.skeleton.shoulder import CHANNEL_RANGES, SIDES, channel_names, girdle_dofs, shoulder_pose
-from hitogata.skeleton.spec import load_skeleton_spec
+from hitogata.skeleton.spec import SkeletonSpec, load_skeleton_spec
 from hitogata.skeleton.weights import part_weights
 from hitogata.rig import carried_heads, carrying_parts
 from hitogata.skinning import Skin, prepare_skin, skin_vertices
 
+
+
+@cache
+def shipped_lists() -> tuple[SkeletonSpec, MuscleListSpec]:
+    """The shipped skeleton and muscle lists, read and checked once per process (they are frozen)."""
+    spec = load_skeleton_spec()
+    return spec, load_muscle_spec(spec)
 
 
 @dataclass(frozen=True, eq=False)
@@ -112,9 +119,13 @@ class Poser:
     @classmethod
     def from_body(cls, body: Body, skeleton: str | Path | None = None, muscles: str | Path | None = None) -> Poser:
         """Prepare a body; `skeleton`/`muscles` are TOML paths (the shipped lists when None)."""
-        spec = load_skeleton_spec(skeleton)
+        if skeleton is None and muscles is None:
+            spec, muscle_spec = shipped_lists()
+        else:
+            spec = load_skeleton_spec(skeleton)
+            muscle_spec = load_muscle_spec(spec, muscles)
         sk = place_skeleton(spec, body.rig)
-        ms = place_muscles(load_muscle_spec(spec, muscles), sk)
+        ms = place_muscles(muscle_spec, sk)
         weights = part_weights(sk, body.rig, body.skin_weights, body.vertices)
         return cls(body, sk, ms, Kinematics(sk), prepare_skin(body.vertices, weights, sk.parents))
 

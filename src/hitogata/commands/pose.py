@@ -8,14 +8,14 @@ from pathlib import Path
 import numpy as np
 
 from hitogata.commands.args import add_body_arguments
-from hitogata.commands.body import body_from_args
+from hitogata.commands.body_file import add_body_file, body_of
 from hitogata.commands.paths import add_output
 from hitogata.commands.pose_args import add_pose_arguments
 from hitogata.commands.pose_summary import moved_count, pose_summary
 from hitogata.commands.posing import pose_from_args
 from hitogata.dynamics.single_pose import elastic_dynamics, elastic_pose
 from hitogata.errors import HitogataError
-from hitogata.export.body_files import body_figures, shape_extras
+from hitogata.export.body_files import body_figures, detail_extras, shape_extras
 from hitogata.export.meshfiles import MESH_SUFFIXES, write_mesh
 from hitogata.export.pose_files import check_posed_path, write_posed
 from hitogata.export.posed_mesh import write_sidecar
@@ -46,7 +46,7 @@ def list_names(poser: Poser) -> list[str]:
 
 def run(args: argparse.Namespace) -> None:
     if args.list:
-        print("\n".join(list_names(Poser.from_body(body_from_args(args)))))
+        print("\n".join(list_names(Poser.from_body(body_of(args)))))
         return
     if args.out is None:
         raise HitogataError("--out: give the output file (.glb, .obj or .ply), or --list")
@@ -60,6 +60,7 @@ def run(args: argparse.Namespace) -> None:
         "shape": shape_extras(poser.body.params),
         "density": poser.body.density,
         **body_figures(poser.body),
+        **detail_extras(poser.body),
         "angles_rad": [float(a) for a in posed.angles],
         "clinical_angles_deg": {
             name: round(float(np.degrees(value)), 4) for name, value in zip(posed.skeleton.dof_names, posed.clinical)
@@ -97,6 +98,7 @@ def register(sub: argparse._SubParsersAction) -> None:
         "(re-posable in Blender or three.js); .obj/.ply hold the posed surface.",
     )
     add_body_arguments(parser)
+    add_body_file(parser)
     add_pose_arguments(parser)
     parser.add_argument("--list", action="store_true", help="print the muscles and degrees of freedom, and exit")
     add_output(parser, "file", "output file: .glb (skinned, posed, re-posable), .obj or .ply "

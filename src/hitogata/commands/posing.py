@@ -9,7 +9,7 @@ import argparse
 import sys
 import warnings
 
-from hitogata.commands.body import body_from_args
+from hitogata.commands.body_file import body_of
 from hitogata.commands.pose_args import PoseRequest, pose_request
 from hitogata.muscles.activation import MuscleLimitWarning
 from hitogata.pose import PosedBody, Poser
@@ -17,7 +17,7 @@ from hitogata.pose import PosedBody, Poser
 
 def pose_from_args(args: argparse.Namespace) -> tuple[Poser, PoseRequest, PosedBody]:
     """The body, the checked request and the posed body; clamping notes go to stderr."""
-    poser = Poser.from_body(body_from_args(args))
+    poser = Poser.from_body(body_of(args))
     request = pose_request(args, poser)
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always", MuscleLimitWarning)

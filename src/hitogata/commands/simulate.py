@@ -13,7 +13,13 @@ def run(args: argparse.Namespace) -> None:
     from hitogata.dynamics.checks import checked_scenario
     from hitogata.dynamics.run import run_scenario
 
-    scenario, body = checked_scenario(load_scenario(args.scenario))  # names and values, before the model
+    given = None
+    if args.body is not None:
+        from hitogata.export.body_files import body_from_extras
+        from hitogata.export.gltf import read_glb_skin
+
+        given = body_from_extras(args.body, read_glb_skin(args.body).extras or {})
+    scenario, body = checked_scenario(load_scenario(args.scenario), given)  # names and values, before the model
     summary = run_scenario(scenario, args.workdir, progress=sys.stderr.isatty() and not args.quiet, body=body)
     print(summary.text(), end="")
     print(f"wrote {len(summary.files) + 2} files to {args.out}/")
@@ -26,4 +32,7 @@ def register(sub: argparse._SubParsersAction) -> None:
                         help=f"a scenario file (docs/scenarios.md) or a shipped one: {names}")
     add_output(parser, "folder", "output folder; default ./results (a new or empty folder)", default="results")
     parser.add_argument("--quiet", action="store_true", help="no progress bars")
+    parser.add_argument("--body", type=input_path("file", suffixes=(".glb",)), default=None,
+                        help="run on the body of a .glb written by `hitogata body` or `hitogata fit` "
+                        "instead of the scenario's [body]")
     parser.set_defaults(run=run)

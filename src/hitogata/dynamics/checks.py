@@ -34,9 +34,10 @@ def scenario_body(scenario: Scenario) -> Body:
         raise HitogataError(f"{scenario.source}: [body]: {err}") from None
 
 
-def checked_scenario(scenario: Scenario) -> tuple[Scenario, Body]:
-    """The scenario with its names resolved to the list names, and its body; or a one-line error."""
-    body = scenario_body(scenario)
+def checked_scenario(scenario: Scenario, body: Body | None = None) -> tuple[Scenario, Body]:
+    """The scenario with its names resolved to the list names, and its body (`body` if given, instead
+    of the scenario's [body]); or a one-line error."""
+    body = scenario_body(scenario) if body is None else body
     poser = poser_for(body)
     renamed: dict[tuple[str, str], list[str]] = {}
     owner: dict[tuple[str, str], str] = {}

@@ -30,8 +30,9 @@ from hitogata.body import Body
 from hitogata.dynamics.motion import Motion
 from hitogata.errors import HitogataError
 from hitogata.export.atomic import write_bytes_atomically
-from hitogata.export.body_files import body_from_extras, shape_extras
-from hitogata.export.gltf import GlbBuilder, add_material, named_node, vertex_normals
+from hitogata.export.body_files import DETAIL_KEY, body_from_extras, detail_extras, shape_extras
+from hitogata.export.gltf import GlbBuilder, add_material, named_node
+from hitogata.geometry.normals import vertex_normals
 from hitogata.export.vtu import label_arrays, write_vtu
 from hitogata.geometry.shells import region_boundary, smoothing_operator, taubin_smooth
 
@@ -303,15 +304,18 @@ def write_sequence(path: str | os.PathLike, motion: Motion) -> Path:
 
     `times` (F,) s, `vertices` (F, V, 3) float32 skin, `angles` (F, D) rest-relative
     radians, `joints` (F, B, 3) the rig's joint centres, and `shape` (the body's shape
-    parameters as JSON) with `density`, so the body can be rebuilt exactly.
+    parameters as JSON) with `density` — and a fitted body's per-vertex detail (`DETAIL_KEY`,
+    integers of 0.01 mm) — so the body can be rebuilt exactly.
     """
     poser = motion.dynamics.poser
     body = poser.body
     joints = motion.rig_joints
+    detail = {k: np.asarray(v, dtype=np.int32) for k, v in detail_extras(body).items()}
     buffer = io.BytesIO()
     np.savez_compressed(
         buffer, times=motion.times, vertices=motion.skin.astype(np.float32), angles=motion.angles,
         joints=joints, shape=np.array(json.dumps(shape_extras(body.params))), density=np.array(body.density),
+        **detail,
     )
     return write_bytes_atomically(path, buffer.getvalue())
 
@@ -338,4 +342,6 @@ def read_sequence_body(path: Path) -> tuple[Body, dict[str, np.ndarray]]:
     if missing:
         raise HitogataError(f"{path}: no array {missing[0]!r}; allowed a sequence written by `hitogata simulate`")
     extras = {"shape": json.loads(str(arrays.pop("shape"))), "density": float(arrays.pop("density", 1000.0))}
+    if DETAIL_KEY in arrays:
+        extras[DETAIL_KEY] = arrays.pop(DETAIL_KEY).tolist()
     return body_from_extras(path, extras), arrays

@@ -6,11 +6,15 @@ import os
 from dataclasses import asdict
 from pathlib import Path
 
+import numpy as np
+
 from hitogata.body import WHOLE_BODY_DENSITY, Body
 from hitogata.export.gltf import write_glb
 from hitogata.export.meshfiles import MESH_SUFFIXES, write_mesh
 from hitogata.errors import HitogataError
 from hitogata.shape import ShapeParameters
+
+DETAIL_KEY = "detail_offsets_0.01mm"  # a fitted body's per-skin-vertex offsets along the rest normals
 
 
 def body_figures(body: Body) -> dict[str, float]:
@@ -28,8 +32,17 @@ def shape_extras(params: ShapeParameters) -> dict[str, object]:
     return {**asdict(params), "race": list(params.race)}
 
 
+def detail_extras(body: Body) -> dict[str, object]:
+    """A fitted body's per-vertex detail (`hitogata.fit.detail`) as extras, in 0.01 mm; empty for a model body."""
+    from hitogata.fit.detail import detail_offsets
+
+    offsets = detail_offsets(body)
+    return {} if offsets is None else {DETAIL_KEY: np.round(offsets * 1e5).astype(int).tolist()}
+
+
 def body_from_extras(path: Path, extras: dict) -> Body:
-    """The body a hitogata GLB was written from (its extras hold the shape parameters)."""
+    """The body a hitogata GLB was written from (its extras hold the shape parameters, and the
+    per-vertex detail of a body fitted to a scan)."""
     shape = extras.get("shape")
     if not isinstance(shape, dict):
         raise HitogataError(f"{path}: no hitogata shape in the file's extras; allowed: a .glb written by hitogata")
@@ -37,7 +50,19 @@ def body_from_extras(path: Path, extras: dict) -> Body:
         params = ShapeParameters(**{**shape, "race": tuple(shape.get("race", (1 / 3,) * 3))})
     except TypeError as err:
         raise HitogataError(f"{path}: extras 'shape' {shape!r}: {err}") from None
-    return Body.from_parameters(params, float(extras.get("density", WHOLE_BODY_DENSITY)))
+    density = float(extras.get("density", WHOLE_BODY_DENSITY))
+    if DETAIL_KEY not in extras:
+        return Body.from_parameters(params, density)
+    from hitogata.fit.detail import detailed_body
+
+    try:
+        offsets = np.asarray(extras[DETAIL_KEY], dtype=np.float64) * 1e-5
+    except (TypeError, ValueError):
+        raise HitogataError(f"{path}: extras '{DETAIL_KEY}': allowed a list of integers (0.01 mm)") from None
+    try:
+        return detailed_body(params, offsets, density)
+    except HitogataError as err:
+        raise HitogataError(f"{path}: {err}") from None
 
 
 def check_body_path(path: str | os.PathLike) -> Path:
@@ -62,5 +87,6 @@ def write_body(path: str | os.PathLike, body: Body) -> Path:
         joint_positions=body.rig.heads,
         skin_weights=body.skin_weights,
         name="hitogata body",
-        extras={"shape": shape_extras(body.params), "density": body.density, **body_figures(body)},
+        extras={"shape": shape_extras(body.params), "density": body.density, **body_figures(body),
+                **detail_extras(body)},
     )

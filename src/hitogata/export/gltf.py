@@ -28,6 +28,7 @@ from scipy import sparse
 
 from hitogata.errors import HitogataError
 from hitogata.export.atomic import write_bytes_atomically
+from hitogata.geometry.normals import vertex_normals
 
 MAX_INFLUENCES = 4  # joints per vertex in JOINTS_0 / WEIGHTS_0
 SKIN_RGBA = (0.89, 0.72, 0.60, 1.0)  # the body's material: a plain skin tone, matte
@@ -326,24 +327,6 @@ def _unit_normals(normals: Any, n_vertices: int) -> np.ndarray:
     if np.any(length == 0):
         raise HitogataError(f"normals: vertex {np.flatnonzero(length == 0)[0]} has a zero normal")
     return normals / length[:, None]
-
-
-def vertex_normals(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
-    """Unit vertex normals: the sum of adjacent face normals weighted by face area.
-
-    A vertex in no face (or only in degenerate ones) gets +Y so the file stays valid.
-    """
-    tri = vertices[faces]
-    face_normals = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])  # length = 2 × area
-    summed = np.stack(
-        [np.bincount(faces.ravel(), np.repeat(face_normals[:, c], 3), minlength=len(vertices)) for c in range(3)],
-        axis=1,
-    )
-    length = np.linalg.norm(summed, axis=1)
-    unit = np.tile([0.0, 1.0, 0.0], (len(vertices), 1))
-    ok = length > 0
-    unit[ok] = summed[ok] / length[ok, None]
-    return unit
 
 
 # --------------------------------------------------------------------------- reading

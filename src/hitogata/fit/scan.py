@@ -1,0 +1,82 @@
+"""A body scan as the fit takes it: points in metres (and triangles, when a mesh), its unit decided.
+
+Scans come in millimetres or metres. A standing person's largest extent (stature,
+or the arm span of a T-pose) lies in `BODY_EXTENT`; the unit whose reading puts
+it there is the scan's, and a scan that fits neither is an error unless the
+unit is given.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from hitogata.errors import HitogataError
+
+UNITS = {"mm": 1e-3, "m": 1.0}
+BODY_EXTENT = (1.0, 2.6)  # m: a standing adult's stature (1.4–2.1 m) or arm span, with margin
+MIN_POINTS = 2000  # fewer cannot pin down a body's shape
+
+
+@dataclass(frozen=True)
+class Scan:
+    """Scan points (P, 3) in metres in the scan's own frame; faces (F, 3) when it was a triangle mesh."""
+
+    points: np.ndarray
+    faces: np.ndarray | None
+    unit: str  # the file's unit, "mm" or "m"
+    source: str = "scan"
+
+    def sample(self, count: int, seed: int = 0) -> np.ndarray:
+        """About `count` points spread evenly over the scan: area-uniform on a mesh, a random subset of a cloud."""
+        rng = np.random.default_rng(seed)
+        if self.faces is None or len(self.faces) == 0:
+            if len(self.points) <= count:
+                return self.points
+            return self.points[rng.choice(len(self.points), count, replace=False)]
+        tri = self.points[self.faces]
+        area = 0.5 * np.linalg.norm(np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]), axis=1)
+        chosen = rng.choice(len(tri), count, p=area / area.sum())
+        r1, r2 = np.sqrt(rng.random(count)), rng.random(count)
+        a, b, c = tri[chosen, 0], tri[chosen, 1], tri[chosen, 2]
+        return (1 - r1)[:, None] * a + (r1 * (1 - r2))[:, None] * b + (r1 * r2)[:, None] * c
+
+
+def scan_unit(points: np.ndarray, source: str, unit: str | None = None) -> str:
+    """The scan's unit: `unit` if given, else the one that makes its largest extent a person's."""
+    if unit is not None:
+        if unit not in UNITS:
+            raise HitogataError(f"--units {unit!r}: allowed {', '.join(UNITS)}")
+        return unit
+    extent = float(np.ptp(points, axis=0).max())
+    lo, hi = BODY_EXTENT
+    for name, metres in UNITS.items():
+        if lo <= extent * metres <= hi:
+            return name
+    raise HitogataError(
+        f"{source}: largest extent {extent:g} in the file's unit: unit unclear (a standing person spans "
+        f"{lo:g}–{hi:g} m or {lo * 1000:g}–{hi * 1000:g} mm); give --units mm or --units m"
+    )
+
+
+def make_scan(points: np.ndarray, faces: np.ndarray | None, source: str, unit: str | None = None) -> Scan:
+    """A checked scan in metres: enough finite points, the unit decided (`scan_unit`)."""
+    points = np.asarray(points, dtype=np.float64)
+    if points.ndim != 2 or points.shape[1] != 3:
+        raise HitogataError(f"{source}: points of shape {points.shape}; allowed (P, 3)")
+    finite = np.isfinite(points).all(axis=1)
+    if faces is not None and len(faces) and not finite.all():
+        faces = faces[finite[faces].all(axis=1)]
+    if not finite.all():
+        if faces is not None and len(faces):
+            keep = np.flatnonzero(finite)
+            remap = np.full(len(points), -1)
+            remap[keep] = np.arange(len(keep))
+            faces = remap[faces]
+        points = points[finite]
+    if len(points) < MIN_POINTS:
+        raise HitogataError(f"{source}: {len(points)} points; allowed a scan of at least {MIN_POINTS} points")
+    unit = scan_unit(points, source, unit)
+    faces = None if faces is None or len(faces) == 0 else np.asarray(faces, dtype=np.int64)
+    return Scan(points * UNITS[unit], faces, unit, source)
