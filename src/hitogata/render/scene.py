@@ -44,7 +44,7 @@ def fraction(name: str, value: float) -> float:
     return float(value)
 
 
-def positive(name: str, value: object, count: int) -> np.ndarray | None:
+def positive(name: str, value: float | np.ndarray | None, count: int) -> np.ndarray | None:
     """None, or a radius per element (a scalar is broadcast), all finite and > 0."""
     if value is None:
         return None

@@ -243,7 +243,7 @@ def _chart(t: _Table, path: Path) -> tuple[tuple[BodyDef, ...], str]:
     if not rows:
         raise HitogataError(f"{path}: empty; allowed a header size,sex,stature_cm,mass_kg[,age_years] and rows")
     header = [h.strip() for h in rows[0]]
-    columns = {"size": None, "sex": None}
+    columns: dict[str, str | None] = {"size": None, "sex": None}
     for name, table in CHART_COLUMNS.items():
         found = [h for h in header if h.startswith(name + "_") and h.split("_", 1)[1] in table]
         columns[name] = found[0] if found else None
