@@ -9,14 +9,13 @@ OpenGL is touched. Colours are anything matplotlib understands ("tab:red",
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Union
 
 import numpy as np
 from matplotlib.colors import to_rgb
 
 from hitogata.errors import HitogataError
 
-Color = Union[str, tuple[float, float, float]]
+Color = str | tuple[float, float, float]
 
 
 def rgb(color: Color, what: str) -> tuple[float, float, float]:
@@ -143,4 +142,4 @@ class Points:
             raise HitogataError(f"Points size = {self.size!r}: allowed a positive number of pixels")
 
 
-Item = Union[Layer, Lines, Points]
+Item = Layer | Lines | Points
