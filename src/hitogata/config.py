@@ -13,10 +13,12 @@ import math
 import tomllib
 from collections.abc import Iterable
 from pathlib import Path
-from typing import Any, NoReturn
+from typing import Any, NoReturn, TypeVar, overload
 
 from hitogata import units
 from hitogata.errors import HitogataError
+
+Option = TypeVar("Option", bound=str)  # one of a Literal alias's words (hitogata.options)
 
 
 def read_toml(path: str | Path) -> tuple[str, dict[str, Any]]:
@@ -91,6 +93,14 @@ class Entry:
             self.fail(f"{key} = {value!r}: expected a finite number")
         return value
 
+    @overload
+    def quantity(self, key: str, table: dict[str, float], default: float, low: float = ...,
+                 high: float = ..., what: str = ...) -> float: ...
+
+    @overload
+    def quantity(self, key: str, table: dict[str, float], default: float | None, low: float = ...,
+                 high: float = ..., what: str = ...) -> float | None: ...
+
     def quantity(self, key: str, table: dict[str, float], default: float | None, low: float = -math.inf,
                  high: float = math.inf, what: str = "a number") -> float | None:
         """A number with a unit of `table` (SI), within low..high; `what` says what is allowed."""
@@ -107,7 +117,7 @@ class Entry:
             self.fail(f"{value!r} is out of range; allowed {what}", key)
         return number
 
-    def choice(self, key: str, options: tuple[str, ...], default: str) -> str:
+    def choice(self, key: str, options: tuple[Option, ...], default: Option) -> Option:
         value = self.table.get(key, default)
         if value not in options:
             self.fail(f"{value!r}; allowed {', '.join(options)}", key)

@@ -205,7 +205,7 @@ class MotionPictures:
     def frame(self, k: int, size: tuple[int, int] | None = None, supersample: int = SUPERSAMPLE) -> np.ndarray:
         """(H, W, 3) RGB: frame k's views side by side, region surfaces translucent, skeleton inside;
         `size` per view (default: the pictures'), `supersample` as in `render.Renderer.render`."""
-        size = self.size if size is None else tuple(size)
+        size = self.size if size is None else (size[0], size[1])  # a list given becomes a key
         if (k, size, supersample) not in self._frames:
             from hitogata.render import Layer
 
@@ -256,7 +256,8 @@ def write_pictures(folder: str | os.PathLike, motion: Motion, times, views, size
     from hitogata.render import save_png
 
     own = pictures is None
-    pictures = MotionPictures(motion, views, size, title) if own else pictures
+    if pictures is None:
+        pictures = MotionPictures(motion, views, size, title)
     try:
         out = []
         for t in times:
@@ -277,7 +278,8 @@ def write_gif(path: str | os.PathLike, motion: Motion, views, size, rate: float,
     from PIL import Image
 
     own = pictures is None
-    pictures = MotionPictures(motion, views, size, title) if own else pictures
+    if pictures is None:
+        pictures = MotionPictures(motion, views, size, title)
     span = motion.times[-1] - motion.times[0]
     count = max(2, round(span * rate) + 1)
     picks = np.unique([nearest_frame(motion, t) for t in np.linspace(motion.times[0], motion.times[-1], count)])

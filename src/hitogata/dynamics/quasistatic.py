@@ -73,6 +73,7 @@ from hitogata.dynamics.volumes import corner_gradients, corner_volumes, volumes_
 from hitogata.fem.elements import element_order, quadrature, shape_gradients, tet_geometry
 from hitogata.fem.factor import factorize
 from hitogata.fem.materials import lame, per_element
+from hitogata.options import FactorMethod
 
 MEMORY = 5  # Anderson acceleration: past steps mixed
 REPAIRS = 30  # at most so many plain steps after the last one, holding elements over the floor
@@ -104,7 +105,7 @@ class QuasiStatic:
 
     def __init__(self, points: np.ndarray, elements: np.ndarray, E: np.ndarray | float, nu: np.ndarray | float,
                  fixed_nodes: np.ndarray, region: np.ndarray, constrained_regions: tuple[int, ...],
-                 method: str = "auto") -> None:
+                 method: FactorMethod = "auto") -> None:
         self.points = np.asarray(points, dtype=float)
         self.elements = np.asarray(elements)
         self.region = np.asarray(region)
@@ -217,7 +218,7 @@ class QuasiStatic:
             volumes, gradients = self._volume_gradients(new)
             grads.append(gradients)
             targets.append(self.rest_volumes - volumes)
-        if held:
+        if active is not None and held:
             grads.append(self._element_volume_gradients(new, active))
             targets.append(FLOOR * self.rest_element_volumes[active] - corner_volumes(new, self.elements[active]))
         g_free = np.concatenate(grads)  # (constraints, free, 3)
@@ -228,17 +229,17 @@ class QuasiStatic:
         coupling = np.einsum("rfk,sfk->rs", g_free, basis)
         p = np.linalg.lstsq(coupling, np.concatenate(targets), rcond=1e-12)[0]
         move = np.einsum("r,rfk->fk", p, basis)
-        if held:  # the floor is an inequality: an element it would pull down is let go
+        if active is not None and held:  # the floor is an inequality: an element it would pull down is let go
             active = active[p[m - held:] >= 0.0]
         new = new.copy()
         if active is not None and len(active):  # a flat element's linearisation is poor: no node moves
             move *= min(1.0, STEP_CAP / max(float(np.abs(move).max()), 1e-30))  # more than STEP_CAP,
             new[self.free] += move
             if self.constrained:  # and the regions' volumes are then restored exactly
-                volumes, grads = self._volume_gradients(new)
-                basis = self._solve(np.ascontiguousarray(grads.transpose(1, 2, 0).reshape(len(self.free), -1)))
+                volumes, gradients = self._volume_gradients(new)
+                basis = self._solve(np.ascontiguousarray(gradients.transpose(1, 2, 0).reshape(len(self.free), -1)))
                 basis = basis.reshape(len(self.free), 3, -1).transpose(2, 0, 1)
-                coupling = np.einsum("rfk,sfk->rs", grads, basis)
+                coupling = np.einsum("rfk,sfk->rs", gradients, basis)
                 p = np.linalg.solve(coupling, self.rest_volumes - volumes)
                 new[self.free] += np.einsum("r,rfk->fk", p, basis)
             return new, active
@@ -292,7 +293,7 @@ class QuasiStatic:
                 gamma = np.linalg.lstsq(np.diff(res, axis=1), res[:, -1], rcond=None)[0]
                 x = gx.copy()
                 x[free] = (gs[-1] - np.diff(np.stack(gs, axis=1), axis=1) @ gamma).reshape(-1, 3)
-        active = np.zeros(0, dtype=int)
+        active: np.ndarray | None = np.zeros(0, dtype=int)
         for _ in range(REPAIRS):
             if not len(self._floor_violations(x)):
                 break

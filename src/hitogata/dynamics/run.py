@@ -62,7 +62,7 @@ class Summary:
             f"{self.title}",
             f"  body: {f['body']}",
             f"  model: {f['model']}",
-            f"  lowest frequencies: " + ", ".join(f"{x:.2f}" for x in f["frequencies_hz"][:6])
+            "  lowest frequencies: " + ", ".join(f"{x:.2f}" for x in f["frequencies_hz"][:6])
             + f" Hz (damping ratios {f['damping_ratios'][0]:.2f}..{max(f['damping_ratios'][:6]):.2f})",
             *([f"  WARNING: the skin is not whole: {'; '.join(problems)} (figures below are not results)"]
               if problems else []),

@@ -28,6 +28,9 @@ from hitogata.options import (
     SEXES,
     SKINNING,
     VIEW_NAMES as VIEWS,
+    Element,
+    Extent,
+    Interpolation,
     OnLimit,
     Skinning,
 )
@@ -54,9 +57,9 @@ class BodySpec:
 class ModelSpec:
     """The elastic model: extent, element size (mm or None), element, modes, damping, skinning, gravity."""
 
-    extent: str = "body"
+    extent: Extent = "body"
     element_size: float | None = None
-    element: str = "P2"
+    element: Element = "P2"
     modes: int = 40
     damping_ratios: tuple[tuple[float, float], tuple[float, float]] | None = None
     alpha_beta: tuple[float, float] | None = None
@@ -194,7 +197,7 @@ CHANNELS = {"contractions": ("contraction", FRACTION, "a contraction like 0.1 or
             "clinical": ("clinical", ANGLE_DEGREES, "an angle like 30deg (a bare number is degrees)")}
 
 
-def _keyframes(source: str, entries: Any, default_how: str, written: list[KeyframeValue]) -> list[Keyframe]:
+def _keyframes(source: str, entries: Any, default_how: Interpolation, written: list[KeyframeValue]) -> list[Keyframe]:
     if not isinstance(entries, list) or not entries:
         raise HitogataError(f"{source}: [[keyframe]]: at least one keyframe is needed")
     out, last = [], -math.inf
@@ -213,6 +216,8 @@ def _keyframes(source: str, entries: Any, default_how: str, written: list[Keyfra
             channel = Entry(source, f"{entry_name}.{key}", given, set(given) if isinstance(given, dict) else set())
             for name, value in channel.table.items():
                 number = channel.quantity(name, unit_table, None, -math.inf, math.inf, what)
+                if number is None:  # not reached: the name comes from the table
+                    raise channel.error("missing", name)
                 if kind == "contraction" and not str(value).strip().endswith("%") and abs(number) >= 1.0:
                     raise channel.error(f"{value!r}: a contraction is a fraction of the rest length, "
                                              f"allowed between -1 and 1; did you mean {value}%?", name)
@@ -253,8 +258,13 @@ def _output(source: str, table: Any, duration: float) -> OutputSpec:
             raise r.error("expected a list of times like [\"0.8s\", \"2s\"]", "snapshots")
         listed = {str(i): v for i, v in enumerate(raw)}
         shot = Entry(source, "[output].snapshots", listed, set(listed))
-        snapshots = tuple(shot.quantity(str(i), TIME_UNITS, None, 0.0, duration, f"a time within 0..{duration:g} s")
-                          for i in range(len(raw)))
+        times = []
+        for i in range(len(raw)):
+            t = shot.quantity(str(i), TIME_UNITS, None, 0.0, duration, f"a time within 0..{duration:g} s")
+            if t is None:  # not reached: every index is in the table
+                raise shot.error("missing", str(i))
+            times.append(t)
+        snapshots = tuple(times)
     gif_rate = r.quantity("gif_rate", {"": 1.0, "/s": 1.0, "hz": 1.0}, 15.0, 1.0, 60.0, "frames per second, 1..60")
     return OutputSpec(tuple(files), tuple(views), (size[0], size[1]), snapshots, gif_rate)
 

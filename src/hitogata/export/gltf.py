@@ -60,7 +60,7 @@ _COMPONENT_TYPES = {
     np.dtype("<u2"): gl.UNSIGNED_SHORT,
     np.dtype("<u4"): gl.UNSIGNED_INT,
 }
-_COMPONENT_DTYPES = {
+_COMPONENT_DTYPES: dict[int, np.dtype] = {
     gl.BYTE: np.dtype("i1"),
     gl.UNSIGNED_BYTE: np.dtype("u1"),
     gl.SHORT: np.dtype("<i2"),
@@ -378,17 +378,23 @@ def _read_glb_skin(path: Path) -> GlbSkin:
     def read(index: int | None) -> np.ndarray | None:
         return None if index is None else _read_accessor(document, blob, index)
 
+    def required(index: int | None, what: str) -> np.ndarray:
+        if index is None:
+            raise HitogataError(f"{path}: the skinned mesh has no {what}; allowed a .glb written by hitogata")
+        return _read_accessor(document, blob, index)
+
     joint_of_node = {n: j for j, n in enumerate(skin.joints)}
     parent_node = {c: p for p, parent in enumerate(document.nodes) for c in parent.children or []}
     parents = np.array([joint_of_node.get(parent_node.get(n, -1), -1) for n in skin.joints], dtype=np.int64)
     if skin.inverseBindMatrices is None:
         positions = np.zeros((len(skin.joints), 3))
     else:
-        ibm = read(skin.inverseBindMatrices).reshape(-1, 4, 4).transpose(0, 2, 1)
+        ibm = _read_accessor(document, blob, skin.inverseBindMatrices).reshape(-1, 4, 4).transpose(0, 2, 1)
         positions = np.linalg.inv(ibm)[:, :3, 3]
 
     n_vertices = document.accessors[attributes.POSITION].count
-    joints, weights = read(attributes.JOINTS_0), read(attributes.WEIGHTS_0).astype(np.float64)
+    joints = required(attributes.JOINTS_0, "JOINTS_0")
+    weights = required(attributes.WEIGHTS_0, "WEIGHTS_0").astype(np.float64)
     rows = np.repeat(np.arange(n_vertices), joints.shape[1])
     skin_weights = sparse.csr_matrix(
         (weights.ravel(), (rows, joints.ravel())), shape=(n_vertices, len(skin.joints))
@@ -396,8 +402,8 @@ def _read_glb_skin(path: Path) -> GlbSkin:
     skin_weights.eliminate_zeros()
     normals = read(attributes.NORMAL)
     return GlbSkin(
-        vertices=read(attributes.POSITION).astype(np.float64),
-        faces=read(primitive.indices).astype(np.int64).reshape(-1, 3),
+        vertices=required(attributes.POSITION, "POSITION").astype(np.float64),
+        faces=required(primitive.indices, "indices").astype(np.int64).reshape(-1, 3),
         normals=None if normals is None else normals.astype(np.float64),
         joint_names=tuple((document.nodes[n].extras or {}).get("name", document.nodes[n].name) for n in skin.joints),
         joint_parents=parents,

@@ -106,8 +106,12 @@ def garment_pressure(body: Body, garment: Garment, fabric: Fabric, vertices: np.
         tape = tapes[level]
         if not np.isfinite(tape.girth):
             raise HitogataError(f"garment level {level!r}: the body has no girth there in this posture")
-        relaxed = garment.relaxed[level] if garment.relaxed is not None else \
-            (1.0 + garment.ease) * standing[level].girth
+        if garment.relaxed is not None:
+            relaxed = garment.relaxed[level]
+        elif garment.ease is not None:
+            relaxed = (1.0 + garment.ease) * standing[level].girth
+        else:  # Garment.__post_init__ already refuses this
+            raise HitogataError("garment: give relaxed circumferences or an ease")
         strain = tape.girth / relaxed - 1.0
         tension = float(fabric.tension(strain))
         profile, pressure = laplace_profile(tape.path, planes[level][1], tension, window)

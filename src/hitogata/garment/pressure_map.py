@@ -22,6 +22,7 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from hitogata.body import Body
+from hitogata.errors import HitogataError
 from hitogata.garment.fabric import Fabric
 from hitogata.garment.laplace import WINDOW
 from hitogata.garment.levels import level_planes
@@ -65,10 +66,12 @@ def pressure_map(body: Body, garment: Garment, fabric: Fabric, vertices: np.ndar
             tape, normal = _tape(vertices, topo, a, b, s)
             if not np.isfinite(tape.girth):
                 continue
-            if garment.ease is not None:
-                relaxed = (1.0 + garment.ease) * _tape(body.vertices, topo, standing[low], standing[high], s)[0].girth
-            else:
+            if garment.relaxed is not None:
                 relaxed = (1 - s) * garment.relaxed[low] + s * garment.relaxed[high]
+            elif garment.ease is not None and standing is not None:
+                relaxed = (1.0 + garment.ease) * _tape(body.vertices, topo, standing[low], standing[high], s)[0].girth
+            else:  # Garment.__post_init__ already refuses this
+                raise HitogataError("garment: give relaxed circumferences or an ease")
             strain = tape.girth / relaxed - 1.0
             tension = float(fabric.tension(strain))
             profile, pressure = laplace_profile(tape.path, normal, tension, window)

@@ -140,7 +140,7 @@ def area_percentile(values: np.ndarray, area: np.ndarray, q: float) -> float:
     """The area-weighted `q` quantile (0..1) of per-face values."""
     order = np.argsort(values)
     cumulative = np.cumsum(area[order]) / area.sum()
-    return float(values[order][min(np.searchsorted(cumulative, q), len(values) - 1)])
+    return float(values[order][min(int(np.searchsorted(cumulative, q)), len(values) - 1)])
 
 
 def zone_stretch(body: Body, name: str, clip: MotionClip, surface: Surface | None = None,

@@ -186,6 +186,7 @@ def parse_bvh(text: str, source: str = "<bvh>") -> Bvh:
                 ok = False
             if not ok:
                 raise tokens.fail(f"channel value {word!r}; allowed a finite number", line)
+        raise tokens.fail("channel values: allowed finite numbers", data[0][1])  # the loop above names the bad one
     lines: dict[int, int] = {}
     for _word, line in data:  # one frame per line, as every BVH writer does
         lines[line] = lines.get(line, 0) + 1

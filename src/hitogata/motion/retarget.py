@@ -127,7 +127,8 @@ def retarget(bvh: Bvh, skeleton: Skeleton, joint_map: JointMap, unit: str | None
             continue
         j = owner[part]
         chain = part_of[j]
-        above = wanted[parent_of[j]] if parent_of.get(j) else root_rotation
+        up = parent_of.get(j)
+        above = wanted[up] if up else root_rotation
         step = Rotation.from_matrix(np.swapaxes(above, 1, 2) @ wanted[j]).as_rotvec()
         share = (chain.index(part) + 1) / len(chain)
         target = above @ Rotation.from_rotvec(step * share).as_matrix()

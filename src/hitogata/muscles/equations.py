@@ -28,7 +28,7 @@ def flexion_domain(d1: np.ndarray, d2: np.ndarray) -> tuple[np.ndarray, np.ndarr
     return np.abs(d1 - d2), d1 + d2
 
 
-def _onto(values: np.ndarray, lo: np.ndarray, hi: np.ndarray, clamp: bool, what: str) -> np.ndarray:
+def _onto(values: np.ndarray, lo: np.ndarray | float, hi: np.ndarray | float, clamp: bool, what: str) -> np.ndarray:
     """Values clipped onto [lo, hi]; outside by more than rounding is an error unless clamping."""
     lo, hi = np.broadcast_to(lo, values.shape), np.broadcast_to(hi, values.shape)
     if not np.all(np.isfinite(values)):

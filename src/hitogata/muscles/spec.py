@@ -81,7 +81,8 @@ def parse_attachment(entry: Entry, key: str, parts: set[str]) -> Attachment:
         isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v) for v in at
     ):
         sub.fail(f"at = {at!r}: expected three numbers (part lengths)")
-    return Attachment(part, tuple(float(v) for v in at))
+    x, y, z = (float(v) for v in at)
+    return Attachment(part, (x, y, z))
 
 
 def subtree(skeleton: SkeletonSpec, part: str) -> set[str]:

@@ -13,7 +13,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from types import ModuleType
-from typing import TYPE_CHECKING, Self
+from typing import TYPE_CHECKING, Self, TypeGuard
 
 import numpy as np
 
@@ -51,17 +51,19 @@ def _polydata(pv: ModuleType, item: Item) -> pyvista.PolyData:
     if isinstance(item, Lines):
         if item.radius is None:
             return pv.line_segments_from_points(item.segments.reshape(-1, 3))
-        return pv.PolyData.from_regular_faces(*capsules(item.segments[:, 0], item.segments[:, 1], item.radius))
+        radii = np.asarray(item.radius, float)  # (S,) already: Lines.__post_init__ spreads one radius
+        return pv.PolyData.from_regular_faces(*capsules(item.segments[:, 0], item.segments[:, 1], radii))
     if isinstance(item, Points):
         if item.radius is None:
             return pv.PolyData(item.points)
-        return pv.PolyData.from_regular_faces(*spheres(item.points, item.radius))
+        radii = np.asarray(item.radius, float)  # (N,) already: Points.__post_init__ spreads one radius
+        return pv.PolyData.from_regular_faces(*spheres(item.points, radii))
     raise HitogataError(f"render item {type(item).__name__}: allowed Layer, Lines or Points")
 
 
 def _add(plotter: pyvista.Plotter, item: Item, mesh: pyvista.PolyData, scale: int) -> None:
     """Add one item's mesh with its style (pixel sizes times `scale`, the supersampling)."""
-    common = {"opacity": item.opacity, "specular": SPECULAR, "render": False}  # drawn once, when all are in
+    common: dict[str, object] = {"opacity": item.opacity, "specular": SPECULAR, "render": False}  # drawn once, when all are in
     if isinstance(item, Layer) and not item.backfaces:
         common["culling"] = "back"
     if isinstance(item, Layer) and item.scalars is not None:
@@ -141,8 +143,8 @@ def _downsample(image: np.ndarray, scale: int) -> np.ndarray:
 def _size(size: Sequence[int | None]) -> tuple[int | None, int]:
     """(width or None, height), each 16..MAX_PIXELS."""
 
-    def fits(s: object) -> bool:
-        return isinstance(s, (int, np.integer)) and 16 <= s <= MAX_PIXELS
+    def fits(s: object) -> TypeGuard[int | np.integer]:
+        return isinstance(s, (int, np.integer)) and bool(16 <= s <= MAX_PIXELS)
 
     if len(size) != 2 or not (size[0] is None or fits(size[0])) or not fits(size[1]):
         raise HitogataError(

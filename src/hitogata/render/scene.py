@@ -9,14 +9,13 @@ OpenGL is touched. Colours are anything matplotlib understands ("tab:red",
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Union
 
 import numpy as np
 from matplotlib.colors import to_rgb
 
 from hitogata.errors import HitogataError
 
-Color = Union[str, tuple[float, float, float]]
+Color = str | tuple[float, float, float]
 
 
 def rgb(color: Color, what: str) -> tuple[float, float, float]:
@@ -44,7 +43,7 @@ def fraction(name: str, value: float) -> float:
     return float(value)
 
 
-def positive(name: str, value: object, count: int) -> np.ndarray | None:
+def positive(name: str, value: float | np.ndarray | None, count: int) -> np.ndarray | None:
     """None, or a radius per element (a scalar is broadcast), all finite and > 0."""
     if value is None:
         return None
@@ -143,4 +142,4 @@ class Points:
             raise HitogataError(f"Points size = {self.size!r}: allowed a positive number of pixels")
 
 
-Item = Union[Layer, Lines, Points]
+Item = Layer | Lines | Points

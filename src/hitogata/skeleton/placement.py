@@ -75,7 +75,7 @@ class Skeleton:
         except ValueError:
             raise HitogataError(f"{self.spec.source}: no degree of freedom {name!r} (write 'part.dof')") from None
 
-    def point(self, part: int, at: np.ndarray) -> np.ndarray:
+    def point(self, part: int, at: np.ndarray | tuple[float, float, float]) -> np.ndarray:
         """Rest position (metres) of a point given in part units."""
         return self.joints[part] + self.bases[part] @ np.asarray(at, dtype=float)
 
@@ -111,7 +111,8 @@ def rig_point(rig: Rig, anchor: Anchor, where: str) -> np.ndarray:
         if name not in rig.names:
             raise HitogataError(f"{where}: unknown rig bone {name!r}")
     if anchor.kind == "between":
-        return along_polyline(chain_points(rig, *anchor.names, where), anchor.fraction)
+        first, last = anchor.names  # a 'between' anchor names two bones (skeleton.spec checks)
+        return along_polyline(chain_points(rig, first, last, where), anchor.fraction)
     ends = rig.heads if anchor.end == "head" else rig.tails
     return ends[[rig.index(n) for n in anchor.names]].mean(axis=0)
 
@@ -163,6 +164,8 @@ def place_skeleton(spec: SkeletonSpec, rig: Rig) -> Skeleton:
     joints = np.array([rig_point(rig, p.joint, f"{spec.source}: part {p.name!r}: joint") for p in spec.parts])
     tails = np.empty((n, 3))
     for i, p in enumerate(spec.parts):
+        if p.tail is None:  # the spec reader gives every part a tail
+            raise HitogataError(f"{spec.source}: part {p.name!r}: no tail")
         if p.tail.kind == "part":
             tails[i] = joints[spec.index(p.tail.names[0])]
         else:

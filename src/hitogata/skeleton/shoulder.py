@@ -29,6 +29,7 @@ import math
 
 import numpy as np
 
+from hitogata.errors import HitogataError
 from hitogata.skeleton.kinematics import Kinematics, axis_rotations
 from hitogata.skeleton.placement import Skeleton
 
@@ -112,7 +113,7 @@ def _glenohumeral(sk: Skeleton, kf: int, ka: int, along: np.ndarray, direction: 
     p, s = along @ axis_f - c, np.cross(axis_a, along) @ axis_f
     phase = math.atan2(s, p)
     spread = math.acos(float(np.clip((direction @ axis_f - c) / math.hypot(p, s), -1.0, 1.0)))
-    best = None
+    best: tuple[float, float, float] | None = None
     for a in (phase + spread, phase - spread):
         a = (a + math.pi) % (2 * math.pi) - math.pi
         u = _rotation(axis_a, a) @ along
@@ -123,4 +124,6 @@ def _glenohumeral(sk: Skeleton, kf: int, ka: int, along: np.ndarray, direction: 
         )
         if best is None or excess < best[0] - 1e-9:
             best = (excess, f, a)
+    if best is None:  # the loop above always sets it: its first candidate is taken
+        raise HitogataError("shoulder: no glenohumeral solution")
     return best[1], best[2]

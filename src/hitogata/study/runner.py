@@ -63,6 +63,8 @@ def rows_table(rows: dict[str, list]) -> pa.Table:
 def record(out: Path, task: Task, outcome: Outcome) -> None:
     """Write a task's rows (Parquet) or its error (JSON), atomically; a retried failure's old record goes."""
     if outcome.error is None:
+        if outcome.rows is None:  # execute gives rows or an error, never neither
+            raise HitogataError(f"task {task.key}: no rows and no error")
         path = rows_path(out, task)
         path.parent.mkdir(parents=True, exist_ok=True)
         sink = pa.BufferOutputStream()

@@ -14,17 +14,20 @@ import math
 import tomllib
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import Any, Literal
 
 from hitogata import units
 from hitogata.body import STATURE_RANGE, WHOLE_BODY_DENSITY
 from hitogata.dynamics.scenario import load_scenario, shipped_scenarios
+from hitogata.config import Option
 from hitogata.errors import HitogataError
+from hitogata.options import Skinning
 from hitogata.study.sampling import SEXES, Joint, clusters, sample_stature_mass, sex_counts
 
 OUTPUTS = ("measurements", "dynamic_ease", "zone_stretch")
-POSINGS = ("skinning", "elastic")
-SKINNINGS = ("dqs", "lbs")
+Posing = Literal["skinning", "elastic"]
+POSINGS: tuple[Posing, ...] = ("skinning", "elastic")
+SKINNINGS: tuple[Skinning, ...] = ("dqs", "lbs")
 MASS_RANGE = (30.0, 200.0)  # kg accepted in a file; the shape solver says per body what it can build
 AGE_RANGE = (18.0, 90.0)
 CHART_COLUMNS = {"stature": units.LENGTH_UNITS, "mass": units.MASS_UNITS, "age": {"years": 1.0}}
@@ -56,8 +59,8 @@ class MotionDef:
 class ModelSettings:
     """How each body is moved: posing by skinning (cheap) or the elastic body; frames per motion."""
 
-    posing: str = "skinning"
-    skinning: str = "dqs"
+    posing: Posing = "skinning"
+    skinning: Skinning = "dqs"
     frames: int = 9
 
 
@@ -113,7 +116,7 @@ class _Table:
             raise self.fail(key, value, f"a whole number {low}..{high}")
         return value
 
-    def choice(self, key: str, options: tuple[str, ...], default: str) -> str:
+    def choice(self, key: str, options: tuple[Option, ...], default: Option) -> Option:
         value = self.table.get(key, default)
         if value not in options:
             raise self.fail(key, value, ", ".join(options))
@@ -243,7 +246,7 @@ def _chart(t: _Table, path: Path) -> tuple[tuple[BodyDef, ...], str]:
     if not rows:
         raise HitogataError(f"{path}: empty; allowed a header size,sex,stature_cm,mass_kg[,age_years] and rows")
     header = [h.strip() for h in rows[0]]
-    columns = {"size": None, "sex": None}
+    columns: dict[str, str | None] = {"size": None, "sex": None}
     for name, table in CHART_COLUMNS.items():
         found = [h for h in header if h.startswith(name + "_") and h.split("_", 1)[1] in table]
         columns[name] = found[0] if found else None

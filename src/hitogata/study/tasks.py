@@ -25,11 +25,16 @@ import time
 import tomllib
 from dataclasses import asdict, dataclass
 from functools import cache, lru_cache
+from typing import TYPE_CHECKING
 
 import numpy as np
 from threadpoolctl import threadpool_limits
 
 from hitogata.study.spec import BodyDef, ModelSettings, MotionDef
+
+if TYPE_CHECKING:  # for the annotations only: the functions below import what they run where they run it
+    from hitogata.body import Body
+    from hitogata.pose import Poser
 
 ROWS_VERSION = 3  # part of every task's hash: bump when a row's meaning changes, so old rows are not reused
 # (3: waist_girth is ISO 8559-1's waist, the navel's is omphalion_waist_girth; the neck girth at its
@@ -86,6 +91,8 @@ def execute(task: Task) -> Outcome:
     same task then gives the same bits in a plain loop and on a cluster.
     """
     start, cpu = time.perf_counter(), time.process_time()
+    rows: dict[str, list] | None
+    error: str | None
     try:
         with threadpool_limits(1):
             rows = task_rows(task)
@@ -123,8 +130,8 @@ def warm() -> None:
 class Prepared:
     """A built body, its poser and its standing measurements."""
 
-    body: object  # hitogata.body.Body
-    poser: object  # hitogata.pose.Poser
+    body: Body
+    poser: Poser
     standing: dict[str, float]
 
 

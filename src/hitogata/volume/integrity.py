@@ -108,16 +108,16 @@ def star_groups(tets: np.ndarray, local: np.ndarray) -> tuple[np.ndarray, np.nda
     a, b, face = _shared_faces(tets)
     # The face opposite corner f holds the simplices of the tet that avoid corner f.
     holds = ~(local[None, :, :] == np.arange(4)[:, None, None]).any(axis=2)  # (4, k)
-    rows, cols = [np.empty(0, dtype=np.int64)], [np.empty(0, dtype=np.int64)]
+    row_parts, col_parts = [np.empty(0, dtype=np.int64)], [np.empty(0, dtype=np.int64)]
     for f in range(4):
         on = face == f
         for s in np.flatnonzero(holds[f]):
             ia = a[on] * k + s
             candidates = b[on, None] * k + np.arange(k)[None, :]
             match = key[candidates] == key[ia][:, None]
-            rows.append(ia)
-            cols.append(candidates[np.arange(len(ia)), match.argmax(axis=1)])
-    rows, cols = np.concatenate(rows), np.concatenate(cols)
+            row_parts.append(ia)
+            col_parts.append(candidates[np.arange(len(ia)), match.argmax(axis=1)])
+    rows, cols = np.concatenate(row_parts), np.concatenate(col_parts)
     graph = sp.csr_matrix((np.ones(len(rows), dtype=np.int8), (rows, cols)), shape=(n * k, n * k))
     _, group = connected_components(graph, directed=False)
     return keys, key, group

@@ -27,7 +27,7 @@ from hitogata.geometry.mesh_checks import enclosed_volume, is_closed
 from hitogata.options import BONE_MESHES, Extent, EXTENTS
 from hitogata.volume import anatomy as A
 from hitogata.volume.bones import PART as BONE_PART, attach_surface_nodes, capsule_gap, held_volume, outside_capsules
-from hitogata.volume.domain import Domain, Intersection
+from hitogata.volume.domain import Domain, Intersection, SurfaceDomain
 from hitogata.volume.integrity import MeshIntegrity, mesh_integrity
 from hitogata.volume.lattice import stuff
 from hitogata.volume.quality import boundary_faces, dihedral_angles, interface_faces, signed_volumes, surface_distances
@@ -160,11 +160,17 @@ def build_volume_model(vertices: np.ndarray, faces: np.ndarray, rig: RigLike, we
     vertices = np.asarray(vertices, dtype=np.float64)
     faces = np.asarray(faces, dtype=np.int64)
     marks = TrunkLandmarks.from_rig(rig)
+    cuts: tuple[Domain, ...] = ()  # the trunk's neck and hip planes and arm separator; none on the body
     if extent == "trunk":
-        domain, bounds = trunk_domain(vertices, faces, rig, weights)
+        trunk, bounds = trunk_domain(vertices, faces, rig, weights)
+        skin, cuts = trunk.members[0], trunk.members[1:]
+        domain: Domain = trunk
     else:
-        domain, bounds = body_domain(vertices, faces)
-    skin_index = domain.members[0].index if extent == "trunk" else domain.index
+        skin, bounds = body_domain(vertices, faces)
+        domain = skin
+    if not isinstance(skin, SurfaceDomain):  # trunk_domain puts the skin first
+        raise TypeError(f"trunk domain: first member is a {type(skin).__name__}, not the skin surface")
+    skin_index = skin.index
     bone_names = A.TRUNK_BONES if extent == "trunk" else A.BODY_BONES
     rows = [rig.names.index(n) for n in bone_names]
     heads, tails = np.asarray(rig.heads)[rows], np.asarray(rig.tails)[rows]
@@ -209,7 +215,7 @@ def build_volume_model(vertices: np.ndarray, faces: np.ndarray, rig: RigLike, we
     on_skin = np.all(mesh.node_part[bfaces] == 0, axis=1)
     on_bone = np.all(mesh.node_part[bfaces] == bone_part, axis=1)
     cut_parts = [k for k, name in enumerate(domain.parts) if k != 0 and name != BONE_PART]
-    on_cut = np.isin(mesh.node_part[bfaces], cut_parts).any(axis=1)
+    on_cut = np.isin(mesh.node_part, cut_parts)[bfaces].any(axis=1)
     interfaces = {(A.REGIONS[a], A.REGIONS[b]): f for (a, b), f in interface_faces(tets, region).items()}
 
     spacing = max(h / _REFERENCE_REFINEMENT, _REFERENCE_MIN_SPACING)
@@ -218,7 +224,7 @@ def build_volume_model(vertices: np.ndarray, faces: np.ndarray, rig: RigLike, we
         lo[1], hi[1] = marks.hip_height, marks.neck_height  # the cut planes
         reference = _reference_volume(whole, lo, hi, spacing)
         others = np.ones(len(vertices), dtype=bool)
-        for member in whole.members[1:]:
+        for member in cuts:
             others &= member.contains(vertices)
         skin_points = vertices[others]
     else:

@@ -16,6 +16,8 @@ only visits the triangles near it:
 
 from __future__ import annotations
 
+from typing import cast
+
 import numpy as np
 from scipy.spatial import cKDTree
 
@@ -38,7 +40,8 @@ def _bin_boxes(lo: np.ndarray, hi: np.ndarray, origin: np.ndarray, cell: float, 
         span = spans[item, d]
         index[:, d] = first[item, d] + rest % span
         rest //= span
-    key = np.ravel_multi_index(tuple(index.T), tuple(dims))
+    # cast: the stubs take a tuple of arrays for a tuple of ints and type the result a scalar
+    key = cast(np.ndarray, np.ravel_multi_index(tuple(index.T), tuple(dims)))
     order = np.argsort(key, kind="stable")
     ptr = np.searchsorted(key[order], np.arange(int(np.prod(dims)) + 1))
     return ptr, item[order]
@@ -182,7 +185,7 @@ class SurfaceIndex:
         for d in (2, 1, 0):
             index[:, d] = lo[seg, d] + rest % spans[seg, d]
             rest //= spans[seg, d]
-        cells = np.ravel_multi_index(tuple(index.T), tuple(self.dims))
+        cells = cast(np.ndarray, np.ravel_multi_index(tuple(index.T), tuple(self.dims)))  # as in _bin_boxes
         ptr, items = self._cells
         best = np.full(len(start), np.inf)
         counts = ptr[cells + 1] - ptr[cells]

@@ -20,7 +20,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from hitogata.volume.anatomy import ARM_PREFIXES, TRUNK_BONES
-from hitogata.volume.domain import Domain, HalfSpace, ImplicitDomain, Intersection, SurfaceDomain
+from hitogata.volume.domain import HalfSpace, ImplicitDomain, Intersection, SurfaceDomain
 
 
 class RigLike(Protocol):
@@ -129,7 +129,7 @@ def arm_separator(rig: RigLike, skin: np.ndarray, weights: sp.csr_matrix):
 
 
 def trunk_domain(vertices: np.ndarray, faces: np.ndarray, rig: RigLike,
-                 weights: sp.csr_matrix) -> tuple[Domain, tuple[np.ndarray, np.ndarray]]:
+                 weights: sp.csr_matrix) -> tuple[Intersection, tuple[np.ndarray, np.ndarray]]:
     """The trunk as a domain (parts: skin, neck, hips, arms) and a box that holds it."""
     marks = TrunkLandmarks.from_rig(rig)
     up = np.array([0.0, 1.0, 0.0])
@@ -144,6 +144,6 @@ def trunk_domain(vertices: np.ndarray, faces: np.ndarray, rig: RigLike,
     return domain, (lo, hi)
 
 
-def body_domain(vertices: np.ndarray, faces: np.ndarray) -> tuple[Domain, tuple[np.ndarray, np.ndarray]]:
+def body_domain(vertices: np.ndarray, faces: np.ndarray) -> tuple[SurfaceDomain, tuple[np.ndarray, np.ndarray]]:
     """The whole body inside its skin, and its bounding box."""
     return SurfaceDomain(vertices, faces, "skin"), (vertices.min(axis=0), vertices.max(axis=0))
