@@ -19,7 +19,7 @@ import json
 import os
 import zipfile
 from pathlib import Path
-from typing import Self
+from typing import Any, Self
 from xml.sax.saxutils import quoteattr
 
 import meshio
@@ -312,13 +312,14 @@ def write_sequence(path: str | os.PathLike, motion: Motion) -> Path:
     poser = motion.dynamics.poser
     body = poser.body
     joints = motion.rig_joints
-    detail = {k: np.asarray(v, dtype=np.int32) for k, v in detail_extras(body).items()}
+    # named arrays in one dict: numpy's stubs type **kwargs against savez's own keyword (allow_pickle)
+    arrays: dict[str, Any] = {
+        "times": motion.times, "vertices": motion.skin.astype(np.float32), "angles": motion.angles,
+        "joints": joints, "shape": np.array(json.dumps(shape_extras(body.params))), "density": np.array(body.density),
+        **{k: np.asarray(v, dtype=np.int32) for k, v in detail_extras(body).items()},
+    }
     buffer = io.BytesIO()
-    np.savez_compressed(
-        buffer, times=motion.times, vertices=motion.skin.astype(np.float32), angles=motion.angles,
-        joints=joints, shape=np.array(json.dumps(shape_extras(body.params))), density=np.array(body.density),
-        **detail,
-    )
+    np.savez_compressed(buffer, **arrays)
     return write_bytes_atomically(path, buffer.getvalue())
 
 
