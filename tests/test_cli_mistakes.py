@@ -246,7 +246,9 @@ def test_a_bare_contraction_above_one_hints_at_percent(here, capsys):
 
 def test_ctrl_c_ends_with_one_line_130_and_no_folder(here, tmp_path):
     """SIGINT while the scenario runs: exit 130, one line, neither the folder nor its staging folder left."""
-    (here / "s.toml").write_text(SCENARIO.format(channel='clinical = { "forearm_l.flexion" = "60deg" }'))
+    # a long run (a minute of motion at 30 frames/s), so the signal lands while it works however busy the machine
+    long_run = SCENARIO.replace("[output]", '[time]\nduration = "60s"\nrate = 30\n[output]')
+    (here / "s.toml").write_text(long_run.format(channel='clinical = { "forearm_l.flexion" = "60deg" }'))
     env = {**os.environ, "PYTHONPATH": os.pathsep.join([str(Path(cli.__file__).parents[1]),
                                                         os.environ.get("PYTHONPATH", "")])}
     proc = subprocess.Popen([sys.executable, "-m", "hitogata.cli", "simulate", "s.toml", "--out", "results"],
