@@ -50,11 +50,11 @@ def scan_girths(points: np.ndarray, faces: np.ndarray | None, body: Body, vertic
     topo = topology(faces) if faces is not None else None
     out = {}
     for name in GIRTHS:
-        origin, normal, _ = planes[name]
         tape = fitted[name]
-        if not len(tape.path):
+        if name not in planes or not len(tape.path):  # the armscye is cut at the axilla, not one plane
             out[name] = float("nan")
             continue
+        origin, normal, _ = planes[name]
         if topo is not None:
             cut = section(points, topo, origin, normal)
             ends = topo.edges[cut.edges]
