@@ -261,3 +261,35 @@ def test_cli_errors_are_one_line_and_exit_2(tmp_path, capsys):
     good.write_text(GOOD)
     assert main(["motion", "import", str(good), "--map", str(amap), "--out", str(tmp_path / "y.toml")]) == 2
     assert "Spine: unknown part 'backbone'" in capsys.readouterr().err
+
+
+def test_a_bvh_timeline_moves_the_whole_body_with_its_root(tmp_path, female, scene):
+    """A walk forward in the BVH's root channels: the scenario keeps it as a root track, the
+    skeleton motion and the simulated skin travel with it (the body's own stride scale: the
+    file's skeleton is ours, so 1:1)."""
+    import dataclasses
+
+    from hitogata.dynamics.motion import simulate
+    from hitogata.dynamics.run import build_dynamics
+    from hitogata.dynamics.scenario import load_scenario
+
+    poser, clip = scene
+    bvh = export_bvh(poser.skeleton, clip)
+    position = [i for i, c in enumerate(bvh.joints[0].channels) if c.endswith("position")]
+    walked = bvh.values.copy()
+    forward = np.linspace(0.0, 40.0, len(walked))  # cm along z: 40 cm over the clip
+    walked[:, position[2]] += forward
+    (tmp_path / "walk.bvh").write_text(write_bvh(dataclasses.replace(bvh, values=walked)))
+    (tmp_path / "walk.toml").write_text('[body]\nsex = "female"\n[model]\nextent = "trunk"\nelement_size = "60mm"\n'
+                                        'modes = 4\n[timeline]\nbvh = "walk.bvh"\n')
+    scenario = load_scenario(tmp_path / "walk.toml")
+    assert scenario.root is not None
+    moved = scenario_clip(scenario, poser, rate=20).root[:, :3, 3] - scenario.root.transforms[0, :3, 3]
+    assert moved[-1] == pytest.approx([0.0, 0.0, 0.40], abs=1e-6)  # at the clip's end (1 s), and held after
+    assert moved[10, 2] == pytest.approx(0.20, abs=1e-6)  # 0.5 s: linear between the frames
+    motion = simulate(build_dynamics(female, scenario), scenario.timeline, 1.0, 4.0, 1, True, "clamp",
+                      root=scenario.root)
+    pelvis = poser.skeleton.names.index("pelvis")
+    assert motion.translations[-1, pelvis] - motion.translations[0, pelvis] == pytest.approx([0, 0, 0.40], abs=1e-6)
+    assert (motion.skin[-1] - motion.skin[0]).mean(axis=0)[2] == pytest.approx(0.371, abs=1e-3)  # limbs move too
+    assert np.abs(motion.skin - motion.skinned_skin).max() < 0.05  # the tissue travels with its skeleton

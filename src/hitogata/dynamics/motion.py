@@ -40,7 +40,7 @@ from scipy.spatial import cKDTree
 from hitogata.dynamics.contact import skin_contact
 from hitogata.dynamics.quasistatic import QuasiStatic, WarmStart, rotate, unrotate
 from hitogata.dynamics.rigging import NodeRig, joint_nodes, node_rig
-from hitogata.dynamics.timeline import Timeline
+from hitogata.dynamics.timeline import RootTrack, Timeline
 from hitogata.errors import HitogataError
 from hitogata.fem import advance, lumped_masses, modal_step
 from hitogata.fem.elements import P2_EDGES
@@ -231,8 +231,9 @@ class Motion:
 
 def simulate(dynamics: BodyDynamics, timeline: Timeline, duration: float, rate: float, substeps: int = 1,
              gravity: bool = True, on_limit: OnLimit = "raise", iterations: int = ITERATIONS,
-             progress: Callable[[int, int], None] | None = None) -> Motion:
-    """Run a timeline for `duration` seconds; outputs at `rate` frames per second, `substeps` steps per frame."""
+             progress: Callable[[int, int], None] | None = None, root: RootTrack | None = None) -> Motion:
+    """Run a timeline for `duration` seconds; outputs at `rate` frames per second, `substeps` steps per frame;
+    root: the whole body's rigid motion (None: it stands where it is)."""
     if not (np.isfinite(duration) and duration > 0 and np.isfinite(rate) and rate > 0):
         raise HitogataError(f"duration {duration!r} s and rate {rate!r}/s: allowed positive numbers")
     if int(substeps) != substeps or substeps < 1:
@@ -246,7 +247,7 @@ def simulate(dynamics: BodyDynamics, timeline: Timeline, duration: float, rate: 
             if c.kind == "clinical" and c.name in sk.dof_names}
     channels = timeline.sample(t, rest)
     angles = _angles(dynamics.poser, channels, n_steps, on_limit)
-    pose = dynamics.poser.kinematics.pose(angles)
+    pose = dynamics.poser.kinematics.pose(angles, root=None if root is None else root.sample(t))
     contractions = channels["contraction"]
 
     k = len(dynamics.eigenvalues)

@@ -17,7 +17,7 @@ from typing import Any
 
 from hitogata import units
 from hitogata.config import Entry, read_toml
-from hitogata.dynamics.timeline import Keyframe, Timeline
+from hitogata.dynamics.timeline import Keyframe, RootTrack, Timeline
 from hitogata.errors import HitogataError
 from hitogata.options import (
     ELEMENTS,
@@ -93,6 +93,7 @@ class Scenario:
     timeline: Timeline
     output: OutputSpec
     entries: tuple[KeyframeValue, ...] = ()  # every keyframe value as written, for checks that blame the user's line
+    root: RootTrack | None = None  # the whole body's rigid motion (a BVH timeline's root); None: it stands
 
 
 @dataclass(frozen=True)
@@ -131,16 +132,18 @@ def parse_scenario(data: dict, source: str) -> Scenario:
     default_how = timeline_table.choice("interpolation", INTERPOLATIONS, "smoothstep")
     on_limit = timeline_table.choice("on_limit", ON_LIMIT, "raise")
     entries: list[KeyframeValue] = []
+    root = None
     if "bvh" in timeline_table.table:  # the timeline read from a BVH file (docs/motion.md)
-        from hitogata.motion.timeline import bvh_keyframes
-        keyframes = bvh_keyframes(source, data, body)
+        from hitogata.motion.timeline import bvh_timeline
+        keyframes, root = bvh_timeline(source, data, body)
     else:
         keyframes = _keyframes(source, data.get("keyframe", []), default_how, entries)
     timeline = Timeline.from_keyframes(keyframes)
     duration = time.quantity("duration", TIME_UNITS, None, 1e-3, 600.0, "a time in s, up to 600 s")
     duration = duration if duration is not None else max(timeline.end + 1.0, 1.0)
     output = _output(source, data.get("output", {}), duration)
-    return Scenario(source, title, body, model, duration, rate, substeps, on_limit, timeline, output, tuple(entries))
+    return Scenario(source, title, body, model, duration, rate, substeps, on_limit, timeline, output, tuple(entries),
+                    root)
 
 
 def _body(source: str, table: Any) -> BodySpec:

@@ -114,3 +114,28 @@ class Timeline:
     def end(self) -> float:
         """Time of the last keyframe (s)."""
         return max((c.times[-1] for c in self.channels), default=0.0)
+
+
+@dataclass(frozen=True)
+class RootTrack:
+    """The whole body's rigid motion over time (a BVH's root): times (K,) s and transforms (K, 4, 4),
+    rest → posed, applied to the whole skeleton. Between samples the translation is linear and the
+    rotation turns at constant speed about one axis (slerp); before the first and after the last
+    it holds."""
+
+    times: np.ndarray
+    transforms: np.ndarray
+
+    def sample(self, t: np.ndarray) -> np.ndarray:
+        """(T, 4, 4) the transform at times t (s)."""
+        from scipy.spatial.transform import Rotation, Slerp
+
+        t = np.clip(np.asarray(t, dtype=float), self.times[0], self.times[-1])
+        out = np.broadcast_to(np.eye(4), (len(t), 4, 4)).copy()
+        for axis in range(3):
+            out[:, axis, 3] = np.interp(t, self.times, self.transforms[:, axis, 3])
+        if len(self.times) > 1:
+            out[:, :3, :3] = Slerp(self.times, Rotation.from_matrix(self.transforms[:, :3, :3]))(t).as_matrix()
+        else:
+            out[:, :3, :3] = self.transforms[0, :3, :3]
+        return out

@@ -47,4 +47,5 @@ def scenario_clip(scenario: Scenario, poser: Poser, rate: float | None = None) -
         pick = {kind: {name: float(v[i]) for name, v in values.items()} for kind, values in channels.items()}
         angles[i] = poser.angles(contractions=pick["contraction"] or None, angles=pick["angle"] or None,
                                  clinical=pick["clinical"] or None, on_limit=scenario.on_limit)
-    return MotionClip(times, angles, still_root(len(times)))
+    root = still_root(len(times)) if scenario.root is None else scenario.root.sample(times)
+    return MotionClip(times, angles, root)

@@ -4,8 +4,8 @@
 optional `joint_map` (a shipped map's name or a TOML file; default: the map
 matching the most joint names) stands in for the `[[keyframe]]` entries. The
 retargeted angles (docs/motion.md) become `angles` keyframes, linear between
-frames. The root's rigid motion is not a scenario channel: it is reported,
-not simulated.
+frames. The root's rigid motion (walking forward, turning) becomes the
+scenario's root track: the simulation moves the whole body with it.
 """
 
 from __future__ import annotations
@@ -16,7 +16,7 @@ from pathlib import Path
 import numpy as np
 
 from hitogata.dynamics.scenario import BodySpec
-from hitogata.dynamics.timeline import Keyframe
+from hitogata.dynamics.timeline import Keyframe, RootTrack
 from hitogata.errors import HitogataError
 from hitogata.motion.bvh import read_bvh
 from hitogata.motion.clip import MotionClip
@@ -36,8 +36,8 @@ def body_skeleton(spec: BodySpec) -> Skeleton:
     return place_skeleton(load_skeleton_spec(), make_body(spec).rig)
 
 
-def bvh_keyframes(source: str, data: dict, body: BodySpec) -> list[Keyframe]:
-    """The keyframes a scenario's `[timeline] bvh = …` stands for."""
+def bvh_timeline(source: str, data: dict, body: BodySpec) -> tuple[list[Keyframe], RootTrack]:
+    """The keyframes and the root track a scenario's `[timeline] bvh = …` stands for."""
     table = data["timeline"]
     if "keyframe" in data:
         raise HitogataError(f"{source}: [timeline].bvh: give a BVH file or [[keyframe]] entries, not both")
@@ -53,7 +53,7 @@ def bvh_keyframes(source: str, data: dict, body: BodySpec) -> list[Keyframe]:
     skeleton = body_skeleton(body)
     bvh = read_bvh(path)
     result = retarget(bvh, skeleton, choose_joint_map(bvh.names, skeleton, mapping))
-    return clip_keyframes(result.clip, skeleton)
+    return clip_keyframes(result.clip, skeleton), RootTrack(result.clip.times, result.clip.root)
 
 
 def clip_keyframes(clip: MotionClip, skeleton: Skeleton) -> list[Keyframe]:
@@ -76,8 +76,8 @@ def scenario_text(result: Retargeted, skeleton: Skeleton, body: BodySpec, title:
              f"# Joint map {joint_map}; BVH joints used: {', '.join(result.mapped)}.",
              (f"# The file's skeleton stands {result.height:.4g} {result.unit or 'units (unit not recognised)'} "
               "tall (head joint above the lowest joint)."),
-             (f"# Root motion (not a scenario channel, not simulated): turned {turn:.1f}°, moved {travel:.1f} cm "
-              "by the last frame."),
+             (f"# Root motion (not kept in this file; a scenario with [timeline] bvh = the file moves with it): "
+              f"turned {turn:.1f}°, moved {travel:.1f} cm by the last frame."),
              (f"# Joint angles outside the ranges of motion: {', '.join(outside) if outside else 'none'}"
               + (" (on_limit = clamp)" if outside else "")),
              f"title = {_quote(title)}", "", "[body]",
