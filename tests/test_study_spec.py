@@ -76,19 +76,19 @@ source = {source}
 
 
 @pytest.mark.parametrize("bodies, extra, message", [
-    (SAMPLED.format(r=1.5, source='"x"'), "", "s.toml: [bodies.women].correlation = 1.5: allowed a number -0.99..0.99"),
-    (SAMPLED.format(r=0.5, source='""'), "", "s.toml: [bodies.women].source = '': allowed the published survey"),
+    (SAMPLED.format(r=1.5, source='"x"'), "", "s.toml: [bodies.women].correlation: 1.5 is out of range; allowed a number -0.99..0.99"),
+    (SAMPLED.format(r=0.5, source='""'), "", "s.toml: [bodies.women].source: ''; allowed the published survey"),
     (SAMPLED.format(r=0.5, source='"x"').replace('"6cm"', '"6kg"'), "",
-     "s.toml: [bodies.women].stature_sd = '6kg': allowed a length like 163cm"),
-    ("sampled = 10\nfemale = 0.0", "", "s.toml: [bodies.men]: missing; allowed a table of correlation, mass_mean"),
+     "s.toml: [bodies.women].stature_sd: '6kg' is not a length like 163cm"),
+    ("sampled = 10\nfemale = 0.0", "", "s.toml: [bodies].men: missing; allowed a table of correlation, mass_mean"),
     (SAMPLED.format(r=0.5, source='"x"').replace('mass_sd = "11kg"', ""), "",
-     "s.toml: [bodies.women].mass_sd: missing; it has no default"),
+     "s.toml: [bodies.women]: missing key 'mass_sd'; it has no default"),
     ('sampled = 3\nchart = "x.csv"', "", "s.toml: [bodies]: sampled and chart given; allowed exactly one"),
     ("", "", "s.toml: [bodies]: none given; allowed exactly one"),
-    ("sampled = 0", "", "s.toml: [bodies].sampled = 0: allowed a whole number 1..1000000"),
-    ('chart = "x.csv"', 'outputs = ["ease"]', "s.toml: file.outputs = ['ease']: allowed a list of measurements"),
-    ('chart = "x.csv"', '[model]\nposing = "rigid"', "s.toml: [model].posing = 'rigid': allowed skinning, elastic"),
-    ('chart = "x.csv"', "[model]\nframes = 1", "s.toml: [model].frames = 1: allowed a whole number 2..200"),
+    ("sampled = 0", "", "s.toml: [bodies].sampled: 0; allowed a whole number 1..1000000"),
+    ('chart = "x.csv"', 'outputs = ["ease"]', "s.toml: file.outputs: ['ease']; allowed a list of measurements"),
+    ('chart = "x.csv"', '[model]\nposing = "rigid"', "s.toml: [model].posing: 'rigid'; allowed skinning, elastic"),
+    ('chart = "x.csv"', "[model]\nframes = 1", "s.toml: [model].frames: 1; allowed a whole number 2..200"),
 ])
 def test_bad_study_is_one_line_naming_file_entry_value(tmp_path, bodies, extra, message):
     with pytest.raises(HitogataError) as err:
@@ -100,7 +100,7 @@ def test_bad_study_is_one_line_naming_file_entry_value(tmp_path, bodies, extra, 
 def test_unknown_motion_names_the_shipped_ones(tmp_path):
     path = tmp_path / "s.toml"
     path.write_text('motions = ["moonwalk"]\n[bodies]\nchart = "x.csv"\n', encoding="utf-8")
-    with pytest.raises(HitogataError, match=r"s.toml: file.motions = 'moonwalk': allowed a scenario file or a "
+    with pytest.raises(HitogataError, match=r"s.toml: file.motions: 'moonwalk'; allowed a scenario file or a "
                                             r"shipped scenario: .*rectus_stretch"):
         load_study(path)
 
@@ -128,7 +128,7 @@ def test_cli_bad_study_exits_2_with_one_line(tmp_path, capsys):
     path = _study(tmp_path, SAMPLED.format(r=2, source='"x"'))
     assert main(["study", str(path), "--out", str(tmp_path / "out")]) == 2
     err = capsys.readouterr().err.strip()
-    assert err == f"hitogata: error: {path}: [bodies.women].correlation = 2: allowed a number -0.99..0.99"
+    assert err == f"hitogata: error: {path}: [bodies.women].correlation: 2 is out of range; allowed a number -0.99..0.99"
     assert not (tmp_path / "out").exists()
 
 
@@ -157,7 +157,7 @@ def test_a_folder_of_body_files_gives_their_shapes(tmp_path):
 
 def test_an_empty_body_folder_is_one_line(tmp_path):
     (tmp_path / "bodies").mkdir()
-    with pytest.raises(HitogataError, match=r"s.toml: \[bodies\].folder = '.*bodies': allowed a folder holding "
+    with pytest.raises(HitogataError, match=r"s.toml: \[bodies\].folder: '.*bodies'; allowed a folder holding "
                                             r"\.glb files written by `hitogata body`$"):
         load_study(_study(tmp_path, 'folder = "bodies"'))
 

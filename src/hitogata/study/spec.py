@@ -19,7 +19,7 @@ from typing import Any, Literal
 from hitogata import units
 from hitogata.body import STATURE_RANGE, WHOLE_BODY_DENSITY
 from hitogata.dynamics.scenario import load_scenario, shipped_scenarios
-from hitogata.config import Option
+from hitogata.config import Entry
 from hitogata.errors import HitogataError
 from hitogata.options import Skinning
 from hitogata.study.sampling import SEXES, Joint, clusters, sample_stature_mass, sex_counts
@@ -78,49 +78,11 @@ class StudySpec:
     population: str  # one line: where the bodies come from (source of the statistics, chart or folder)
 
 
-class _Table:
-    """Typed access to one table of the file; errors name file, entry, value and what is allowed."""
-
-    def __init__(self, source: str, entry: str, table: Any, allowed: set[str]) -> None:
-        if not isinstance(table, dict):
-            raise HitogataError(f"{source}: {entry}: {table!r}; allowed a table")
-        unknown = sorted(set(table) - allowed)
-        if unknown:
-            raise HitogataError(f"{source}: {entry}: unknown key {unknown[0]!r}; allowed {', '.join(sorted(allowed))}")
-        self.source, self.entry, self.table = source, entry, table
-
-    def fail(self, key: str, value: Any, allowed: str) -> HitogataError:
-        return HitogataError(f"{self.source}: {self.entry}.{key} = {value!r}: allowed {allowed}")
-
-    def required(self, key: str) -> Any:
-        if key not in self.table:
-            raise HitogataError(f"{self.source}: {self.entry}.{key}: missing; it has no default")
-        return self.table[key]
-
-    def quantity(self, key: str, table: dict[str, float], low: float, high: float, allowed: str,
-                 default: float | None = None) -> float:
-        value = self.required(key) if default is None else self.table.get(key, default)
-        if isinstance(value, bool):
-            raise self.fail(key, value, allowed)
-        try:
-            number = units.parse_quantity(value, table, key)
-        except HitogataError:
-            raise self.fail(key, value, allowed) from None
-        if not low <= number <= high:
-            raise self.fail(key, value, allowed)
-        return number
-
-    def integer(self, key: str, default: int | None, low: int, high: int) -> int:
-        value = self.required(key) if default is None else self.table.get(key, default)
-        if isinstance(value, bool) or not isinstance(value, int) or not low <= value <= high:
-            raise self.fail(key, value, f"a whole number {low}..{high}")
-        return value
-
-    def choice(self, key: str, options: tuple[Option, ...], default: Option) -> Option:
-        value = self.table.get(key, default)
-        if value not in options:
-            raise self.fail(key, value, ", ".join(options))
-        return value
+def _need(entry: Entry, key: str, value: float | None) -> float:
+    """A quantity the file must give: the value, or the missing key's one-line error."""
+    if value is None:
+        entry.fail(f"missing key {key!r}; it has no default")
+    return value
 
 
 def load_study(path: str | Path) -> StudySpec:
@@ -138,52 +100,51 @@ def load_study(path: str | Path) -> StudySpec:
 def parse_study(data: dict, path: Path) -> StudySpec:
     """Check a parsed study document; relative paths in it are relative to the file's folder."""
     source = str(path)
-    top = _Table(source, "file", data, {"title", "seed", "motions", "outputs", "bodies", "model"})
-    title = data.get("title", path.stem)
-    if not isinstance(title, str):
-        raise top.fail("title", title, "a string")
+    top = Entry(source, "file", data, {"title", "seed", "motions", "outputs", "bodies", "model"})
+    title = top.get("title", str, path.stem)
     seed = top.integer("seed", 0, 0, 2**63 - 1)
     motions = _motions(top, path.parent)
     outputs = data.get("outputs", list(OUTPUTS))
     if not (isinstance(outputs, list) and outputs and all(o in OUTPUTS for o in outputs)) or len(set(outputs)) < len(
         outputs
     ):
-        raise top.fail("outputs", outputs, f"a list of {', '.join(OUTPUTS)}, each once")
-    model = _model(_Table(source, "[model]", data.get("model", {}), {"posing", "skinning", "frames"}))
-    bodies, population = _bodies(_Table(source, "[bodies]", top.required("bodies"), {
+        top.fail(f"{outputs!r}; allowed a list of {', '.join(OUTPUTS)}, each once", "outputs")
+    model = _model(Entry(source, "[model]", data.get("model", {}), {"posing", "skinning", "frames"}))
+    bodies, population = _bodies(Entry(source, "[bodies]", top.get("bodies", dict), {
         "sampled", "female", "age", "clusters", "chart", "folder", "women", "men"}), path.parent, seed)
     return StudySpec(source, title, seed, bodies, motions, tuple(o for o in OUTPUTS if o in outputs), model,
                      population)
 
 
-def _model(t: _Table) -> ModelSettings:
+def _model(t: Entry) -> ModelSettings:
     return ModelSettings(t.choice("posing", POSINGS, "skinning"), t.choice("skinning", SKINNINGS, "dqs"),
                          t.integer("frames", 9, 2, 200))
 
 
-def _motions(top: _Table, folder: Path) -> tuple[MotionDef, ...]:
-    names = top.required("motions")
-    if not (isinstance(names, list) and names and all(isinstance(n, str) and n for n in names)):
-        raise top.fail("motions", names, "a list of scenario names or files")
+def _motions(top: Entry, folder: Path) -> tuple[MotionDef, ...]:
+    names = top.get("motions", list)
+    if not (names and all(isinstance(n, str) and n for n in names)):
+        top.fail(f"{names!r}; allowed a list of scenario names or files", "motions")
     shipped = shipped_scenarios()
     out: dict[str, MotionDef] = {}
     for name in names:
         file = shipped[name] if name in shipped else folder / name
         if not file.is_file():
-            raise top.fail("motions", name, f"a scenario file or a shipped scenario: {', '.join(sorted(shipped))}")
+            top.fail(f"{name!r}; allowed a scenario file or a shipped scenario: {', '.join(sorted(shipped))}",
+                     "motions")
         load_scenario(file)  # checked here, once, with the scenario's own one-line errors
         stem = file.name.removesuffix(".toml")
         if stem in out:
-            raise top.fail("motions", name, "each motion once (two files with the same name)")
+            top.fail(f"{name!r}; allowed each motion once (two files with the same name)", "motions")
         out[stem] = MotionDef(stem, file.read_text(encoding="utf-8"))
     return tuple(out.values())
 
 
-def _bodies(t: _Table, folder: Path, seed: int) -> tuple[tuple[BodyDef, ...], str]:
+def _bodies(t: Entry, folder: Path, seed: int) -> tuple[tuple[BodyDef, ...], str]:
     kinds = [k for k in ("sampled", "chart", "folder") if k in t.table]
     if len(kinds) != 1:
-        raise HitogataError(f"{t.source}: [bodies]: {' and '.join(kinds) or 'none'} given; "
-                            "allowed exactly one of sampled (a count), chart (a CSV) or folder (body files)")
+        t.fail(f"{' and '.join(kinds) or 'none'} given; "
+               "allowed exactly one of sampled (a count), chart (a CSV) or folder (body files)")
     if kinds[0] == "sampled":
         return _sampled(t, seed)
     if kinds[0] == "chart":
@@ -191,31 +152,35 @@ def _bodies(t: _Table, folder: Path, seed: int) -> tuple[tuple[BodyDef, ...], st
     return _folder(t, folder / str(t.table["folder"]))
 
 
-def _joint(t: _Table, sex: str) -> Joint:
+def _joint(t: Entry, sex: str) -> Joint:
     key = "women" if sex == "female" else "men"
     keys = {"stature_mean", "stature_sd", "mass_mean", "mass_sd", "correlation", "source"}
     if key not in t.table:
-        raise HitogataError(f"{t.source}: [bodies.{key}]: missing; allowed a table of {', '.join(sorted(keys))}")
-    s = _Table(t.source, f"[bodies.{key}]", t.table[key], keys)
+        t.fail(f"missing; allowed a table of {', '.join(sorted(keys))}", key)
+    s = Entry(t.source, f"[bodies.{key}]", t.table[key], keys)
     lo, hi = STATURE_RANGE
     stature = "a length like 163cm"
-    joint = Joint(
-        s.quantity("stature_mean", units.LENGTH_UNITS, lo, hi, f"{stature}, {lo * 100:.0f}..{hi * 100:.0f} cm"),
-        s.quantity("stature_sd", units.LENGTH_UNITS, 1e-4, 0.3, f"{stature}, above 0 and up to 30 cm"),
-        s.quantity("mass_mean", units.MASS_UNITS, *MASS_RANGE, f"a mass like 68kg, {MASS_RANGE[0]:g}..{MASS_RANGE[1]:g} kg"),
-        s.quantity("mass_sd", units.MASS_UNITS, 1e-3, 60.0, "a mass like 11kg, above 0 and up to 60 kg"),
-        s.quantity("correlation", {"": 1.0}, -0.99, 0.99, "a number -0.99..0.99"),
-        s.required("source"),
+
+    def need(name: str, table: dict[str, float], low: float, high: float, what: str) -> float:
+        return _need(s, name, s.quantity(name, table, None, low, high, what))
+
+    source = s.get("source", str)
+    if not source.strip():
+        s.fail(f"{source!r}; allowed the published survey the figures come from, as text", "source")
+    return Joint(
+        need("stature_mean", units.LENGTH_UNITS, lo, hi, f"{stature}, {lo * 100:.0f}..{hi * 100:.0f} cm"),
+        need("stature_sd", units.LENGTH_UNITS, 1e-4, 0.3, f"{stature}, above 0 and up to 30 cm"),
+        need("mass_mean", units.MASS_UNITS, *MASS_RANGE, f"a mass like 68kg, {MASS_RANGE[0]:g}..{MASS_RANGE[1]:g} kg"),
+        need("mass_sd", units.MASS_UNITS, 1e-3, 60.0, "a mass like 11kg, above 0 and up to 60 kg"),
+        need("correlation", {"": 1.0}, -0.99, 0.99, "a number -0.99..0.99"),
+        source,
     )
-    if not isinstance(joint.source, str) or not joint.source.strip():
-        raise s.fail("source", joint.source, "the published survey the figures come from, as text")
-    return joint
 
 
-def _sampled(t: _Table, seed: int) -> tuple[tuple[BodyDef, ...], str]:
-    count = t.integer("sampled", None, 1, 1_000_000)
-    share = t.quantity("female", units.FRACTION_UNITS, 0.0, 1.0, "a share of women like 0.5 or 50%", 0.5)
-    age = t.quantity("age", {"": 1.0, "years": 1.0}, *AGE_RANGE, "years, 18..90", 30.0)
+def _sampled(t: Entry, seed: int) -> tuple[tuple[BodyDef, ...], str]:
+    count = t.integer("sampled", 0, 1, 1_000_000)  # present: `_bodies` chose this kind by it
+    share = t.quantity("female", units.FRACTION_UNITS, 0.5, 0.0, 1.0, "a share of women like 0.5 or 50%")
+    age = t.quantity("age", {"": 1.0, "years": 1.0}, 30.0, *AGE_RANGE, "years, 18..90")
     k = t.integer("clusters", 3, 1, 50)
     bodies: list[BodyDef] = []
     sources = []
@@ -237,12 +202,12 @@ def _cluster_name(sex: str, members: Any) -> str:
     return f"{sex} {stature * 100:.0f}cm {mass:.0f}kg"
 
 
-def _chart(t: _Table, path: Path) -> tuple[tuple[BodyDef, ...], str]:
+def _chart(t: Entry, path: Path) -> tuple[tuple[BodyDef, ...], str]:
     """A size chart: a CSV with columns size, sex, stature_<unit>, mass_<unit> and optionally age_years."""
     try:
         rows = list(csv.reader(path.read_text(encoding="utf-8").splitlines()))
     except (FileNotFoundError, IsADirectoryError, UnicodeDecodeError):
-        raise t.fail("chart", str(path), "a size chart CSV (UTF-8) next to the study file") from None
+        raise t.error(f"{str(path)!r}; allowed a size chart CSV (UTF-8) next to the study file", "chart") from None
     if not rows:
         raise HitogataError(f"{path}: empty; allowed a header size,sex,stature_cm,mass_kg[,age_years] and rows")
     header = [h.strip() for h in rows[0]]
@@ -287,13 +252,13 @@ def _chart(t: _Table, path: Path) -> tuple[tuple[BodyDef, ...], str]:
     return tuple(bodies), f"size chart {path.name}: {len(bodies)} rows"
 
 
-def _folder(t: _Table, path: Path) -> tuple[tuple[BodyDef, ...], str]:
+def _folder(t: Entry, path: Path) -> tuple[tuple[BodyDef, ...], str]:
     """Body files (GLB written by `hitogata body`) in a folder: their shape parameters from the extras."""
     from hitogata.export.gltf import read_glb_skin
 
     files = sorted(path.glob("*.glb")) if path.is_dir() else []
     if not files:
-        raise t.fail("folder", str(path), "a folder holding .glb files written by `hitogata body`")
+        t.fail(f"{str(path)!r}; allowed a folder holding .glb files written by `hitogata body`", "folder")
     bodies = []
     for file in files:
         extras = read_glb_skin(file).extras or {}
