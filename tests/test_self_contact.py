@@ -60,7 +60,7 @@ def test_separate_parts_the_spheres_and_keeps_their_volume():
     # the two surfaces end at least the gap apart along the axis, less the facets' sag
     assert parted[:len(parted) // 2, 2].max() < parted[len(parted) // 2:, 2].min() - SEPARATION_GAP + 1e-3
     assert enclosed_volume(parted, test.faces) / enclosed_volume(posed, test.faces) - 1 == pytest.approx(
-        0.000311, abs=1e-5)
+        0.000284, abs=1e-5)
 
 
 def test_every_skeleton_part_has_its_contact_group():
@@ -95,7 +95,7 @@ def test_elbow_at_150_degrees_parted_by_contact():
     assert len(self_intersections(held.vertices, body.faces)) - rest_pairs == 35  # from 137 without
     assert enclosed_volume(held.vertices, body.faces) / rest_volume - 1 == pytest.approx(-0.0017, abs=1e-4)
     moved = np.linalg.norm(held.vertices - plain.vertices, axis=1) > 1e-4
-    assert moved.sum() == 677  # the elbow's skin only: parted, and swollen around the contact
+    assert moved.sum() == 669  # the elbow's skin only: parted, and swollen around the contact
     # the arm's folded skin, and the hand brought against the chest: nothing of the other side, legs or head
     assert {list(GROUPS)[g] for g in dynamics.contact.groups[moved]} == {
         "upper_arm_l", "forearm_l", "hand_l", "shoulder_l", "chest", "abdomen"}

@@ -31,6 +31,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from hitogata.geometry.mesh_checks import enclosed_volume
+from hitogata.geometry.normals import vertex_normals
 from hitogata.volume.surface import closest_points_on_triangles
 
 # m: deepest penetration looked for; deeper, the closest surface is often the wrong one (a calf 6 cm
@@ -235,12 +236,9 @@ def _bulge(x: np.ndarray, test: SelfContact, pressed: np.ndarray, volume: float)
         ring = test.neighbour_average @ ring
     ring[pressed] = 0.0
     tri = x[test.faces]
-    face_normals = 0.5 * np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])  # area-weighted
-    normals = np.zeros_like(x)
-    for k in range(3):
-        np.add.at(normals, test.faces[:, k], face_normals)
-    areas = np.linalg.norm(normals, axis=1) / 3.0
-    normals /= np.maximum(3.0 * areas, 1e-30)[:, None]
+    face_areas = 0.5 * np.linalg.norm(np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]), axis=1)
+    areas = np.bincount(test.faces.ravel(), np.repeat(face_areas, 3), minlength=len(x)) / 3.0
+    normals = vertex_normals(x, test.faces)
     capacity = float(ring @ areas)
     if capacity <= 0.0 or volume <= 0.0:
         return np.zeros_like(x)

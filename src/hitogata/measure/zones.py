@@ -19,6 +19,7 @@ import numpy as np
 from hitogata.body import Body
 from hitogata.errors import HitogataError
 from hitogata.measure.strain import SkinStrain
+from hitogata.geometry.normals import vertex_normals
 
 MAIN_WEIGHT = 0.5  # a vertex follows a bone group when its summed weight on it is at least this
 
@@ -74,15 +75,6 @@ def find_zones(body: Body) -> dict[str, np.ndarray]:
     return {name: _zone_faces(body, zone) for name, zone in ZONES.items()}
 
 
-def _vertex_normals(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
-    tri = vertices[faces]
-    face_normals = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
-    normals = np.zeros_like(vertices)
-    for k in range(3):
-        np.add.at(normals, faces[:, k], face_normals)
-    return normals / np.linalg.norm(normals, axis=1, keepdims=True)
-
-
 def _zone_faces(body: Body, zone: JointZone | BackZone) -> np.ndarray:
     rig, v = body.rig, body.vertices
     columns = [rig.index(bone) for bone in zone.bones]
@@ -92,7 +84,7 @@ def _zone_faces(body: Body, zone: JointZone | BackZone) -> np.ndarray:
         centre = rig.heads[rig.index(zone.joint)]
         inside &= np.linalg.norm(v - centre, axis=1) <= zone.radius * body.stature
     else:
-        inside &= -_vertex_normals(v, body.faces)[:, 2] >= zone.facing
+        inside &= -vertex_normals(v, body.faces)[:, 2] >= zone.facing
     return np.flatnonzero(inside[body.faces].all(axis=1))
 
 
