@@ -48,7 +48,7 @@ def part_groups(names: tuple[str, ...]) -> np.ndarray:
     prefix of its name, on its side (a part named …_l belongs to a group named …_l).
 
     >>> part_groups(("pelvis", "forearm_l", "index_distal_r")).tolist()
-    [4, 9, 17]
+    [4, 7, 15]
     """
     out = np.full(len(names), -1)
     for k, name in enumerate(names):

@@ -14,7 +14,7 @@ penetration only if
 
 - its closest point is not on that surface's rim (the seam with the next
   group, where the sign says nothing), and
-- at rest it lay further than `rest_apart` (`REST_APART` for the skin) from that triangle: skin
+- at rest it lay further than `REST_APART` from that triangle: skin
   across a seam (the two sides of a joint's own crease line) is one sheet,
   not two bodies meeting.
 
@@ -194,15 +194,19 @@ def separate(vertices: np.ndarray, test: SelfContact, gap: float = SEPARATION_GA
     x = np.array(vertices, dtype=float)
     volume = enclosed_volume(x, test.faces)
     pressed = np.zeros(len(x), dtype=bool)
+    found = test.penetrations(x)
     for stage in range(2):
         for _ in range(rounds):
-            found = test.penetrations(x)
             if not len(found):
                 break
             x += _push_apart(x, found, test, gap, pressed)
-        if stage == 0 and pressed.any():
+            found = test.penetrations(x)
+        if stage == 0:
+            if not pressed.any():  # nothing touched: the skin as it came
+                return x, found
             x += _bulge(x, test, pressed, volume - enclosed_volume(x, test.faces))
-    return x, test.penetrations(x)
+            found = test.penetrations(x)
+    return x, found
 
 
 def _push_apart(x: np.ndarray, found: Penetrations, test: SelfContact, gap: float,
