@@ -28,7 +28,10 @@ def test_table_lists_every_measurement_in_cm(female):
 
 
 def test_rest_report_writes_measurements_and_picture(female, tmp_path):
-    written = measure_report(female, tmp_path)
+    report = measure_report(female, tmp_path)
+    written = report.files
+    assert report.rest is None
+    np.testing.assert_equal(report.measurements.as_dict(), measure(female).as_dict())  # the table's figures
     assert set(written) == {"json", "csv", "picture"}
     document = json.loads(written["json"].read_text())
     assert document["units"] == "m"
@@ -44,7 +47,11 @@ def test_rest_report_writes_measurements_and_picture(female, tmp_path):
 
 def test_posed_report_adds_zone_strain_and_heat_map(female, tmp_path):
     vertices, joints = flex_elbow(female, np.radians(120))
-    written = measure_report(female, tmp_path, vertices, joints, title="right elbow 120°")
+    report = measure_report(female, tmp_path, vertices, joints, title="right elbow 120°")
+    written = report.files
+    assert report.rest is not None
+    np.testing.assert_equal(report.rest.as_dict(), measure(female).as_dict())
+    np.testing.assert_equal(report.measurements.as_dict(), measure(female, vertices, joints).as_dict())
     assert written["strain"].read_bytes().startswith(PNG)
     zones = written["zones"].read_text().splitlines()
     assert zones[0].startswith("zone,stretch_mean_pct") and len(zones) == 1 + len(ZONE_NAMES)

@@ -16,7 +16,6 @@ from typing import TYPE_CHECKING, Callable
 
 import numpy as np
 import scipy.sparse as sp
-from scipy.optimize import brentq
 
 from hitogata.assets import Assets, load_assets, skin_points
 from hitogata.errors import HitogataError
@@ -294,6 +293,8 @@ def _solve_build(
     params: ShapeParameters, stature: float, mass: float, density: float, free_muscle: bool
 ) -> ShapeParameters:
     """Shape parameters with the given stature (m) and mass (kg) along the build path."""
+    from scipy.optimize import brentq  # here: a body rebuilt from its parameters needs no solver
+
     assets = load_assets()
     segments = _build_path(params, free_muscle)
     # Segment ends, each as (shape, x): muscle runs 0 → average, weight 0 → 1.

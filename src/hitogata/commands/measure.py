@@ -20,12 +20,9 @@ from hitogata.commands.paths import add_output, input_path
 from hitogata.errors import HitogataError
 from hitogata.export.body_files import body_from_extras
 from hitogata.export.gltf import read_glb_skin
-from hitogata.dynamics.files import find_sequence, read_sequence_body
 from hitogata.export.posed_mesh import posture, read_posed_mesh
 from hitogata.measure import Measurements, measure
-from hitogata.measure.timeseries import measure_sequence
 from hitogata.report.measurements import measure_report, measurement_table
-from hitogata.report.series import write_series
 
 
 REST_TOLERANCE = 1e-5  # m: a GLB stores float32 positions; closer than this to rest is the rest pose
@@ -53,6 +50,10 @@ def body_from_file(path: Path) -> tuple[Body, np.ndarray | None, np.ndarray | No
 
 def measure_results(path: Path, out: Path, workdir: Path) -> None:
     """Measurements and zone strains over time of a simulated motion: CSV and plot."""
+    from hitogata.dynamics.files import find_sequence, read_sequence_body  # the dynamics: only for results
+    from hitogata.measure.timeseries import measure_sequence
+    from hitogata.report.series import write_series
+
     body, arrays = read_sequence_body(find_sequence(path) if path.is_dir() else path)
     series = measure_sequence(body, arrays["times"], arrays["vertices"], arrays["joints"])
     written = write_series(series, workdir, title=str(path))
@@ -72,11 +73,10 @@ def run(args: argparse.Namespace) -> None:
         body, vertices, joints, fine = body_from_file(given)
     else:
         body, vertices, joints, fine = body_from_args(args), None, None, None
-    written = measure_report(body, workdir, vertices=vertices, joints=joints, title=str(given or ""),
-                             fine_vertices=fine)
-    posture = measure(body, vertices=vertices, joints=joints)
-    print(measurement_table(posture, reference=None if vertices is None else measure(body)))
-    print(f"wrote {', '.join(p.name for p in written.values())} in {out}/")
+    report = measure_report(body, workdir, vertices=vertices, joints=joints, title=str(given or ""),
+                            fine_vertices=fine)
+    print(measurement_table(report.measurements, reference=None if vertices is None else report.rest))
+    print(f"wrote {', '.join(p.name for p in report.files.values())} in {out}/")
 
 
 def register(sub: argparse._SubParsersAction) -> None:

@@ -18,7 +18,6 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
-import trimesh
 
 from hitogata.body import Body
 from hitogata.errors import HitogataError
@@ -75,6 +74,8 @@ def read_posed_mesh(path: Path) -> tuple[Body, np.ndarray, np.ndarray, np.ndarra
     skinning = extras.get("skinning", "lbs")
     if skinning not in METHODS:
         raise HitogataError(f"{side}: skinning = {skinning!r}: allowed {', '.join(METHODS)}")
+    import trimesh  # here: writing a sidecar or posing needs no mesh reader
+
     try:
         mesh = trimesh.load(path, process=False, force="mesh")
     except Exception as err:  # noqa: BLE001 -- trimesh raises many kinds on a broken file

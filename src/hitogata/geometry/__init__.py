@@ -1,19 +1,27 @@
-"""Geometry utilities over plain vertex/face arrays."""
+"""Geometry utilities over plain vertex/face arrays.
 
-from hitogata.geometry.integrity import SurfaceIntegrity, surface_integrity
+The names below are imported on first use (`hitogata.lazy`): a module needing
+vertex normals does not load the self-intersection search and its k-d trees.
+"""
 
-from hitogata.geometry.mesh_checks import (
-    boundary_edges,
-    connected_component_count,
-    contains,
-    enclosed_volume,
-    euler_characteristic,
-    genus,
-    is_closed,
-    is_consistently_oriented,
-    self_intersections,
-    winding_number,
-)
+from typing import TYPE_CHECKING
+
+from hitogata.lazy import lazy_names
+
+if TYPE_CHECKING:
+    from hitogata.geometry.integrity import SurfaceIntegrity, surface_integrity
+    from hitogata.geometry.mesh_checks import (
+        boundary_edges,
+        connected_component_count,
+        contains,
+        enclosed_volume,
+        euler_characteristic,
+        genus,
+        is_closed,
+        is_consistently_oriented,
+        self_intersections,
+        winding_number,
+    )
 
 __all__ = [
     "SurfaceIntegrity",
@@ -29,3 +37,7 @@ __all__ = [
     "surface_integrity",
     "winding_number",
 ]
+__getattr__, __dir__ = lazy_names(globals(), {
+    name: "hitogata.geometry.integrity" if name in ("SurfaceIntegrity", "surface_integrity")
+    else "hitogata.geometry.mesh_checks" for name in __all__
+})

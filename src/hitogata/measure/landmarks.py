@@ -48,7 +48,7 @@ Limbs are measured on the right side, as ISO 8559-1 and ISO 7250-1 prescribe.
 
 from __future__ import annotations
 
-from dataclasses import asdict, dataclass, fields, replace
+from dataclasses import asdict, dataclass, fields
 from functools import cache
 from typing import Any
 
@@ -139,8 +139,8 @@ def body_landmarks(body: Body) -> Landmarks:
 def landmarks_for(vertices: np.ndarray, faces: np.ndarray, joints: JointSet) -> Landmarks:
     """A body's landmarks from its rest surface and joints: the reference's trunk vertices, the
     body's own limb points and levels (see the module note)."""
-    marks = reference_landmarks()
-    return replace(marks, **_own(vertices, faces, joints, marks))
+    fixed = reference_vertices_fixed()
+    return Landmarks(**asdict(fixed), **_own(vertices, faces, joints, fixed))
 
 
 def landmark_positions(marks: Landmarks, vertices: np.ndarray) -> dict[str, np.ndarray]:
@@ -153,10 +153,11 @@ def landmark_positions(marks: Landmarks, vertices: np.ndarray) -> dict[str, np.n
 
 
 @cache
-def reference_landmarks() -> Landmarks:
-    """The landmark vertices, found once on the reference body (MakeHuman's default female)."""
+def reference_vertices_fixed() -> FixedVertices:
+    """The landmark vertices, found once on the reference body (MakeHuman's default female);
+    the body's own points and levels are found on each body (`_own`)."""
     reference = _reference_body()
-    return find_landmarks(reference.vertices, reference.faces, JointSet(reference.rig.names, reference.rig.heads))
+    return fixed_vertices(reference.vertices, reference.faces, JointSet(reference.rig.names, reference.rig.heads))
 
 
 @cache
@@ -166,12 +167,18 @@ def _reference_body() -> Body:
 
 def find_landmarks(vertices: np.ndarray, faces: np.ndarray, joints: JointSet) -> Landmarks:
     """Apply the landmark rules to a rest surface and its joint centres."""
+    fixed = fixed_vertices(vertices, faces, joints)
+    return Landmarks(**asdict(fixed), **_own(vertices, faces, joints, fixed))
+
+
+def fixed_vertices(vertices: np.ndarray, faces: np.ndarray, joints: JointSet) -> FixedVertices:
+    """The rules of the landmarks that are one vertex, applied to a rest surface and its joints."""
     v = vertices
     midline = np.flatnonzero(np.abs(v[:, 0]) < MIDLINE_TOLERANCE)
     bust_right, bust_left, navel = reference_vertices()
     crotch = _crotch(v, midline, joints)
     navel_y = float(v[navel, 1])
-    fixed = FixedVertices(
+    return FixedVertices(
         head_top=int(np.argmax(v[:, 1])),
         bust_right=bust_right,
         bust_left=bust_left,
@@ -180,7 +187,6 @@ def find_landmarks(vertices: np.ndarray, faces: np.ndarray, joints: JointSet) ->
         buttock=_buttock(v, float(v[crotch, 1]), navel_y),
         crotch=crotch,
     )
-    return Landmarks(**asdict(fixed), **_own(v, faces, joints, fixed))
 
 
 @dataclass(frozen=True)

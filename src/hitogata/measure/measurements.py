@@ -291,11 +291,20 @@ def measure_surface(
 ) -> Measurements:
     """The measurements of any surface with landmark vertices `marks` (e.g. a subdivided body);
     `skin`: per girth, the vertices its tape may rest on (`tape_skin`; None: any skin)."""
+    return _measured(vertices, faces, marks, rest, posed, skin)[0]
+
+
+def _measured(vertices: np.ndarray, faces: np.ndarray, marks: Landmarks, rest: JointSet, posed: JointSet,
+              skin: dict[str, np.ndarray] | None) -> tuple[Measurements, dict[str, np.ndarray]]:
+    """The measurements and where each tape lies (`measure_surface`, `measurement_paths`): one search."""
     values = heights(vertices, marks)
     lengths = surface_paths(vertices, faces, marks, rest, posed)
+    found = tapes(vertices, faces, marks, rest, posed, skin)
     values.update({name: polyline_length(path) for name, path in lengths.items()})
-    values.update({name: tape.girth for name, tape in tapes(vertices, faces, marks, rest, posed, skin).items()})
-    return Measurements(**values)
+    values.update({name: tape.girth for name, tape in found.items()})
+    loops = {name: np.vstack([t.path, t.path[:1]]) if name in GIRTHS else t.path
+             for name, t in found.items() if len(t.path)}
+    return Measurements(**values), {**loops, **lengths}
 
 
 def measurement_paths(
@@ -303,10 +312,14 @@ def measurement_paths(
 ) -> dict[str, np.ndarray]:
     """Where each tape lies, for pictures: closed hull loops of the girths, open polylines of the
     across widths and the surface lengths."""
+    return measure_with_paths(body, vertices, joints)[1]
+
+
+def measure_with_paths(
+    body: Body | PosedBody, vertices: np.ndarray | None = None, joints: np.ndarray | None = None
+) -> tuple[Measurements, dict[str, np.ndarray]]:
+    """`measure` and `measurement_paths` at once (the tapes are laid once for both)."""
     body, vertices, joints = posture_of(body, vertices, joints)
     vertices, posed = posture_arrays(body, vertices, joints)
-    marks, rest = body_landmarks(body), JointSet(body.rig.names, body.rig.heads)
-    found = tapes(vertices, body.faces, marks, rest, posed, tape_skin(body))
-    loops = {name: np.vstack([t.path, t.path[:1]]) if name in GIRTHS else t.path
-             for name, t in found.items() if len(t.path)}
-    return {**loops, **surface_paths(vertices, body.faces, marks, rest, posed)}
+    rest = JointSet(body.rig.names, body.rig.heads)
+    return _measured(vertices, body.faces, body_landmarks(body), rest, posed, tape_skin(body))

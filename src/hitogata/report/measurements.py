@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import json
 import os
-from dataclasses import asdict
+from dataclasses import asdict, dataclass
 from pathlib import Path
 
 import numpy as np
@@ -26,7 +26,7 @@ from hitogata.body import Body
 from hitogata.errors import HitogataError
 from hitogata.export.atomic import write_bytes_atomically
 from hitogata.measure.landmarks import body_landmarks, landmark_positions
-from hitogata.measure.measurements import Measurements, measure, measurement_paths, posture_arrays
+from hitogata.measure.measurements import Measurements, measure, measure_with_paths, posture_arrays
 from hitogata.measure.strain import skin_strain
 from hitogata.measure.zones import ZoneStrain, zone_strains
 from hitogata.report.heatmap import strain_heatmap
@@ -79,6 +79,15 @@ def _cm(metres: float, signed: bool = False) -> str:
     return f"{metres * 100:+.1f}" if signed else f"{metres * 100:.1f}"
 
 
+@dataclass(frozen=True)
+class MeasureReport:
+    """What `measure_report` wrote (paths by kind) and measured (at rest: `rest` is None)."""
+
+    files: dict[str, Path]
+    measurements: Measurements
+    rest: Measurements | None
+
+
 def measure_report(
     body: Body,
     out_dir: str | os.PathLike,
@@ -86,11 +95,11 @@ def measure_report(
     joints: np.ndarray | None = None,
     title: str = "",
     fine_vertices: np.ndarray | None = None,
-) -> dict[str, Path]:
+) -> MeasureReport:
     """Measure `body` (at rest, or posed by `vertices` and `joints`) and write the report files;
     skin strain on the fine skin posed as `fine_vertices` when given.
 
-    Returns the written paths by kind. `out_dir` must exist.
+    Returns the written paths by kind and the measurements. `out_dir` must exist.
     """
     out = Path(out_dir)
     if not out.is_dir():
@@ -98,7 +107,7 @@ def measure_report(
     posed = vertices is not None or joints is not None
     v, _ = posture_arrays(body, vertices, joints)
     heads = body.rig.heads if joints is None else joints
-    values = measure(body, v, heads)
+    values, paths = measure_with_paths(body, v, heads)  # name → polyline: the picture labels each tape
     written = {
         "json": out / "measurements.json",
         "csv": out / "measurements.csv",
@@ -110,8 +119,8 @@ def measure_report(
         "measurements_cm": {k: None if x is None else round(x * 100, 2) for k, x in _json_values(values).items()},
         "landmarks_m": {k: p.tolist() for k, p in landmark_positions(body_landmarks(body), v).items()},
     }
-    paths = measurement_paths(body, v, heads)  # name → polyline: the picture labels each tape
     picture = render_png(v, body.faces, ("front", "right", "back"), title=title, overlays=paths)  # tapes on the right
+    rest = None
     if posed:
         rest = measure(body)
         fine = body.fine_skin
@@ -127,7 +136,7 @@ def measure_report(
     write_bytes_atomically(written["json"], (json.dumps(document, indent=2, allow_nan=False) + "\n").encode())
     write_bytes_atomically(written["csv"], _measurements_csv(values).encode())
     write_bytes_atomically(written["picture"], picture)
-    return written
+    return MeasureReport(written, values, rest)
 
 
 def _json_values(values: Measurements) -> dict[str, float | None]:
