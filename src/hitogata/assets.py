@@ -88,11 +88,12 @@ def load_assets() -> Assets:
     weights = _cap_weights(weights, loops)
     weights = sp.diags(1.0 / np.asarray(weights.sum(axis=1)).ravel()) @ weights
 
-    vid = d["target_vertex"].astype(np.int64)  # sorted within each target
-    rows = (3 * vid[:, None] + np.arange(3)).ravel()
+    # int32 indices, scipy's own for this size: given int64 it would copy and check all 6 M of them
+    vid = d["target_vertex"].astype(np.int32)  # sorted within each target
+    rows = (3 * vid[:, None] + np.arange(3, dtype=np.int32)).ravel()
     offsets = d["target_offset"].ravel() * float(d["target_unit"])
     targets = sp.csc_matrix(
-        (offsets, rows, 3 * d["target_ptr"]), shape=(3 * n_vertices, len(d["target_ptr"]) - 1)
+        (offsets, rows, (3 * d["target_ptr"]).astype(np.int32)), shape=(3 * n_vertices, len(d["target_ptr"]) - 1)
     )
 
     return Assets(

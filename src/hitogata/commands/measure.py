@@ -20,7 +20,6 @@ from hitogata.commands.paths import add_output, input_path
 from hitogata.errors import HitogataError
 from hitogata.export.body_files import body_from_extras
 from hitogata.export.gltf import read_glb_skin
-from hitogata.export.posed_mesh import posture, read_posed_mesh
 from hitogata.measure import Measurements, measure
 from hitogata.report.measurements import measure_report, measurement_table
 
@@ -36,6 +35,8 @@ def body_from_file(path: Path) -> tuple[Body, np.ndarray | None, np.ndarray | No
     of `hitogata pose` is read with its JSON sidecar (`hitogata.export.posed_mesh`).
     """
     if path.suffix.lower() in (".obj", ".ply"):
+        from hitogata.export.posed_mesh import read_posed_mesh  # the posing: only for a posed file
+
         return read_posed_mesh(path)
     skin = read_glb_skin(path)
     extras = skin.extras or {}
@@ -43,6 +44,8 @@ def body_from_file(path: Path) -> tuple[Body, np.ndarray | None, np.ndarray | No
     if skin.vertices.shape != body.vertices.shape:
         raise HitogataError(f"{path}: {len(skin.vertices)} vertices, allowed {len(body.vertices)} (the hitogata skin)")
     if "angles_rad" in extras:
+        from hitogata.export.posed_mesh import posture
+
         return body, *posture(body, np.asarray(extras["angles_rad"], dtype=float))
     at_rest = np.abs(skin.vertices - body.vertices).max() < REST_TOLERANCE
     return body, (None if at_rest else skin.vertices), None, None

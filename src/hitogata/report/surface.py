@@ -1,26 +1,31 @@
-"""Orthographic pictures of a body surface with matplotlib, front and back.
+"""Orthographic pictures of a body surface, front and back, drawn with numpy and Pillow.
 
 Faces are drawn into an image with a depth buffer (`raster`), coloured by a
 value per face (e.g. skin stretch) and shaded by their tilt to the viewer so
-the shape reads; matplotlib places the views, lines, labels and colour bar.
-Figures are made without pyplot, so importing this module changes no
-matplotlib backend.
+the shape reads; lines (tapes) are drawn on a finer layer and reduced, so
+they are smooth. Every view has the same scale. The layout follows
+matplotlib's defaults (the figures' earlier look) without importing
+matplotlib, which took longer to load than the whole picture now takes to
+draw; only a colour map (the strain heat map's) is looked up in matplotlib.
 """
 
 from __future__ import annotations
 
+import importlib.util
 import io
 from collections.abc import Mapping
 from dataclasses import dataclass
+from functools import cache
+from pathlib import Path
+from typing import TYPE_CHECKING
 
-import matplotlib
 import numpy as np
-from matplotlib.cm import ScalarMappable
-from matplotlib.collections import LineCollection
-from matplotlib.colors import Colormap, Normalize
-from matplotlib.figure import Figure
+from PIL import Image, ImageDraw, ImageFont
 
-from hitogata.report.raster import rasterise
+from hitogata.report.raster import Raster, rasterise
+
+if TYPE_CHECKING:
+    from matplotlib.colors import Colormap, Normalize
 
 # View name → (screen-right axis, viewing direction towards the body), body frame. The names
 # mean what they mean in `hitogata.render.views`: "side" shows the body's left side (its front
@@ -39,16 +44,34 @@ class Colouring:
 
     values: np.ndarray  # (F,)
     cmap: str | Colormap
-    norm: Normalize
+    norm: Normalize  # values → 0..1 along the colour map
     label: str
 
 
-PIXEL = 0.0025  # m per pixel of the faces' image: a little finer than the saved picture's (~3.2 mm)
 DPI = 110
+PANEL = 3.2  # in: the width of one view
+HEIGHT = 6.4  # in
+BAR = 1.2  # in: added for the colour bar
+LEFT, RIGHT, BOTTOM, TOP, WSPACE = 0.125, 0.9, 0.11, 0.88, 0.2  # the views' area (matplotlib's subplots)
+BAR_SHARE, BAR_PAD = 0.2, 0.05  # of the views' area: the colour bar's room and its gap (matplotlib's)
+SKIN = (0.85, 0.72, 0.62, 1.0)
+LINE_WIDTH, LEADER_WIDTH, LEADER_GREY = 1.0, 0.4, 115  # pt, pt, 0..255
+TITLE_SIZE, LABEL_SIZE, TICK_SIZE = 12.0, 6.0, 10.0  # pt
+FINE = 3  # lines are drawn this many times finer, then reduced: smooth edges
+GAP = 0.055  # m: the least height between two labels
 
 
-def draw_view(ax, vertices: np.ndarray, faces: np.ndarray, view: str, colouring: Colouring | None) -> None:
-    """Draw one orthographic view of the surface into `ax`."""
+@dataclass(frozen=True)
+class ViewFaces:
+    """The faces turned towards one view, on the screen (x right, y up) with their depth and colours."""
+
+    screen: np.ndarray  # (K, 3, 2) m
+    depth: np.ndarray  # (K, 3) m, larger is farther
+    colours: np.ndarray  # (K, 4) RGBA 0..1, shaded
+
+
+def view_faces(vertices: np.ndarray, faces: np.ndarray, view: str, colouring: Colouring | None) -> ViewFaces:
+    """The surface's faces seen from `view`, coloured and shaded by their tilt to the viewer."""
     right, looking = VIEWS[view]
     up = np.array([0.0, 1.0, 0.0])
     tri = vertices[faces]
@@ -56,22 +79,13 @@ def draw_view(ax, vertices: np.ndarray, faces: np.ndarray, view: str, colouring:
     normals /= np.maximum(np.linalg.norm(normals, axis=1, keepdims=True), 1e-300)
     facing = -(normals @ looking)
     kept = np.flatnonzero(facing > 0.0)
-    screen = np.stack([tri[kept] @ right, tri[kept] @ up], axis=2)
     if colouring is None:
-        base = np.tile(np.array([0.85, 0.72, 0.62, 1.0]), (len(kept), 1))
+        base = np.tile(np.array(SKIN), (len(kept), 1))
     else:
-        cmap = matplotlib.colormaps[colouring.cmap] if isinstance(colouring.cmap, str) else colouring.cmap
-        base = cmap(colouring.norm(colouring.values[kept]))
-    shade = 0.45 + 0.55 * facing[kept][:, None]
-    colours = base.copy()
-    colours[:, :3] *= shade
-    image = rasterise(screen, tri[kept] @ looking, colours, PIXEL)
-    ax.imshow(image.rgba, extent=image.extent, origin="lower", interpolation="antialiased")
-    ax.set_xlim(screen[..., 0].min(), screen[..., 0].max())
-    ax.set_ylim(screen[..., 1].min(), screen[..., 1].max())
-    ax.set_aspect("equal")
-    ax.set_title(view, y=1.0)  # placed, so drawing does not measure the (hidden) axes for it
-    ax.axis("off")
+        base = _colour_map(colouring.cmap)(colouring.norm(colouring.values[kept]))
+    colours = np.array(base, dtype=float)
+    colours[:, :3] *= 0.45 + 0.55 * facing[kept][:, None]
+    return ViewFaces(np.stack([tri[kept] @ right, tri[kept] @ up], axis=2), tri[kept] @ looking, colours)
 
 
 def render_png(
@@ -89,51 +103,137 @@ def render_png(
     """
     named = overlays if isinstance(overlays, Mapping) else {}
     lines = list(overlays.values()) if isinstance(overlays, Mapping) else list(overlays)
-    fig = Figure(figsize=(3.2 * len(views) + (1.2 if colouring else 0), 6.4))
-    axes = np.atleast_1d(fig.subplots(1, len(views)))
-    for ax, view in zip(axes, views):
-        draw_view(ax, vertices, faces, view, colouring)
-        right, _ = VIEWS[view]
-        ax.add_collection(LineCollection([np.stack([line @ right, line[:, 1]], axis=1) for line in lines],
-                                         linewidths=1.0, colors="k"))
-    if named:
-        _label_lines(axes[0], named, VIEWS[views[0]][0])
-    _same_scale(axes)
+    width, height = round((PANEL * len(views) + (BAR if colouring else 0.0)) * DPI), round(HEIGHT * DPI)
+    canvas = Image.new("RGBA", (width, height), "white")
+    fine = Image.new("RGBA", (width * FINE, height * FINE), (0, 0, 0, 0))
+    pen, text = ImageDraw.Draw(fine), ImageDraw.Draw(canvas)
+    seen = [view_faces(vertices, faces, view, colouring) for view in views]
+    area = (LEFT * width, (RIGHT - (BAR_SHARE if colouring else 0.0) * (RIGHT - LEFT)) * width)
+    panel = (area[1] - area[0]) / (len(views) + WSPACE * (len(views) - 1))
+    tall = (TOP - BOTTOM) * height
+    half_x = max(float(np.ptp(f.screen[..., 0])) for f in seen) / 2 + 0.05  # every view at the same scale
+    y_lo = min(float(f.screen[..., 1].min()) for f in seen) - 0.03
+    y_hi = max(float(f.screen[..., 1].max()) for f in seen) + 0.03
+    scale = max(2 * half_x / panel, (y_hi - y_lo) / tall)  # m per pixel
+    middle_y = (1 - (TOP + BOTTOM) / 2) * height
+    for k, (view, shown) in enumerate(zip(views, seen)):
+        x = shown.screen[..., 0]
+        middle_x = area[0] + (k + 0.5) * panel + k * WSPACE * panel
+        image = rasterise(shown.screen, shown.depth, shown.colours, scale)
+        place = _Placement.of(image, scale, middle_x - (0.5 * (x.min() + x.max()) - image.extent[0]) / scale,
+                              middle_y - (image.extent[3] - 0.5 * (y_lo + y_hi)) / scale)
+        canvas.alpha_composite(_image(image), (place.left, place.top))
+        right = VIEWS[view][0]
+        for line in lines:
+            pen.line(place.fine(line @ right, line[:, 1]), fill="black", width=_px(LINE_WIDTH * FINE), joint="curve")
+        text.text((middle_x, place.point(0.0, y_hi)[1] - 6), view, fill="black", font=_font(TITLE_SIZE), anchor="md")
+        if named and k == 0:
+            _label_lines(named, right, float(x.max()) + 0.02, place, pen, text)
+    canvas.alpha_composite(fine.reduce(FINE))
     if colouring is not None:
-        mappable = ScalarMappable(norm=colouring.norm, cmap=colouring.cmap)
-        fig.colorbar(mappable, ax=list(axes), shrink=0.7, label=colouring.label)
+        _colour_bar(canvas, colouring, area[1] + BAR_PAD * (RIGHT - LEFT) * width, middle_y, 0.7 * tall)
     if title:
-        fig.suptitle(title)
+        text.text((width / 2, 0.02 * height), title, fill="black", font=_font(TITLE_SIZE), anchor="mt")
     buffer = io.BytesIO()
-    fig.savefig(buffer, format="png", dpi=DPI)
+    canvas.convert("RGB").save(buffer, format="png")
     return buffer.getvalue()
 
 
-GAP = 0.055  # m: the least height between two labels
+@dataclass(frozen=True)
+class _Placement:
+    """Where a view's image sits on the canvas: screen metres → canvas pixels (and the fine layer's)."""
+
+    left: int
+    top: int
+    extent: tuple[float, float, float, float]  # the image's, m
+    scale: float  # m per pixel
+
+    @classmethod
+    def of(cls, image: Raster, scale: float, left: float, top: float) -> _Placement:
+        return cls(round(left), round(top), image.extent, scale)
+
+    def pixels(self, x: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Canvas columns and rows of screen points (m)."""
+        return self.left + (x - self.extent[0]) / self.scale, self.top + (self.extent[3] - y) / self.scale
+
+    def point(self, x: float, y: float) -> tuple[float, float]:
+        column, row = self.pixels(np.array(x), np.array(y))
+        return float(column), float(row)
+
+    def fine(self, x: np.ndarray, y: np.ndarray) -> list[tuple[float, float]]:
+        """A polyline's points on the fine layer."""
+        columns, rows = self.pixels(x, y)
+        return list(zip((FINE * columns).tolist(), (FINE * rows).tolist()))
 
 
-def _label_lines(ax, lines: Mapping[str, np.ndarray], right: np.ndarray) -> None:
-    """Each line's name in a column right of the body, a leader to the line's rightmost point, spread apart."""
-    column = ax.get_xlim()[1] + 0.02
+def _image(raster: Raster) -> Image.Image:
+    """The raster as a Pillow image, top row first."""
+    return Image.fromarray(np.round(255 * raster.rgba[::-1]).astype(np.uint8), "RGBA")
+
+
+def _px(points: float) -> int:
+    """Whole pixels of a width given in points (at least one)."""
+    return max(1, round(points * DPI / 72))
+
+
+@cache
+def _font(points: float) -> ImageFont.FreeTypeFont | ImageFont.ImageFont:
+    """DejaVu Sans (matplotlib ships it; found without importing matplotlib) at a size in points."""
+    spec = importlib.util.find_spec("matplotlib")
+    for folder in (spec.submodule_search_locations or []) if spec else []:
+        path = Path(folder) / "mpl-data" / "fonts" / "ttf" / "DejaVuSans.ttf"
+        if path.is_file():
+            return ImageFont.truetype(str(path), points * DPI / 72)
+    return ImageFont.load_default(points * DPI / 72)
+
+
+def _colour_map(cmap: str | Colormap) -> Colormap:
+    import matplotlib
+
+    return matplotlib.colormaps[cmap] if isinstance(cmap, str) else cmap
+
+
+def _label_lines(lines: Mapping[str, np.ndarray], right: np.ndarray, column: float, place: _Placement,
+                 pen: ImageDraw.ImageDraw, text: ImageDraw.ImageDraw) -> None:
+    """Each line's name in a column right of the body (at `column`, m), a leader to the line's
+    rightmost point, the names spread apart."""
     used: list[float] = []
-    leaders = []
     for name, line in sorted(lines.items(), key=lambda item: -float(item[1][:, 1].max())):
         x = line @ right
         k = int(np.argmax(x))
-        y = float(line[k, 1])
-        y = min([y, *(u - GAP for u in used if u - y < GAP)])  # below the label above, if too close
+        y = min([float(line[k, 1]), *(u - GAP for u in used if u - float(line[k, 1]) < GAP)])  # below the one above
         used.append(y)
-        leaders.append([(float(x[k]), float(line[k, 1])), (column, y)])
-        ax.text(column, y, name.replace("_", " "), fontsize=6, color="k", va="center", ha="left", clip_on=False)
-    ax.add_collection(LineCollection(leaders, linewidths=0.4, colors="0.45", clip_on=False))
+        pen.line(place.fine(np.array([x[k], column]), np.array([line[k, 1], y])), fill=(LEADER_GREY,) * 3,
+                 width=_px(LEADER_WIDTH * FINE))
+        text.text(place.point(column, y), name.replace("_", " "), fill="black",
+                  font=_font(LABEL_SIZE), anchor="lm")
 
 
-def _same_scale(axes) -> None:
-    """Give every view the same metres per inch: the widest extents, each view centred."""
-    half_x = max(np.ptp(ax.get_xlim()) for ax in axes) / 2 + 0.05
-    y_lo = min(ax.get_ylim()[0] for ax in axes) - 0.03
-    y_hi = max(ax.get_ylim()[1] for ax in axes) + 0.03
-    for ax in axes:
-        centre = float(np.mean(ax.get_xlim()))
-        ax.set_xlim(centre - half_x, centre + half_x)
-        ax.set_ylim(y_lo, y_hi)
+def _colour_bar(canvas: Image.Image, colouring: Colouring, left: float, middle: float, tall: float) -> None:
+    """A vertical colour bar of `tall` pixels with ticks at round values and the colouring's label."""
+    width, top = round(0.05 * tall), round(middle - tall / 2)
+    strip = _colour_map(colouring.cmap)(np.linspace(1.0, 0.0, round(tall)))[:, None, :3]  # top: the largest
+    canvas.paste(Image.fromarray(np.round(255 * np.repeat(strip, width, axis=1)).astype(np.uint8), "RGB"),
+                 (round(left), top))
+    draw = ImageDraw.Draw(canvas)
+    draw.rectangle((round(left), top, round(left) + width, top + round(tall)), outline="black")
+    lo, hi = float(colouring.norm.vmin), float(colouring.norm.vmax)
+    step = _round_step(hi - lo)
+    widest = 0.0
+    for value in np.arange(np.ceil(lo / step), np.floor(hi / step) + 0.5) * step:  # within the bar
+        row = top + (1.0 - float(colouring.norm(value))) * tall
+        draw.line((round(left) + width, row, round(left) + width + 4, row), fill="black")
+        label = f"{value:g}".replace("-", "\u2212")
+        draw.text((round(left) + width + 7, row), label, fill="black", font=_font(TICK_SIZE), anchor="lm")
+        widest = max(widest, draw.textlength(label, font=_font(TICK_SIZE)))
+    name = Image.new("RGBA", (round(tall) + 200, _px(TICK_SIZE) * 2), (255, 255, 255, 0))
+    ImageDraw.Draw(name).text((name.width / 2, name.height / 2), colouring.label, fill="black",
+                              font=_font(TICK_SIZE), anchor="mm")
+    name = name.rotate(90, expand=True)
+    canvas.alpha_composite(name, (round(left + width + 12 + widest), round(middle - name.height / 2)))
+
+
+def _round_step(span: float) -> float:
+    """A step of 1, 2 or 5 times a power of ten giving four to ten ticks over `span`."""
+    power = 10.0 ** np.floor(np.log10(span / 4))
+    return float(next(m * power for m in (1, 2, 5, 10) if span / (m * power) <= 10))
