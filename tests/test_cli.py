@@ -8,7 +8,7 @@ import pytest
 
 from gltf_validator import needs_validator, validate_gltf
 from hitogata.cli import main
-from hitogata.export.gltf import read_glb_skin
+from hitogata.export.glb_read import read_glb_skin
 from hitogata.units import angle, length, mass
 
 

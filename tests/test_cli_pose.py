@@ -9,7 +9,7 @@ import pytest
 from gltf_validator import needs_validator, validate_gltf
 from hitogata.body import Body
 from hitogata.cli import main
-from hitogata.export.gltf import read_glb_skin
+from hitogata.export.glb_read import read_glb_skin
 from hitogata.pose import Poser, poser_for
 from hitogata.skeleton.spec import load_skeleton_spec
 

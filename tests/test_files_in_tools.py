@@ -14,7 +14,7 @@ import pytest
 
 from gltf_validator import needs_validator, validate_gltf
 from hitogata.export.body_files import write_body
-from hitogata.export.gltf import read_glb_skin
+from hitogata.export.glb_read import read_glb_skin
 
 SAFE = re.compile(r"[A-Za-z0-9_-]+")
 

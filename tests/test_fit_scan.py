@@ -23,7 +23,7 @@ from hitogata.body import Body
 from hitogata.dynamics.files import read_sequence_body
 from hitogata.errors import HitogataError
 from hitogata.export.body_files import body_from_extras, detail_extras, shape_extras, write_body
-from hitogata.export.gltf import read_glb_skin
+from hitogata.export.glb_read import read_glb_skin
 from hitogata.fit import detailed_body, fit_scan, make_scan
 from hitogata.fit.detail import detail_offsets
 from hitogata.fit.regions import REGIONS, vertex_regions

@@ -15,7 +15,7 @@ from hitogata import cli
 from hitogata.body import Body
 from hitogata.errors import HitogataError
 from hitogata.export.body_files import body_from_extras, write_body
-from hitogata.export.gltf import read_glb_skin
+from hitogata.export.glb_read import read_glb_skin
 from hitogata.made_to_measure import (
     MET,
     RESIDUAL_UNIT,

@@ -8,7 +8,7 @@ import pytest
 from gltf_validator import needs_validator, validate_gltf
 from waiting import PATIENCE
 from hitogata.errors import HitogataError
-from hitogata.export.gltf import read_glb_skin
+from hitogata.export.glb_read import read_glb_skin
 from hitogata.viewer.colouring import LIMIT_PERCENT, StrainColouring
 from hitogata.viewer.export import pose_glb
 from hitogata.viewer.frame import posed_frame

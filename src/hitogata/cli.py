@@ -60,10 +60,22 @@ def version() -> str:
         return "unknown (not installed)"
 
 
+class Version(argparse.Action):
+    """--version, looked up only when asked (reading the installed metadata takes tens of ms)."""
+
+    def __init__(self, option_strings: Sequence[str], dest: str = argparse.SUPPRESS, help: str | None = None) -> None:
+        super().__init__(option_strings, dest=dest, default=argparse.SUPPRESS, nargs=0, help=help)
+
+    def __call__(self, parser: argparse.ArgumentParser, namespace: argparse.Namespace, values: object,
+                 option_string: str | None = None) -> None:
+        print(f"hitogata {version()}")
+        parser.exit()
+
+
 def build_parser(command: str | None = None) -> argparse.ArgumentParser:
     """The parser; only `command`'s module is imported (the others are listed by name and help)."""
     parser = OneLineParser(prog="hitogata", description="A posable human body model for apparel design.")
-    parser.add_argument("--version", action="version", version=f"hitogata {version()}")
+    parser.add_argument("--version", action=Version, help="show the installed version and exit")
     sub = parser.add_subparsers(dest="command", required=True, metavar="{" + ",".join(COMMANDS) + "}")
     for name, (module, help) in COMMANDS.items():
         if name == command:

@@ -26,7 +26,7 @@ def body_of(args: argparse.Namespace) -> Body:
     if path is None:
         return body_from_args(args)
     from hitogata.export.body_files import body_from_extras
-    from hitogata.export.gltf import read_glb_skin
+    from hitogata.export.glb_read import read_glb_skin
 
     refuse_body_options(args, f"the body comes from {path}")
     return body_from_extras(path, read_glb_skin(path).extras or {})

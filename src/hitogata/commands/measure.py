@@ -19,7 +19,7 @@ from hitogata.commands.body import body_from_args
 from hitogata.commands.paths import add_output, input_path
 from hitogata.errors import HitogataError
 from hitogata.export.body_files import body_from_extras
-from hitogata.export.gltf import read_glb_skin
+from hitogata.export.glb_read import read_glb_skin
 from hitogata.measure import Measurements, measure
 from hitogata.report.measurements import measure_report, measurement_table
 

@@ -16,7 +16,7 @@ def run(args: argparse.Namespace) -> None:
     given = None
     if args.body is not None:
         from hitogata.export.body_files import body_from_extras
-        from hitogata.export.gltf import read_glb_skin
+        from hitogata.export.glb_read import read_glb_skin
 
         given = body_from_extras(args.body, read_glb_skin(args.body).extras or {})
     scenario, body = checked_scenario(load_scenario(args.scenario), given)  # names and values, before the model

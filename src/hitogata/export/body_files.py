@@ -9,7 +9,6 @@ from pathlib import Path
 import numpy as np
 
 from hitogata.body import WHOLE_BODY_DENSITY, Body
-from hitogata.export.gltf import write_glb
 from hitogata.export.meshfiles import MESH_SUFFIXES, write_mesh
 from hitogata.errors import HitogataError
 from hitogata.shape import ShapeParameters
@@ -78,6 +77,8 @@ def write_body(path: str | os.PathLike, body: Body) -> Path:
     path = check_body_path(path)
     if path.suffix.lower() != ".glb":
         return write_mesh(path, body.vertices, body.faces)
+    from hitogata.export.gltf import write_glb  # pygltflib: only to write a GLB (reading one needs none)
+
     return write_glb(
         path,
         body.vertices,

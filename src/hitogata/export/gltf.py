@@ -1,4 +1,4 @@
-"""Skinned glTF 2.0 binary (GLB) export with pygltflib, and a reader for round trips.
+"""Skinned glTF 2.0 binary (GLB) export with pygltflib (reading back: `glb_read`).
 
 The body's frame (+Y up, +Z forward, metres) is glTF's own, so coordinates are
 written unchanged. The rest pose is the bind pose: each joint is a node with a
@@ -17,8 +17,7 @@ from __future__ import annotations
 
 import os
 import re
-import struct
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Mapping, Sequence
 
@@ -60,15 +59,6 @@ _COMPONENT_TYPES = {
     np.dtype("<u2"): gl.UNSIGNED_SHORT,
     np.dtype("<u4"): gl.UNSIGNED_INT,
 }
-_COMPONENT_DTYPES: dict[int, np.dtype] = {
-    gl.BYTE: np.dtype("i1"),
-    gl.UNSIGNED_BYTE: np.dtype("u1"),
-    gl.SHORT: np.dtype("<i2"),
-    gl.UNSIGNED_SHORT: np.dtype("<u2"),
-    gl.UNSIGNED_INT: np.dtype("<u4"),
-    gl.FLOAT: np.dtype("<f4"),
-}
-_TYPE_WIDTHS = {gl.SCALAR: 1, gl.VEC2: 2, gl.VEC3: 3, gl.VEC4: 4, gl.MAT4: 16}
 
 
 # --------------------------------------------------------------------------- building
@@ -327,104 +317,3 @@ def _unit_normals(normals: Any, n_vertices: int) -> np.ndarray:
     if np.any(length == 0):
         raise HitogataError(f"normals: vertex {np.flatnonzero(length == 0)[0]} has a zero normal")
     return normals / length[:, None]
-
-
-# --------------------------------------------------------------------------- reading
-
-
-@dataclass(frozen=True)
-class GlbSkin:
-    """The first skinned mesh of a GLB file, in the arrays write_glb takes."""
-
-    vertices: np.ndarray  # (V, 3) float64
-    faces: np.ndarray  # (F, 3) int64
-    normals: np.ndarray | None  # (V, 3) float64
-    joint_names: tuple[str, ...]
-    joint_parents: np.ndarray  # (J,) int64, -1 for roots
-    joint_positions: np.ndarray  # (J, 3) float64, bind-pose world positions
-    skin_weights: sparse.csr_matrix  # (V, J)
-    extras: dict = field(default_factory=dict)
-
-
-def read_glb_skin(path: str | os.PathLike) -> GlbSkin:
-    """Read back the first skinned mesh node of a GLB (first primitive) for checks and round trips.
-
-    A file that is not a whole, well-formed GLB (empty, truncated, random bytes)
-    is a one-line `HitogataError`, whatever part of the reading it breaks.
-    """
-    path = Path(path)
-    try:
-        return _read_glb_skin(path)
-    except HitogataError:
-        raise
-    except (OSError, ValueError, struct.error, KeyError, IndexError, TypeError, AttributeError) as err:
-        reason = str(err).splitlines()[0] if str(err) else type(err).__name__
-        raise HitogataError(f"{path}: not a readable GLB file ({reason[:120]}); allowed a .glb written by hitogata"
-                            ) from None
-
-
-def _read_glb_skin(path: Path) -> GlbSkin:
-    if path.stat().st_size < 20:
-        raise HitogataError(f"{path}: {path.stat().st_size} bytes, not a GLB file; allowed a .glb written by hitogata")
-    document = gl.GLTF2.load_binary(path)
-    blob = document.binary_blob()
-    node = next((n for n in document.nodes if n.mesh is not None and n.skin is not None), None)
-    if node is None or blob is None:
-        raise HitogataError(f"{path}: no skinned mesh with embedded binary data found")
-    skin = document.skins[node.skin]
-    primitive = document.meshes[node.mesh].primitives[0]
-    attributes = primitive.attributes
-
-    def read(index: int | None) -> np.ndarray | None:
-        return None if index is None else _read_accessor(document, blob, index)
-
-    def required(index: int | None, what: str) -> np.ndarray:
-        if index is None:
-            raise HitogataError(f"{path}: the skinned mesh has no {what}; allowed a .glb written by hitogata")
-        return _read_accessor(document, blob, index)
-
-    joint_of_node = {n: j for j, n in enumerate(skin.joints)}
-    parent_node = {c: p for p, parent in enumerate(document.nodes) for c in parent.children or []}
-    parents = np.array([joint_of_node.get(parent_node.get(n, -1), -1) for n in skin.joints], dtype=np.int64)
-    if skin.inverseBindMatrices is None:
-        positions = np.zeros((len(skin.joints), 3))
-    else:
-        ibm = _read_accessor(document, blob, skin.inverseBindMatrices).reshape(-1, 4, 4).transpose(0, 2, 1)
-        positions = np.linalg.inv(ibm)[:, :3, 3]
-
-    n_vertices = document.accessors[attributes.POSITION].count
-    joints = required(attributes.JOINTS_0, "JOINTS_0")
-    weights = required(attributes.WEIGHTS_0, "WEIGHTS_0").astype(np.float64)
-    rows = np.repeat(np.arange(n_vertices), joints.shape[1])
-    skin_weights = sparse.csr_matrix(
-        (weights.ravel(), (rows, joints.ravel())), shape=(n_vertices, len(skin.joints))
-    )
-    skin_weights.eliminate_zeros()
-    normals = read(attributes.NORMAL)
-    return GlbSkin(
-        vertices=required(attributes.POSITION, "POSITION").astype(np.float64),
-        faces=required(primitive.indices, "indices").astype(np.int64).reshape(-1, 3),
-        normals=None if normals is None else normals.astype(np.float64),
-        joint_names=tuple((document.nodes[n].extras or {}).get("name", document.nodes[n].name) for n in skin.joints),
-        joint_parents=parents,
-        joint_positions=positions,
-        skin_weights=skin_weights,
-        extras={k: v for k, v in (node.extras or {}).items() if k != "name"},  # "name": the node's own
-    )
-
-
-def _read_accessor(document: gl.GLTF2, blob: bytes, index: int) -> np.ndarray:
-    """An accessor's data as an array (count, width), honouring byte offsets and strides."""
-    accessor = document.accessors[index]
-    view = document.bufferViews[accessor.bufferView]
-    dtype = _COMPONENT_DTYPES[accessor.componentType]
-    width = _TYPE_WIDTHS[accessor.type]
-    stride = view.byteStride or width * dtype.itemsize
-    data = np.ndarray(
-        shape=(accessor.count, width),
-        dtype=dtype,
-        buffer=blob,
-        offset=(view.byteOffset or 0) + (accessor.byteOffset or 0),
-        strides=(stride, dtype.itemsize),
-    )
-    return data.copy() if width > 1 else data[:, 0].copy()

@@ -254,7 +254,7 @@ def _chart(t: Entry, path: Path) -> tuple[tuple[BodyDef, ...], str]:
 
 def _folder(t: Entry, path: Path) -> tuple[tuple[BodyDef, ...], str]:
     """Body files (GLB written by `hitogata body`) in a folder: their shape parameters from the extras."""
-    from hitogata.export.gltf import read_glb_skin
+    from hitogata.export.glb_read import read_glb_skin
 
     files = sorted(path.glob("*.glb")) if path.is_dir() else []
     if not files:
