@@ -49,7 +49,7 @@ _EXPORTS: dict[str, str] = {
     "shipped_scenarios": "hitogata.dynamics.scenario",
     "run_scenario": "hitogata.dynamics.run",
     # measurement
-    "Measurements": "hitogata.measure.measurements",
+    "Measurements": "hitogata.measure.values",
     "measure": "hitogata.measure.measurements",
     "SkinStrain": "hitogata.measure.strain",
     "skin_strain": "hitogata.measure.strain",
@@ -116,7 +116,8 @@ if TYPE_CHECKING:
     from hitogata.export.meshfiles import write_mesh
     from hitogata.export.pose_files import write_posed
     from hitogata.made_to_measure import body_to_measure
-    from hitogata.measure.measurements import Measurements, measure
+    from hitogata.measure.measurements import measure
+    from hitogata.measure.values import Measurements
     from hitogata.measure.strain import SkinStrain, skin_strain
     from hitogata.measure.zones import zone_strains
     from hitogata.pose import PosedBody, Poser, pose_body

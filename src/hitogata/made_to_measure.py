@@ -45,7 +45,8 @@ from hitogata.body import (
     sex_value,
 )
 from hitogata.errors import HitogataError
-from hitogata.measure import MEASUREMENT_NAMES, measure
+from hitogata.measure.measurements import measure
+from hitogata.measure.values import MEASUREMENT_NAMES, aliases
 from hitogata.measurement_rates import measurement_rows
 from hitogata.shape import MODIFIER_NAMES, ShapeParameters, blend
 
@@ -90,14 +91,6 @@ def allowance(name: str, value: float = 0.0) -> float:
     if name.endswith("_girth"):
         return SMALL_GIRTH_ALLOWANCE if name.startswith(SMALL_GIRTHS) else GIRTH_ALLOWANCE
     return LENGTH_ALLOWANCE
-
-
-def aliases() -> dict[str, str]:
-    """Every name a measurement may be asked by → its name in `measure`: the name itself and, for
-    a girth, the name without `_girth` (chest → chest_girth)."""
-    out = {name: name for name in MEASUREMENT_NAMES}
-    out.update({name.removesuffix("_girth"): name for name in MEASUREMENT_NAMES if name.endswith("_girth")})
-    return out
 
 
 def measurement_name(given: str) -> str:

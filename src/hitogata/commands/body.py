@@ -37,7 +37,7 @@ def figures_line(label: str, body: Body) -> str:
 def measurement_options() -> dict[str, tuple[str, ...]]:
     """Measurement name → its options: `--name-with-dashes`, and for a girth also the short name
     (`--chest`). The stature has its own option among the body options."""
-    from hitogata.made_to_measure import aliases
+    from hitogata.measure.values import aliases
 
     options: dict[str, list[str]] = {}
     for alias, name in aliases().items():

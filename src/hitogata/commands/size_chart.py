@@ -41,7 +41,7 @@ def shipped_size_charts() -> dict[str, Path]:
 
 def read_size_chart(path: Path) -> Chart:
     """(size, measurements in m and kg) per row, or a one-line error naming file, row, column, value."""
-    from hitogata.made_to_measure import aliases
+    from hitogata.measure.values import aliases
 
     try:
         text = path.read_text(encoding="utf-8-sig")

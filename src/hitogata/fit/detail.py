@@ -16,7 +16,6 @@ from __future__ import annotations
 
 import numpy as np
 import scipy.sparse as sp
-from scipy.sparse.linalg import spsolve
 
 from hitogata.assets import load_assets
 from hitogata.body import WHOLE_BODY_DENSITY, Body
@@ -35,6 +34,8 @@ QUANTUM = 1e-5  # m: offsets are kept to 0.01 mm, as the body file stores them
 
 def solve_detail(posed: np.ndarray, faces: np.ndarray, points: np.ndarray) -> np.ndarray:
     """(n_surface,) offsets (m, outward positive) that bring the posed surface (V, 3) onto the scan points (P, 3)."""
+    from scipy.sparse.linalg import spsolve  # here: rebuilding a fitted body's detail needs no solver
+
     n_surface = load_assets().n_surface
     near = SurfaceQuery(posed, faces).closest(points)
     signed = np.einsum("ij,ij->i", face_normals(posed, faces)[near.face], points - near.point)

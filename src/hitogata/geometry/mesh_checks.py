@@ -10,7 +10,6 @@ from __future__ import annotations
 
 import numpy as np
 from scipy import sparse
-from scipy.sparse import csgraph
 
 __all__ = [
     "boundary_edges",
@@ -114,6 +113,8 @@ def connected_component_count(faces: np.ndarray) -> int:
         (np.ones(len(edges), dtype=np.int8), (edges[:, 0], edges[:, 1])),
         shape=(len(used), len(used)),
     )
+    from scipy.sparse import csgraph  # here: its import (with scipy.sparse.linalg) outweighs a body's volume
+
     count, _ = csgraph.connected_components(graph, directed=False)
     return int(count)
 

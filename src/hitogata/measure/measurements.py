@@ -9,8 +9,6 @@ joint centres in that posture. Girths are tape girths of planar sections
 
 from __future__ import annotations
 
-from collections.abc import Iterable
-from dataclasses import asdict, dataclass, fields
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -24,63 +22,13 @@ from hitogata.measure.landmarks import Landmarks, body_landmarks, girdle_point
 from hitogata.measure.sections import Tape, arc_tape, tape_girth
 from hitogata.measure.surface_points import SurfacePoint, face_of, insert_points
 from hitogata.measure.topology import Topology, topology
+from hitogata.measure.values import GIRTHS, MEASUREMENT_NAMES, Measurements, check_names
+
+__all__ = ["GIRTHS", "MEASUREMENT_NAMES", "Measurements", "check_names", "measure", "measure_surface",
+           "measure_with_paths", "measurement_paths"]
 
 if TYPE_CHECKING:
     from hitogata.pose import PosedBody
-
-
-@dataclass(frozen=True)
-class Measurements:
-    """ISO 8559-1 measurements of one body in one posture, metres (NaN: not measurable there)."""
-
-    stature: float
-    neck_girth: float
-    chest_girth: float  # bust girth for women
-    underbust_girth: float
-    waist_girth: float  # at ISO 8559-1's waist level
-    omphalion_waist_girth: float  # at the navel
-    hip_girth: float
-    thigh_girth: float
-    upper_arm_girth: float
-    armscye_girth: float
-    knee_girth: float
-    calf_girth: float
-    ankle_girth: float
-    wrist_girth: float
-    back_waist_length: float
-    across_back_width: float
-    across_front_width: float
-    shoulder_width: float
-    shoulder_length: float
-    arm_length: float
-    waist_to_hip_length: float
-    crotch_length: float
-    inside_leg: float  # crotch height
-
-    @staticmethod
-    def names() -> tuple[str, ...]:
-        return tuple(f.name for f in fields(Measurements))
-
-    def get(self, name: str) -> float:
-        """One value by name; an unknown name is a one-line error listing the known ones."""
-        check_names([name])
-        return float(getattr(self, name))
-
-    def as_dict(self) -> dict[str, float]:
-        return {k: float(v) for k, v in asdict(self).items()}
-
-
-MEASUREMENT_NAMES = Measurements.names()
-
-GIRTHS = ("neck_girth", "chest_girth", "underbust_girth", "waist_girth", "omphalion_waist_girth", "hip_girth",
-          "thigh_girth", "upper_arm_girth", "armscye_girth", "knee_girth", "calf_girth", "ankle_girth", "wrist_girth")
-
-
-def check_names(names: Iterable[str]) -> None:
-    """Raise a one-line error for any name that is not a measurement."""
-    unknown = [n for n in names if n not in MEASUREMENT_NAMES]
-    if unknown:
-        raise HitogataError(f"measurement {unknown[0]!r}: allowed {', '.join(MEASUREMENT_NAMES)}")
 
 
 def measure(

@@ -8,6 +8,7 @@ libraries it uses (matplotlib); every file it writes goes through
 - `measurements`: `measurement_table` (the text table the CLI prints) and
   `measure_report` (a measurement report folder: JSON, CSV, pictures);
 - `series`: a measurement series over time as CSV and a plot;
-- `surface`: orthographic matplotlib pictures of a body surface (front, back, side);
+- `surface`: orthographic pictures of a body surface (front, back, side), drawn with numpy
+  (`raster`, a depth buffer) and Pillow;
 - `heatmap`: skin-strain heat maps on the posed body.
 """

@@ -4,8 +4,8 @@ Every pixel centre inside a triangle is a candidate (found from the
 triangle's bounding box); at each pixel the candidate nearest the viewer
 wins, its depth interpolated across the triangle, so overlapping parts
 (an arm before the trunk) hide each other exactly, with no sorting of faces.
-A body of 25k triangles at 1.5 mm per pixel takes a few tens of milliseconds,
-against most of a second for the same faces drawn as matplotlib polygons.
+A body of 25k triangles takes 10–30 ms a view at the pictures' scale (about
+4 mm per pixel), where matplotlib took about 0.1 s a view to draw them as polygons.
 """
 
 from __future__ import annotations
@@ -22,7 +22,7 @@ class Raster:
     """An image (rows from the bottom up) and the area it covers, in the screen's units."""
 
     rgba: np.ndarray  # (H, W, 4) floats 0..1; alpha 0 where no triangle covers the pixel
-    extent: tuple[float, float, float, float]  # left, right, bottom, top (matplotlib's `extent`)
+    extent: tuple[float, float, float, float]  # left, right, bottom, top
 
 
 def rasterise(screen: np.ndarray, depth: np.ndarray, colours: np.ndarray, pixel: float) -> Raster:
