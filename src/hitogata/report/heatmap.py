@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import numpy as np
-from matplotlib.colors import TwoSlopeNorm
 
 from hitogata.measure.strain import SkinStrain
 from hitogata.report.surface import Colouring, render_png
@@ -19,6 +18,8 @@ def strain_heatmap(vertices: np.ndarray, faces: np.ndarray, strain: SkinStrain, 
     blue; the scale is symmetric about zero and reaches the 95th percentile of
     the strained faces, so a few extreme triangles do not wash out the rest.
     """
+    from matplotlib.colors import TwoSlopeNorm  # here: a picture at rest has no colour scale
+
     values = strain.strain_max_percent
     strained = np.abs(values[np.isfinite(values)])
     strained = strained[strained > STRAINED]
