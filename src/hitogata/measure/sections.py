@@ -67,7 +67,7 @@ def section(vertices: np.ndarray, topo: Topology, origin: np.ndarray, normal: np
     node = np.full(len(topo.edges), -1, dtype=np.int64)
     node[crossed] = np.arange(len(crossed))
     face_nodes = node[topo.face_edges]
-    cut = face_nodes.max(axis=1) >= 0
+    cut = np.maximum(np.maximum(face_nodes[:, 0], face_nodes[:, 1]), face_nodes[:, 2]) >= 0  # 15x .max(axis=1)
     pairs = np.sort(face_nodes[cut], axis=1)[:, 1:]  # the two crossed edges of each cut face
     graph = sparse.coo_matrix(
         (np.ones(len(pairs), dtype=np.int8), (pairs[:, 0], pairs[:, 1])), shape=(len(crossed),) * 2
