@@ -32,3 +32,26 @@ def test_import_hitogata_loads_only_itself() -> None:
     loaded = loaded_after("import hitogata")
     assert sorted(m for m in loaded if m.startswith("hitogata")) == ["hitogata"]
     assert "numpy" not in loaded
+
+
+@pytest.mark.parametrize("package", ["export", "fit", "geometry", "measure", "volume"])
+def test_a_package_importing_its_names_on_first_use_resolves_each(package: str) -> None:
+    """`hitogata.lazy`: every name in the package's __all__ is its defining module's, and listed by dir()."""
+    import importlib
+
+    module = importlib.import_module(f"hitogata.{package}")
+    for name in module.__all__:
+        value = getattr(module, name)
+        defining = getattr(value, "__module__", None)
+        assert defining is None or defining.startswith(f"hitogata.{package}."), (name, defining)
+        assert name in dir(module)
+    with pytest.raises(AttributeError, match="no attribute 'nothing'"):
+        module.nothing  # noqa: B018
+
+
+def test_measuring_a_body_file_loads_no_plotting_nor_writers_libraries() -> None:
+    """`hitogata measure body.glb` (the command's module and its report): the picture is drawn without
+    matplotlib, the GLB read without pygltflib, and neither the mesher nor the dynamics are loaded."""
+    loaded = loaded_after("import hitogata.commands.measure, hitogata.report.measurements")
+    assert not {"matplotlib", "pygltflib", "trimesh", "meshio", "pyvista"} & loaded
+    assert not {"hitogata.volume.lattice", "hitogata.dynamics", "hitogata.fit.scanfit"} & loaded
