@@ -5,7 +5,8 @@
   linear in between), so three.js and Blender play it as a shape-key
   animation; checked by the Khronos validator in the tests.
 - VTU + PVD: the FE mesh per frame (quadratic tets as VTK's tetra10) with
-  displacement, elastic displacement and region, a time series for ParaView.
+  displacement, elastic displacement and the tissue (`elastic.tissue_data`:
+  per-sample labels, fractions, materials), a time series for ParaView.
 - PNG: front and side views of the region boundary surfaces, translucent,
   with the skeleton inside (the paper's Fig. 3(b)), at chosen times.
 - GIF: the same views over time (pillow).
@@ -33,7 +34,8 @@ from hitogata.export.atomic import write_bytes_atomically
 from hitogata.export.body_files import DETAIL_KEY, body_from_extras, detail_extras, shape_extras
 from hitogata.export.gltf import GlbBuilder, add_material, named_node
 from hitogata.geometry.normals import vertex_normals
-from hitogata.export.vtu import label_arrays, write_vtu
+from hitogata.elastic.tissue_data import tissue_cell_data, tissue_field_data
+from hitogata.export.vtu import write_vtu
 from hitogata.geometry.shells import region_boundary, smoothing_operator, taubin_smooth
 
 SMOOTHING = 4  # Taubin steps on the pictures' region surfaces
@@ -114,13 +116,15 @@ def _add_morphing_mesh(builder: GlbBuilder, name: str, faces: np.ndarray, rest: 
 
 
 def write_pvd(folder: str | os.PathLike, motion: Motion, name: str = "motion") -> Path:
-    """`name.pvd` and `name/frame_NNNN.vtu` in folder: the FE body at every frame."""
+    """`name.pvd` and `name/frame_NNNN.vtu` in folder: the FE body at every frame, with its tissue
+    (`elastic.tissue_data`)."""
     folder = Path(folder)
     frames = folder / name
     frames.mkdir(parents=True, exist_ok=True)
     model = motion.dynamics.model
     cell = "tetra10" if model.elements.shape[1] == 10 else "tetra"
     skinned = motion.nodes - motion.elastic
+    tissue, about = tissue_cell_data(model), tissue_field_data(model)
     entries = []
     for k, t in enumerate(motion.times):
         mesh = meshio.Mesh(
@@ -128,10 +132,10 @@ def write_pvd(folder: str | os.PathLike, motion: Motion, name: str = "motion") -
             point_data={"displacement": (motion.nodes[k] - model.points).astype(np.float64),
                         "elastic": motion.elastic[k].astype(np.float64),
                         "skinned": skinned[k].astype(np.float64)},
-            cell_data={"region": [model.region.astype(np.int32)]},
+            cell_data=tissue,
         )
         file = frames / f"frame_{k:04d}.vtu"
-        write_vtu(file, mesh, {"time_s": np.array([t]), **label_arrays("region", model.region_names)})
+        write_vtu(file, mesh, {"time_s": np.array([t]), **about})
         entries.append(f'    <DataSet timestep="{t:.6f}" part="0" file={quoteattr(f"{name}/{file.name}")}/>')
     xml = ('<?xml version="1.0"?>\n<VTKFile type="Collection" version="0.1">\n  <Collection>\n'
            + "\n".join(entries) + "\n  </Collection>\n</VTKFile>\n")
