@@ -9,7 +9,10 @@ each region's material, so meshio alone rebuilds the model's element
 moduli, Poisson's ratios, densities and tissue fractions.
 """
 
+import os
 import re
+import subprocess
+from pathlib import Path
 
 import meshio
 import numpy as np
@@ -18,13 +21,14 @@ import pytest
 
 from gltf_validator import needs_validator, validate_gltf
 from hitogata.dynamics import BodyDynamics, Keyframe, Timeline, simulate
-from hitogata.dynamics.files import write_pvd
+from hitogata.dynamics.files import write_motion_glb, write_pvd
 from hitogata.elastic import build_elastic_model
 from hitogata.elastic.files import write_vtu
 from hitogata.export.body_files import write_body
 from hitogata.export.gltf import read_glb_skin
 
 SAFE = re.compile(r"[A-Za-z0-9_-]+")
+REPO = Path(__file__).resolve().parents[1]
 
 
 @pytest.fixture(scope="module")
@@ -114,11 +118,77 @@ def test_the_modes_vtu_rebuilds_the_models_materials(tmp_path, trunk):
     assert np.allclose(mesh.cell_data["youngs_modulus"][0], trunk.E)
 
 
-def test_a_motion_frame_rebuilds_the_models_materials(tmp_path, female, trunk):
+@pytest.fixture(scope="module")
+def motion(female, trunk):
     timeline = Timeline.from_keyframes([Keyframe(0.0, {}),
                                         Keyframe(0.2, {("contraction", "rectus_abdominis_l"): -0.05})])
-    motion = simulate(BodyDynamics.build(female, trunk), timeline, duration=0.2, rate=10, on_limit="clamp")
+    return simulate(BodyDynamics.build(female, trunk), timeline, duration=0.2, rate=10, on_limit="clamp")
+
+
+def test_a_motion_frame_rebuilds_the_models_materials(tmp_path, motion, trunk):
     write_pvd(tmp_path, motion)
     frame = meshio.read(tmp_path / "motion" / "frame_0002.vtu")
     assert_tissue_as_the_model(frame, trunk)
     assert frame.field_data["muscle 0: " + trunk.muscle_names[0]].tolist() == [0]
+
+
+@pytest.fixture(scope="module")
+def motion_glb(tmp_path_factory, motion):
+    return write_motion_glb(tmp_path_factory.mktemp("motion") / "motion.glb", motion)
+
+
+def accessor(doc: gl.GLTF2, index: int) -> np.ndarray:
+    """A float VEC3 accessor's values, read as any glTF reader does (bufferView offset, no stride)."""
+    a = doc.accessors[index]
+    view = doc.bufferViews[a.bufferView]
+    assert a.componentType == gl.FLOAT and a.type == gl.VEC3 and not view.byteStride
+    start = (view.byteOffset or 0) + (a.byteOffset or 0)
+    return np.frombuffer(doc.binary_blob(), dtype=np.float32, count=3 * a.count, offset=start).reshape(-1, 3)
+
+
+def test_the_motion_glbs_morph_targets_carry_normals_and_its_time_span(motion_glb, motion):
+    """Each frame's target moves the normals too (rest + delta = that frame's own unit vertex normals,
+    so three.js lights a moved limb as it lies); the scene's extras hold the animation's time span."""
+    from hitogata.geometry.normals import vertex_normals
+
+    doc = gl.GLTF2.load_binary(motion_glb)
+    body = motion.dynamics.poser.body
+    for mesh in doc.meshes:
+        assert all(set(target) == {"POSITION", "NORMAL"} for target in mesh.primitives[0].targets)
+    skin = doc.meshes[0].primitives[0]
+    rest = accessor(doc, skin.attributes.NORMAL)
+    last = rest + accessor(doc, skin.targets[-1]["NORMAL"])
+    assert np.allclose(last, vertex_normals(motion.skin[-1].astype(np.float64), body.faces), atol=1e-6)
+    assert np.allclose(np.linalg.norm(last, axis=1), 1.0, atol=1e-6)
+    turned = np.degrees(np.arccos(np.clip((rest * last).sum(axis=1), -1.0, 1.0)))
+    assert turned.max() == pytest.approx(10.745, abs=0.01)  # the contracted rectus turns the skin over it
+    assert doc.scenes[doc.scene].extras == {"animation_start_s": 0.0, "animation_end_s": pytest.approx(0.2)}
+
+
+@needs_validator
+def test_the_motion_glb_passes_the_khronos_validator(motion_glb):
+    report, code = validate_gltf(motion_glb)
+    assert report["issues"]["numErrors"] == 0 and report["issues"]["numWarnings"] == 0, report["issues"]["messages"]
+    assert report["info"]["hasMorphTargets"] and code == 0
+
+
+BLENDER_IMPORT = """
+import sys, bpy
+bpy.ops.wm.read_factory_settings(use_empty=True)
+bpy.ops.import_scene.gltf(filepath=sys.argv[1])
+print(bpy.context.scene.frame_start, bpy.context.scene.frame_end)
+"""
+
+
+@pytest.mark.skipif(not os.environ.get("BLENDER_PYTHON"), reason="set BLENDER_PYTHON to a Python with the bpy wheel")
+def test_blender_plays_the_motion_glb_over_its_span_after_the_docs_line(motion_glb):
+    """Blender's importer keeps frames 1–250 (it reads no range from a file); the line docs/scenarios.md
+    gives sets the scene's range from the scene extras it copied. Runs where the bpy wheel is
+    (`BLENDER_PYTHON=/path/to/python-with-bpy`); bpy is no dependency of ours."""
+    line = next(line for line in (REPO / "docs" / "scenarios.md").read_text().splitlines()
+                if line.startswith("import bpy, math;"))
+    script = BLENDER_IMPORT + line + "\nprint(bpy.context.scene.frame_start, bpy.context.scene.frame_end)\n"
+    result = subprocess.run([os.environ["BLENDER_PYTHON"], "-c", script, str(motion_glb)],
+                            capture_output=True, text=True, timeout=300, check=True)
+    ranges = [line for line in result.stdout.splitlines() if re.fullmatch(r"\d+ \d+", line)]
+    assert ranges == ["1 250", "0 5"]  # 0.2 s at Blender's 24 fps: frames 0 to 4.8

@@ -83,6 +83,7 @@ def write_motion_glb(path: str | os.PathLike, motion: Motion) -> Path:
                                         motion.nodes[np.ix_(pick, used)], names, material=material))
     times = builder.add_accessor(motion.times[pick].astype(np.float32), gl.SCALAR, with_bounds=True)
     weights = builder.add_accessor(np.eye(len(pick), dtype=np.float32).reshape(-1), gl.SCALAR)
+    builder.gltf.scenes[0].extras = playback_extras(motion.times[pick])
     builder.gltf.animations.append(gl.Animation(
         name="motion",
         samplers=[gl.AnimationSampler(input=times, output=weights, interpolation="LINEAR")],
@@ -92,21 +93,33 @@ def write_motion_glb(path: str | os.PathLike, motion: Motion) -> Path:
     return write_bytes_atomically(path, builder.to_bytes())
 
 
+def playback_extras(times: np.ndarray) -> dict[str, float]:
+    """The scene's extras: the animation's time span, for a tool that does not take its playback range
+    from the animation. Blender's importer (5.0) leaves the scene at frames 1–250 and copies these onto
+    the scene as custom properties; docs/scenarios.md has the line that sets the range from them."""
+    return {"animation_start_s": float(times[0]), "animation_end_s": float(times[-1])}
+
+
 def _rgb(colour: str) -> tuple[float, float, float]:
     return tuple(int(colour[i:i + 2], 16) / 255.0 for i in (1, 3, 5))  # type: ignore[return-value]
 
 
 def _add_morphing_mesh(builder: GlbBuilder, name: str, faces: np.ndarray, rest: np.ndarray, frames: np.ndarray,
                        target_names: list[str], material: int | None = None) -> int:
-    """A root node with a mesh of `faces` at `rest` (V, 3), its rest normals, and a morph target per frame."""
-    normals = vertex_normals(rest.astype(np.float64), np.asarray(faces, dtype=np.int64)).astype(np.float32)
+    """A root node with a mesh of `faces` at `rest` (V, 3), its rest normals, and a morph target per frame
+    (position and normal deltas: the frame's own vertex normals, so a moved limb is lit as it lies)."""
+    faces = np.asarray(faces, dtype=np.int64)
+    normals = vertex_normals(rest.astype(np.float64), faces).astype(np.float32)
     rest = rest.astype(np.float32)
     position = builder.add_accessor(rest, gl.VEC3, target=gl.ARRAY_BUFFER, with_bounds=True)
     normal = builder.add_accessor(normals, gl.VEC3, target=gl.ARRAY_BUFFER)
-    indices = builder.add_accessor(np.asarray(faces, dtype=np.uint32).reshape(-1), gl.SCALAR,
-                                   target=gl.ELEMENT_ARRAY_BUFFER)
+    indices = builder.add_accessor(faces.astype(np.uint32).reshape(-1), gl.SCALAR, target=gl.ELEMENT_ARRAY_BUFFER)
     targets = [{"POSITION": builder.add_accessor((frame - rest).astype(np.float32), gl.VEC3,
-                                                 target=gl.ARRAY_BUFFER, with_bounds=True)} for frame in frames]
+                                                 target=gl.ARRAY_BUFFER, with_bounds=True),
+                "NORMAL": builder.add_accessor(
+                    vertex_normals(frame.astype(np.float64), faces).astype(np.float32) - normals, gl.VEC3,
+                    target=gl.ARRAY_BUFFER)}
+               for frame in frames]
     primitive = gl.Primitive(attributes=gl.Attributes(POSITION=position, NORMAL=normal), indices=indices,
                              targets=targets,
                              material=material)
