@@ -214,3 +214,28 @@ def test_the_command_prints_its_url_and_rejects_a_bad_port():
     finally:
         proc.terminate()
         proc.wait(timeout=10)
+
+
+def test_the_skeleton_layer_stays_under_the_skin(app, female):
+    """Drawn the whole way, the crown's and three fingertips' parts on each hand end outside the skin;
+    drawn as far as `bone_reach` says, every line is under it by half its thickness, at rest and bent."""
+    from hitogata.fit.closest import signed_distances
+    from hitogata.viewer.scene import BONE_LINE_THICKNESS
+
+    names = app.state.poser.skeleton.names
+    s = np.linspace(0.0, 1.0, 11)
+
+    def depths(bones: np.ndarray) -> np.ndarray:
+        points = bones[:, 0, None] + s[None, :, None] * (bones[:, 1] - bones[:, 0])[:, None]
+        return -signed_distances(app.state.posed.vertices, female.faces, points.reshape(-1, 3)).reshape(len(bones), -1)
+
+    for muscle, percent in ((None, 0.0), ("rectus_abdominis_l", 40.0), ("biceps_brachii_r", 20.0)):
+        if muscle is not None:
+            app.move_muscle(muscle, percent)
+        drawn = depths(np.asarray(app.scene.skeleton.points, dtype=np.float64))
+        assert drawn.min() >= BONE_LINE_THICKNESS / 2
+        poking = sorted(names[k] for k in np.flatnonzero(depths(app.frame.bones()).min(axis=1) < 0))
+        assert poking == ["head", "index_distal_l", "index_distal_r", "middle_distal_l", "middle_distal_r",
+                          "ring_distal_l", "ring_distal_r"]
+    shortened = {names[k]: round(float(r), 3) for k, r in enumerate(app.scene.reach) if r < 1.0}
+    assert shortened["jaw"] == 0.95 and shortened["little_distal_l"] == 0.725 and len(shortened) == 12

@@ -94,6 +94,7 @@ class ViewerApp:
         self._playback: threading.Thread | None = None
         self._tissue_for: Body | None = None  # the body whose tissue model is built or being built
         self.scene = SceneView(server.scene, body.faces, self.frame, skin_opacity=1.0)
+        self.scene.fit_bones(self.state.poser.skeleton, body.vertices)
         self._aim_camera(body)
         inputs = {"sex": "male" if body.params.sex >= 0.5 else "female", "age": body.params.age,
                   "stature_cm": round(body.stature * 100, 1), "mass_kg": round(body.mass, 1)}
@@ -180,6 +181,7 @@ class ViewerApp:
             with self.lock:
                 self._drop_sequence()
                 posed = self.state.set_body(body)
+                self.scene.fit_bones(self.state.poser.skeleton, body.vertices)
                 self.colouring = colouring
                 self._update_slider_ranges()
                 self.scene.clear_tissue()
