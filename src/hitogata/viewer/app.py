@@ -28,6 +28,7 @@ from hitogata.measure import measure
 from hitogata.viewer.colouring import SkinColours, legend
 from hitogata.viewer.export import pose_glb, snapshot_html
 from hitogata.viewer.frame import Frame, posed_frame, sequence_frame
+from hitogata.viewer.keys import keep_arrows_for_widgets
 from hitogata.viewer.panels import build_panels
 from hitogata.viewer.player import Clock, Sequence, load_sequence
 from hitogata.viewer.scene import SceneView
@@ -82,6 +83,7 @@ class ViewerApp:
                  garment: "tuple[Garment, Fabric] | None" = None) -> None:
         self.server = server
         server.gui.configure_theme(control_width="large", show_share_button=False)  # no tunnel off this machine
+        keep_arrows_for_widgets(server)
         self.lock = threading.RLock()
         self.state = PoseState(body)
         self.frame = posed_frame(self.state.posed)
