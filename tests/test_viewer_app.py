@@ -214,3 +214,38 @@ def test_the_command_prints_its_url_and_rejects_a_bad_port():
     finally:
         proc.terminate()
         proc.wait(timeout=10)
+
+
+def test_the_skeleton_layer_stays_under_the_skin(app):
+    """Every drawn line is under the skin by half its thickness, at rest and bent (`bone_reach`)."""
+    from hitogata.fit.closest import signed_distances
+    from hitogata.viewer.scene import BONE_LINE_THICKNESS
+
+    s = np.linspace(0.0, 1.0, 11)
+    for muscle, percent in ((None, 0.0), ("rectus_abdominis_l", 40.0), ("biceps_brachii_r", 20.0)):
+        if muscle is not None:
+            app.move_muscle(muscle, percent)
+        bones = np.asarray(app.scene.skeleton.points, dtype=np.float64)
+        points = bones[:, 0, None] + s[None, :, None] * (bones[:, 1] - bones[:, 0])[:, None]
+        depth = -signed_distances(app.state.posed.vertices, app.state.body.faces, points.reshape(-1, 3))
+        assert depth.min() >= BONE_LINE_THICKNESS / 2
+
+
+def test_the_parts_ending_on_the_skin_are_drawn_short(female):
+    """Whole, the crown's and three fingertips' parts on each hand end outside the skin; `bone_reach`
+    shortens those and the chin's, the thumbs' and little fingers' (their ends within 2 mm of it)."""
+    from hitogata.fit.closest import signed_distances
+    from hitogata.pose import Poser
+    from hitogata.viewer.frame import bone_reach
+
+    skeleton = Poser.from_body(female).skeleton
+    outside = signed_distances(female.vertices, female.faces, skeleton.tails) > 0
+    assert sorted(np.array(skeleton.names)[outside]) == [
+        "head", "index_distal_l", "index_distal_r", "middle_distal_l", "middle_distal_r", "ring_distal_l",
+        "ring_distal_r"]
+    reach = bone_reach(skeleton, female.vertices, female.faces, clearance=0.002)
+    shortened = {name: round(float(r), 3) for name, r in zip(skeleton.names, reach) if r < 1.0}
+    assert shortened == {
+        "head": 0.95, "jaw": 0.95, "thumb_phalanges_l": 0.975, "thumb_phalanges_r": 0.975,
+        **{f"{finger}_distal_{side}": 0.925 for finger in ("index", "middle", "ring") for side in "lr"},
+        "little_distal_l": 0.725, "little_distal_r": 0.725}

@@ -178,3 +178,50 @@ def test_the_pose_downloads_as_glb_and_the_snapshot_opens_from_a_file(app, page,
     offline.locator("canvas").first.wait_for()
     offline.close()
     assert all(url.startswith(("file:", "data:", "blob:")) for url in requests), requests
+
+
+def frames_drawn(page, count: int) -> None:
+    """Return once the page has drawn `count` more animation frames (its own clock, not ours)."""
+    page.evaluate("""count => new Promise(done => {
+        let n = 0;
+        const step = () => (++n >= count ? done() : requestAnimationFrame(step));
+        requestAnimationFrame(step);
+    })""", count)
+
+
+def test_a_held_arrow_key_moves_a_focused_slider_and_not_the_camera(app, page):
+    """The camera turns with a held arrow key only when no slider has the focus."""
+    click(page.get_by_role("tab", name="Muscles"))
+    click(page.get_by_role("button", name="Reset pose"))
+    assert wait_for(lambda: app.state.drivers == {} and not app.showing_sequence)
+    trunk = page.get_by_text("Trunk", exact=True)
+    trunk.wait_for()
+    if not page.locator("label").filter(has_text="rectus abdominis (left)").locator("visible=true").count():
+        click(trunk)  # the folder is closed (an earlier test may have opened it)
+    client = max(app.server.get_clients().items())[1]  # this page's (a reloaded page's old one may linger)
+    thumb = slider_thumb(page, "rectus abdominis (left)")
+    thumb.focus()
+
+    k = app.state.muscles.index("rectus_abdominis_l")
+    ends = {"Home": app.state.ranges.low[k], "End": app.state.ranges.high[k]}  # percent
+
+    def camera_reported(key: str) -> np.ndarray:
+        """The camera as the server last heard of it, after every report the page has sent so far."""
+        frames_drawn(page, 30)  # longer than the camera's 20 ms report throttle
+        page.keyboard.press(key)  # a slider message after them: one socket keeps their order
+        assert wait_for(lambda: app.state.drivers.get("rectus_abdominis_l", 0.0) * 100 == pytest.approx(ends[key]))
+        return np.array(client.camera.wxyz)
+
+    before = camera_reported("Home")
+    page.keyboard.down("ArrowRight")
+    assert wait_for(lambda: app.state.drivers["rectus_abdominis_l"] * 100 > ends["Home"] + 1e-6)
+    frames_drawn(page, 30)  # a held key would turn the camera a little every frame
+    page.keyboard.up("ArrowRight")
+    assert np.allclose(camera_reported("End"), before, atol=1e-9), "the camera turned with the slider's key"
+
+    page.evaluate("document.activeElement.blur()")  # no widget has the focus: the key is the camera's
+    page.keyboard.down("ArrowRight")
+    assert wait_for(lambda: not np.allclose(client.camera.wxyz, before, atol=1e-6)), "the camera never turned"
+    page.keyboard.up("ArrowRight")
+    click(page.get_by_role("button", name="Reset pose"))
+    assert wait_for(lambda: app.state.drivers == {})

@@ -31,14 +31,14 @@ def test_npz_file_and_results_folder_load_alike(tmp_path, poser):
         assert seq.vertices.shape == (4, len(poser.body.vertices), 3)
         np.testing.assert_allclose(seq.angles, q)
     frame = sequence_frame(poser, seq, 3)
-    assert frame.pose is not None and frame.bones.shape == (poser.skeleton.joints.shape[0], 2, 3)
+    assert frame.pose is not None and frame.bones().shape == (poser.skeleton.joints.shape[0], 2, 3)
     assert not np.allclose(frame.rig_joints, poser.body.rig.heads)  # the elbow moved the wrist's joints
 
 
 def test_a_sequence_without_angles_has_no_skeleton_and_rest_joints(tmp_path, poser):
     write_sequence(tmp_path / "s.npz", poser, with_angles=False)
     frame = sequence_frame(poser, load_sequence(tmp_path / "s.npz", poser), 2)
-    assert frame.pose is None and frame.bones is None
+    assert frame.pose is None and frame.bones() is None
     np.testing.assert_array_equal(frame.rig_joints, poser.body.rig.heads)
 
 

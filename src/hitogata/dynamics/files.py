@@ -5,7 +5,8 @@
   linear in between), so three.js and Blender play it as a shape-key
   animation; checked by the Khronos validator in the tests.
 - VTU + PVD: the FE mesh per frame (quadratic tets as VTK's tetra10) with
-  displacement, elastic displacement and region, a time series for ParaView.
+  displacement, elastic displacement and the tissue (`elastic.tissue_data`:
+  per-sample labels, fractions, materials), a time series for ParaView.
 - PNG: front and side views of the region boundary surfaces, translucent,
   with the skeleton inside (the paper's Fig. 3(b)), at chosen times.
 - GIF: the same views over time (pillow).
@@ -33,7 +34,8 @@ from hitogata.export.atomic import write_bytes_atomically
 from hitogata.export.body_files import DETAIL_KEY, body_from_extras, detail_extras, shape_extras
 from hitogata.export.gltf import GlbBuilder, add_material, named_node
 from hitogata.geometry.normals import vertex_normals
-from hitogata.export.vtu import label_arrays, write_vtu
+from hitogata.elastic.tissue_data import tissue_cell_data, tissue_field_data
+from hitogata.export.vtu import write_vtu
 from hitogata.geometry.shells import region_boundary, smoothing_operator, taubin_smooth
 
 SMOOTHING = 4  # Taubin steps on the pictures' region surfaces
@@ -81,6 +83,7 @@ def write_motion_glb(path: str | os.PathLike, motion: Motion) -> Path:
                                         motion.nodes[np.ix_(pick, used)], names, material=material))
     times = builder.add_accessor(motion.times[pick].astype(np.float32), gl.SCALAR, with_bounds=True)
     weights = builder.add_accessor(np.eye(len(pick), dtype=np.float32).reshape(-1), gl.SCALAR)
+    builder.gltf.scenes[0].extras = playback_extras(motion.times[pick])
     builder.gltf.animations.append(gl.Animation(
         name="motion",
         samplers=[gl.AnimationSampler(input=times, output=weights, interpolation="LINEAR")],
@@ -90,21 +93,33 @@ def write_motion_glb(path: str | os.PathLike, motion: Motion) -> Path:
     return write_bytes_atomically(path, builder.to_bytes())
 
 
+def playback_extras(times: np.ndarray) -> dict[str, float]:
+    """The scene's extras: the animation's time span, for a tool that does not take its playback range
+    from the animation. Blender's importer (5.0) leaves the scene at frames 1–250 and copies these onto
+    the scene as custom properties; docs/scenarios.md has the line that sets the range from them."""
+    return {"animation_start_s": float(times[0]), "animation_end_s": float(times[-1])}
+
+
 def _rgb(colour: str) -> tuple[float, float, float]:
     return tuple(int(colour[i:i + 2], 16) / 255.0 for i in (1, 3, 5))  # type: ignore[return-value]
 
 
 def _add_morphing_mesh(builder: GlbBuilder, name: str, faces: np.ndarray, rest: np.ndarray, frames: np.ndarray,
                        target_names: list[str], material: int | None = None) -> int:
-    """A root node with a mesh of `faces` at `rest` (V, 3), its rest normals, and a morph target per frame."""
-    normals = vertex_normals(rest.astype(np.float64), np.asarray(faces, dtype=np.int64)).astype(np.float32)
+    """A root node with a mesh of `faces` at `rest` (V, 3), its rest normals, and a morph target per frame
+    (position and normal deltas: the frame's own vertex normals, so a moved limb is lit as it lies)."""
+    faces = np.asarray(faces, dtype=np.int64)
+    normals = vertex_normals(rest.astype(np.float64), faces).astype(np.float32)
     rest = rest.astype(np.float32)
     position = builder.add_accessor(rest, gl.VEC3, target=gl.ARRAY_BUFFER, with_bounds=True)
     normal = builder.add_accessor(normals, gl.VEC3, target=gl.ARRAY_BUFFER)
-    indices = builder.add_accessor(np.asarray(faces, dtype=np.uint32).reshape(-1), gl.SCALAR,
-                                   target=gl.ELEMENT_ARRAY_BUFFER)
+    indices = builder.add_accessor(faces.astype(np.uint32).reshape(-1), gl.SCALAR, target=gl.ELEMENT_ARRAY_BUFFER)
     targets = [{"POSITION": builder.add_accessor((frame - rest).astype(np.float32), gl.VEC3,
-                                                 target=gl.ARRAY_BUFFER, with_bounds=True)} for frame in frames]
+                                                 target=gl.ARRAY_BUFFER, with_bounds=True),
+                "NORMAL": builder.add_accessor(
+                    vertex_normals(frame.astype(np.float64), faces).astype(np.float32) - normals, gl.VEC3,
+                    target=gl.ARRAY_BUFFER)}
+               for frame in frames]
     primitive = gl.Primitive(attributes=gl.Attributes(POSITION=position, NORMAL=normal), indices=indices,
                              targets=targets,
                              material=material)
@@ -114,13 +129,15 @@ def _add_morphing_mesh(builder: GlbBuilder, name: str, faces: np.ndarray, rest: 
 
 
 def write_pvd(folder: str | os.PathLike, motion: Motion, name: str = "motion") -> Path:
-    """`name.pvd` and `name/frame_NNNN.vtu` in folder: the FE body at every frame."""
+    """`name.pvd` and `name/frame_NNNN.vtu` in folder: the FE body at every frame, with its tissue
+    (`elastic.tissue_data`)."""
     folder = Path(folder)
     frames = folder / name
     frames.mkdir(parents=True, exist_ok=True)
     model = motion.dynamics.model
     cell = "tetra10" if model.elements.shape[1] == 10 else "tetra"
     skinned = motion.nodes - motion.elastic
+    tissue, about = tissue_cell_data(model), tissue_field_data(model)
     entries = []
     for k, t in enumerate(motion.times):
         mesh = meshio.Mesh(
@@ -128,10 +145,10 @@ def write_pvd(folder: str | os.PathLike, motion: Motion, name: str = "motion") -
             point_data={"displacement": (motion.nodes[k] - model.points).astype(np.float64),
                         "elastic": motion.elastic[k].astype(np.float64),
                         "skinned": skinned[k].astype(np.float64)},
-            cell_data={"region": [model.region.astype(np.int32)]},
+            cell_data=tissue,
         )
         file = frames / f"frame_{k:04d}.vtu"
-        write_vtu(file, mesh, {"time_s": np.array([t]), **label_arrays("region", model.region_names)})
+        write_vtu(file, mesh, {"time_s": np.array([t]), **about})
         entries.append(f'    <DataSet timestep="{t:.6f}" part="0" file={quoteattr(f"{name}/{file.name}")}/>')
     xml = ('<?xml version="1.0"?>\n<VTKFile type="Collection" version="0.1">\n  <Collection>\n'
            + "\n".join(entries) + "\n  </Collection>\n</VTKFile>\n")

@@ -20,7 +20,7 @@ from matplotlib.figure import Figure
 
 from hitogata.elastic.model import ElasticModel
 from hitogata.export.atomic import write_bytes_atomically
-from hitogata.export.vtu import label_arrays
+from hitogata.elastic.tissue_data import tissue_cell_data, tissue_field_data
 from hitogata.export.vtu import write_vtu as write_mesh_vtu
 from hitogata.render import Layer, render_views
 
@@ -44,8 +44,8 @@ def write_frequencies(path: str | os.PathLike, model: ElasticModel) -> Path:
 
 
 def vtu_mesh(model: ElasticModel, n_shapes: int | None = None) -> meshio.Mesh:
-    """The FE mesh with labels (cell data: region, muscle; the element means of the sampled tissue:
-    youngs_modulus in Pa, density in kg/m³) and the first mode shapes (point data).
+    """The FE mesh with its tissue (cell data: `tissue_data.tissue_cell_data`, and the element means
+    of the sampled tissue: youngs_modulus in Pa, density in kg/m³) and the first mode shapes (point data).
 
     Point data: `mode_01`... (N, 3) shapes scaled so that each one's largest
     displacement is `PICTURE_AMPLITUDE` (3 cm: ParaView's Warp By Vector at its
@@ -62,8 +62,7 @@ def vtu_mesh(model: ElasticModel, n_shapes: int | None = None) -> meshio.Mesh:
     point_data = {"fixed": fixed, "bone": bone}
     for k in range(n_shapes):
         point_data[f"mode_{k + 1:02d}"] = model.modes.vectors[:, k].reshape(n, 3) * mode_scales(model)[k]
-    cell_data = {"region": [model.region.astype(np.int32)], "muscle": [model.volume.muscle.astype(np.int32)],
-                 "youngs_modulus": [model.E], "density": [model.rho]}  # element means of the sampled tissue
+    cell_data = {**tissue_cell_data(model), "youngs_modulus": [model.E], "density": [model.rho]}
     return meshio.Mesh(model.points, [(cell_type, model.elements)], point_data=point_data, cell_data=cell_data)
 
 
@@ -75,14 +74,14 @@ def mode_scales(model: ElasticModel) -> np.ndarray:
 
 
 def vtu_field_data(model: ElasticModel) -> dict[str, np.ndarray]:
-    """What the VTU says about itself: frequencies, the mode scaling and warp hint, the label names."""
+    """What the VTU says about itself: frequencies, the mode scaling and warp hint, the tissue
+    (`tissue_data.tissue_field_data`: sample points, materials, the label names)."""
     return {
         "frequencies_hz": np.asarray(model.frequencies, dtype=float),
         "mode_largest_displacement_m": np.array([PICTURE_AMPLITUDE]),
         "mode_to_mass_normalised": 1.0 / mode_scales(model),  # multiply a mode_NN by this: mass-normalised
         "warp_scale_factor": np.array([1.0]),  # Warp By Vector on mode_NN at 1: its largest displacement is 3 cm
-        **label_arrays("region", model.region_names),
-        **label_arrays("muscle", model.muscle_names),
+        **tissue_field_data(model),
     }
 
 

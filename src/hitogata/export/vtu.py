@@ -34,17 +34,19 @@ def label_arrays(kind: str, names: Sequence[str]) -> dict[str, np.ndarray]:
 def _field_xml(field_data: Mapping[str, np.ndarray]) -> bytes:
     arrays = []
     for name, values in field_data.items():
-        values = np.asarray(values).ravel()
+        values = np.asarray(values)
         kind = _TYPES[values.dtype.kind]
-        text = " ".join(repr(float(v)) if kind == "Float64" else str(int(v)) for v in values)
-        arrays.append(f'<DataArray type="{kind}" Name={quoteattr(name)} NumberOfTuples="{len(values)}" '
-                      f'format="ascii">{text}</DataArray>')
+        text = " ".join(repr(float(v)) if kind == "Float64" else str(int(v)) for v in values.ravel())
+        shape = (f'NumberOfTuples="{len(values)}" NumberOfComponents="{values.shape[1]}"' if values.ndim == 2
+                 else f'NumberOfTuples="{values.size}"')
+        arrays.append(f'<DataArray type="{kind}" Name={quoteattr(name)} {shape} format="ascii">{text}</DataArray>')
     return ("<FieldData>" + "".join(arrays) + "</FieldData>").encode()
 
 
 def write_vtu(path: str | os.PathLike, mesh: meshio.Mesh, field_data: Mapping[str, np.ndarray] | None = None
               ) -> Path:
-    """Write `mesh` as a binary VTU with `field_data` (numbers), atomically; return the path."""
+    """Write `mesh` as a binary VTU with `field_data` (numbers; a 2-D array's rows are its tuples),
+    atomically; return the path."""
     with tempfile.TemporaryDirectory() as scratch:
         temporary = Path(scratch) / "mesh.vtu"
         meshio.write(temporary, mesh, file_format="vtu", binary=True)

@@ -73,3 +73,10 @@ def face_normals(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
     tri = vertices[faces]
     n = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
     return n / np.maximum(np.linalg.norm(n, axis=1, keepdims=True), 1e-20)
+
+
+def signed_distances(vertices: np.ndarray, faces: np.ndarray, points: np.ndarray) -> np.ndarray:
+    """(P,) each point's offset from its closest surface point along that face's normal: positive
+    outside an outward-oriented surface, negative inside; never larger than the distance."""
+    near = SurfaceQuery(vertices, faces).closest(points)
+    return np.einsum("ij,ij->i", face_normals(vertices, faces)[near.face], points - near.point)

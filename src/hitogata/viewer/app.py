@@ -28,6 +28,7 @@ from hitogata.measure import measure
 from hitogata.viewer.colouring import SkinColours, legend
 from hitogata.viewer.export import pose_glb, snapshot_html
 from hitogata.viewer.frame import Frame, posed_frame, sequence_frame
+from hitogata.viewer.keys import keep_arrows_for_widgets
 from hitogata.viewer.panels import build_panels
 from hitogata.viewer.player import Clock, Sequence, load_sequence
 from hitogata.viewer.scene import SceneView
@@ -82,6 +83,7 @@ class ViewerApp:
                  garment: "tuple[Garment, Fabric] | None" = None) -> None:
         self.server = server
         server.gui.configure_theme(control_width="large", show_share_button=False)  # no tunnel off this machine
+        keep_arrows_for_widgets(server)
         self.lock = threading.RLock()
         self.state = PoseState(body)
         self.frame = posed_frame(self.state.posed)
@@ -94,6 +96,7 @@ class ViewerApp:
         self._playback: threading.Thread | None = None
         self._tissue_for: Body | None = None  # the body whose tissue model is built or being built
         self.scene = SceneView(server.scene, body.faces, self.frame, skin_opacity=1.0)
+        self.scene.fit_bones(self.state.poser.skeleton, body.vertices)
         self._aim_camera(body)
         inputs = {"sex": "male" if body.params.sex >= 0.5 else "female", "age": body.params.age,
                   "stature_cm": round(body.stature * 100, 1), "mass_kg": round(body.mass, 1)}
@@ -180,6 +183,7 @@ class ViewerApp:
             with self.lock:
                 self._drop_sequence()
                 posed = self.state.set_body(body)
+                self.scene.fit_bones(self.state.poser.skeleton, body.vertices)
                 self.colouring = colouring
                 self._update_slider_ranges()
                 self.scene.clear_tissue()

@@ -15,15 +15,17 @@ from typing import TYPE_CHECKING
 import numpy as np
 import trimesh
 
-from hitogata.viewer.frame import Frame
+from hitogata.viewer.frame import Frame, bone_reach
 from hitogata.viewer.tissue import REGION_COLOURS, REGION_OPACITY, TissueSurface
 
 if TYPE_CHECKING:
     import viser
 
+    from hitogata.skeleton.placement import Skeleton
+
 SKIN_COLOUR = (225, 190, 165)
 BONE_LINE_COLOUR = (30, 30, 60)
-BONE_LINE_THICKNESS = 0.006  # m
+BONE_LINE_THICKNESS = 0.004  # m; a line ends half of it under the skin (`frame.bone_reach`)
 
 
 def coloured_glb(vertices: np.ndarray, faces: np.ndarray, colours: np.ndarray) -> bytes:
@@ -41,6 +43,7 @@ class SceneView:
         self.scene, self.faces = scene, faces
         self.layers = {"skin": True, "skeleton": True, "tissue": False, "strain": False}
         self.frame = frame
+        self.reach: np.ndarray | None = None  # (N,) the share of each part drawn (`fit_bones`)
         scene.set_up_direction("+y")
         scene.add_grid("/floor", width=2.0, height=2.0, plane="xz", cell_size=0.1, section_size=0.5)
         self.skin = scene.add_mesh_simple(
@@ -53,10 +56,16 @@ class SceneView:
         self.strain_colours: np.ndarray | None = None  # (V, 3) uint8: the colours last shown
         self.tissue: list[tuple[TissueSurface, viser.MeshHandle]] = []
 
-    @staticmethod
-    def _bones(frame: Frame) -> np.ndarray:
-        bones = frame.bones
+    def _bones(self, frame: Frame) -> np.ndarray:
+        bones = frame.bones(self.reach)
         return np.zeros((1, 2, 3)) if bones is None else bones
+
+    def fit_bones(self, skeleton: Skeleton, rest_vertices: np.ndarray) -> None:
+        """Draw each part only as far as it lies under this body's skin (fingertips, toes, chin, crown),
+        and redraw the skeleton."""
+        self.reach = bone_reach(skeleton, rest_vertices, self.faces, clearance=BONE_LINE_THICKNESS / 2)
+        if self.skeleton.visible:
+            self.skeleton.points = self._bones(self.frame)
 
     def show(self, frame: Frame) -> None:
         """Move every shown layer to the frame (vertex positions only)."""
