@@ -20,12 +20,15 @@ import numpy as np
 from skin_stretch_lines import poses
 
 from hitogata.body import default_body
+from hitogata.dynamics.contact import GROUPS
 from hitogata.dynamics.single_pose import elastic_dynamics, elastic_pose
 from hitogata.geometry import enclosed_volume, self_intersections
 from hitogata.geometry.barrier_contact import barrier_resolve
 
-STEPS = 6  # skinned postures on the way from rest to the pose
-DEEP = ("elbow 150°", "knee 135°", "hip flexion 120°", "hip adduction 30°")
+STEPS = 4  # skinned postures on the way from rest to the pose
+DEEP = ("elbow 150°", "knee 135°", "hip flexion 120°", "seated 90/90", "hip adduction 30°")
+# groups whose skin may fold onto itself (far apart at rest): all but the hands, feet and head
+FOLDING = [g for g, name in enumerate(GROUPS) if not name.startswith(("hand", "foot", "head"))]
 
 
 def new_pairs(v: np.ndarray, faces: np.ndarray, rest: set[tuple[int, int]]) -> int:
@@ -52,7 +55,7 @@ def main(sexes: list[str], names: list[str]) -> None:
             q = poser.angles(None, None, None, clinical, "raise")
             fractions = np.arange(1, STEPS + 1)[:, None] / STEPS
             skinned = poser.pose_many(fractions * q, dynamics.rig.method)
-            result = barrier_resolve([body.vertices, *skinned, plain.vertices], test)
+            result = barrier_resolve([body.vertices, *skinned, plain.vertices], test, folding=FOLDING)
             t_barrier = time.perf_counter() - start
             v = result.vertices
             inside = test.penetrations(v)

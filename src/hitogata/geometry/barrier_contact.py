@@ -1,21 +1,23 @@
 """The skin's self-contact as a barrier problem (IPC: Li et al. 2020, Incremental Potential Contact).
 
 A study beside `hitogata.geometry.contact.separate` (which parts the skin vertex by vertex): here the
-skin near contact is the unknown of one smooth minimisation,
+skin near contact is the unknown x of one smooth minimisation,
 
-    E(x) = ½ (x − y)ᵀ (I + k·L) (x − y) + κ Σ b(d(x)),
+    E(x) = ½ (x − y)ᵀ (I + k·L) (x − y) + ½ λ (V(x) − V(y))² + κ Σ b(d(x)),
 
-where y is the posture's skin (elastic or skinned), L the skin's uniform graph Laplacian (a pushed
-region carries its neighbours with it, as a membrane would), and b the IPC log barrier (`dhat`) over the
-vertex–face and edge–edge distances between different contact groups (`hitogata.dynamics.contact`:
-never within a group, never a vertex pair that lay within `REST_APART` at rest, i.e. across a seam or
-touching at rest). The barrier is infinite at contact, so a start free of crossings stays free if every
-Newton step is cut short by continuous collision detection: the pose is reached along a path (rest →
-intermediate postures → the target), each step's minimum found from the last one.
+y the posture's skin (elastic or skinned), L the skin's uniform graph Laplacian (a pushed region
+carries its neighbours with it, as a membrane would), V the enclosed volume (y's counts an overlap
+twice, so the tissue a contact presses aside comes back as a swelling of the free skin around it), b the
+IPC log barrier (reach `DHAT`) over the vertex–triangle and edge–edge distances of skin that may meet:
+vertices of different contact groups (`hitogata.dynamics.contact`) more than `APART` apart at rest, or
+of one group whose skin folds onto itself (`folding`: a crease) more than `SAME_APART` apart.
+The barrier is infinite at contact, so a start free of crossings stays free when every Newton step is
+cut short by continuous collision detection (CCD): the pose is reached along a path of postures (the
+rest skin, skinned postures on the way, the target), each step started from the last one's minimum.
 
-The collision queries, distances, barrier derivatives and CCD are the IPC Toolkit's (`ipctk`, MIT).
-Only the neighbourhood of the contacts is free (`REACH` of another group in the target, grown by
-`RINGS` rings); the rest of the skin follows its target.
+Distances, barrier derivatives, broad phase and CCD are the IPC Toolkit's (`ipctk`, MIT licence). The
+unknowns are the skin near the contacts along the path (`REACH` of another group, grown by `RINGS`
+rings); the rest of the skin is the target's.
 """
 
 from __future__ import annotations
@@ -28,10 +30,10 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 from scipy.spatial import cKDTree
 
-from hitogata.geometry.contact import REST_APART, SelfContact
-from hitogata.volume.surface import closest_points_on_triangles
+from hitogata.geometry.contact import SelfContact
 
 DHAT = 2e-3  # m: the barrier's reach; skin in contact ends up within it
+SAME_APART = 0.03  # m: skin of one group meets itself only if this far apart at rest (a crease folding onto itself)
 APART = 2 * DHAT  # m: primitives nearer than this at rest never collide (they would start inside the barrier)
 STIFFNESS = 1e8  # barrier weight against the tracking energy (the toolkit's barrier is of squared distances, ~1e-8 at 1 mm)
 SMOOTHING = 10.0  # k: the Laplacian's weight; a push spreads over ~√k rings
@@ -41,11 +43,11 @@ NEWTON = 30  # most Newton iterations a step
 # m⁻⁴: weight of ½ (V − V_target)², the enclosed volume held to the target's (whose overlaps count twice:
 # the tissue a contact presses aside comes back as a swelling of the free skin around it)
 INCOMPRESSIBILITY = 1e9
-TOLERANCE = 5e-4  # m: a Newton step below this (largest vertex move) has converged
+TOLERANCE = 1e-3  # m: a Newton step below this (largest vertex move) has converged
 # m: CCD keeps the skin this far apart along a step (its time-of-impact tolerance is relative to the
 # step, so a long step could otherwise end nanometres from contact, where the next CCD misses a crossing)
 CCD_GAP = 0.005 * DHAT
-MAX_STEP = 0.02  # m: the longest vertex move of one Newton step (a trust region: CCD then sees contact coming)
+MAX_STEP = 0.1  # m: the longest vertex move of one Newton step (a trust region: CCD then sees contact coming)
 
 
 @dataclass(frozen=True)
@@ -72,34 +74,34 @@ def _grow(mask: np.ndarray, adjacency: sp.csr_matrix, rings: int) -> np.ndarray:
     return out
 
 
-def contact_region(target: np.ndarray, test: SelfContact, adjacency: sp.csr_matrix,
+def contact_region(path: Sequence[np.ndarray], test: SelfContact, adjacency: sp.csr_matrix,
                    reach: float = REACH, rings: int = RINGS) -> np.ndarray:
-    """(V,) bool: skin that may meet another group in `target` (a vertex within `reach` of another
-    group's vertex that lay at least `reach` further away at rest: contacts the posture brings, not
-    the rest body's own), grown by `rings`."""
-    pairs = cKDTree(target).query_pairs(reach, output_type="ndarray")
-    i, j = pairs[:, 0], pairs[:, 1]
-    keep = test.groups[i] != test.groups[j]
-    i, j = i[keep], j[keep]
-    now = np.linalg.norm(target[i] - target[j], axis=1)
-    keep = np.linalg.norm(test.rest[i] - test.rest[j], axis=1) > now + reach
-    near = np.zeros(len(target), dtype=bool)
-    near[i[keep]] = True
-    near[j[keep]] = True
+    """(V,) bool: skin that may meet another group along `path` (at some posture of it, a vertex
+    within `reach` of another group's vertex that lay at least `reach` further away at rest: contacts
+    the posture brings, not the rest body's own; one of the two has moved), grown by `rings`."""
+    near = np.zeros(len(test.rest), dtype=bool)
+    for target in path:
+        moved = np.flatnonzero(np.linalg.norm(target - test.rest, axis=1) > reach)
+        if not len(moved):
+            continue
+        found = cKDTree(target[moved]).sparse_distance_matrix(cKDTree(target), reach, output_type="ndarray")
+        i, j, now = moved[found["i"]], found["j"], found["v"]
+        keep = (test.groups[i] != test.groups[j]) & (np.linalg.norm(test.rest[i] - test.rest[j], axis=1) > now + reach)
+        near[i[keep]] = True
+        near[j[keep]] = True
     return _grow(near, adjacency, rings)
 
 
 class _Problem:
-    """The barrier problem on the sub-mesh around the contacts: the collision mesh, which of its
-    primitive pairs may collide, the tracking energy's matrix restricted to the free vertices."""
+    """The barrier problem on the free skin: its collision mesh, which of its primitive pairs may
+    meet, the tracking energy's matrix."""
 
     def __init__(self, test: SelfContact, free: np.ndarray, adjacency: sp.csr_matrix, stiffness: float,
-                 smoothing: float, dhat: float, incompressibility: float) -> None:
+                 smoothing: float, dhat: float, incompressibility: float, folding: Sequence[int]) -> None:
         import ipctk
 
         self.incompressibility = incompressibility
-
-        # the collision mesh: the free skin's triangles; every vertex of it is an unknown (a fixed
+        # the collision mesh: the free skin's triangles, every vertex of them an unknown (a fixed
         # vertex would jump with its target, unchecked by CCD)
         faces = test.faces[free[test.faces].all(axis=1)]
         self.vertices = np.unique(faces)  # global ids of the sub-mesh's vertices
@@ -109,55 +111,36 @@ class _Problem:
         # the triangles whose volume the unknowns change: those with a corner in the sub-mesh
         self.touching = test.faces[(local[test.faces] >= 0).any(axis=1)]
         self.local = local
-        self.free = free[self.vertices]  # (n,) bool, sub-mesh order
         self.rest = test.rest[self.vertices]
         self.edges = np.asarray(ipctk.edges(self.faces), dtype=np.int32)
         self.mesh = ipctk.CollisionMesh(self.rest, self.edges, self.faces)
         self.groups = test.groups[self.vertices].astype(np.int32)
-        # the toolkit's filter passes a triangle–vertex pair when ANY corner may meet the vertex; it
-        # prunes the broad phase (different groups), `_allowed` then asks it of every corner
-        self.mesh.can_collide = ipctk.make_vertex_patches_filter(self.groups)
+        # which vertex pairs may meet: a folding group's vertices are each a patch of their own, the
+        # others one patch per group; never a pair near at rest. The toolkit lets two primitives meet
+        # when any of their vertex pairs may: a triangle reaching past APART (SAME_APART) from a vertex
+        # meets it, which the rest skin's own spacing allows (nothing lies within the barrier at rest)
+        n = len(self.vertices)
+        folds = np.isin(self.groups, np.asarray(folding, dtype=np.int32))
+        patch = np.where(folds, test.n_groups + np.arange(n), self.groups).astype(np.int32)
+        close = cKDTree(self.rest).query_pairs(SAME_APART, output_type="ndarray")
+        same = self.groups[close[:, 0]] == self.groups[close[:, 1]]
+        close = close[same | (np.linalg.norm(self.rest[close[:, 0]] - self.rest[close[:, 1]], axis=1) <= APART)]
+        self.mesh.can_collide = ipctk.make_vertex_patches_filter(patch) & ipctk.make_sparse_filter(
+            {(int(i), int(j)): False for i, j in close}, True)
         self.dhat = dhat
         self.barrier = ipctk.BarrierPotential(dhat, stiffness)
-        n = len(self.vertices)
         sub = adjacency[self.vertices][:, self.vertices]
         laplacian = sp.diags(np.asarray(sub.sum(axis=1)).ravel()) - sub
         a = (sp.identity(n) + smoothing * laplacian).tocsr()
-        self.tracking = sp.kron(a, sp.identity(3)).tocsr()  # dofs vertex-major (x0, y0, z0, x1, …)
-        self.dofs = np.flatnonzero(np.repeat(self.free, 3))
-        self.tracking_ff = self.tracking[self.dofs][:, self.dofs].tocsc()
+        self.tracking = sp.kron(a, sp.identity(3)).tocsr()  # dofs vertex-major (x0, y0, z0, x1, …), as ipctk's
 
     def candidates(self, x0: np.ndarray, x1: np.ndarray):  # type: ignore[no-untyped-def]
-        """The primitive pairs that may come within dhat of each other on the way x0 → x1, those of
-        different groups that lay more than REST_APART apart at rest."""
+        """The primitive pairs that may meet and may come within dhat of each other on the way x0 → x1."""
         import ipctk
 
         c = ipctk.Candidates()
         c.build(self.mesh, x0, x1, self.dhat)
-        fv = np.array([(k.face_id, k.vertex_id) for k in c.fv_candidates], dtype=np.int64).reshape(-1, 2)
-        ee = np.array([(k.edge0_id, k.edge1_id) for k in c.ee_candidates], dtype=np.int64).reshape(-1, 2)
-        keep_fv, keep_ee = self._allowed_fv(fv), self._allowed_ee(ee)
-        c.fv_candidates = [ipctk.FaceVertexCandidate(int(f), int(v)) for f, v in fv[keep_fv]]
-        c.ee_candidates = [ipctk.EdgeEdgeCandidate(int(a), int(b)) for a, b in ee[keep_ee]]
         return c
-
-    def _allowed_fv(self, fv: np.ndarray) -> np.ndarray:
-        corners = self.faces[fv[:, 0]]
-        other = (self.groups[corners] != self.groups[fv[:, 1], None]).any(axis=1)
-        tri = self.rest[corners]
-        closest = closest_points_on_triangles(self.rest[fv[:, 1]], tri[:, 0], tri[:, 1], tri[:, 2])
-        return other & (np.linalg.norm(self.rest[fv[:, 1]] - closest, axis=1) > APART)
-
-    def _allowed_ee(self, ee: np.ndarray) -> np.ndarray:
-        a, b = self.edges[ee[:, 0]], self.edges[ee[:, 1]]
-        ga, gb = self.groups[a], self.groups[b]
-        other = (ga[:, :, None] != gb[:, None, :]).any(axis=(1, 2))
-        r = self.rest
-        apart = np.minimum.reduce([_point_segment(r[a[:, 0]], r[b[:, 0]], r[b[:, 1]]),
-                                   _point_segment(r[a[:, 1]], r[b[:, 0]], r[b[:, 1]]),
-                                   _point_segment(r[b[:, 0]], r[a[:, 0]], r[a[:, 1]]),
-                                   _point_segment(r[b[:, 1]], r[a[:, 0]], r[a[:, 1]])])
-        return other & (apart > APART)
 
     def collisions(self, candidates, x: np.ndarray):  # type: ignore[no-untyped-def]
         import ipctk
@@ -179,7 +162,8 @@ class _Problem:
         for k in range(3):
             part = np.cross(moved[:, (k + 1) % 3], moved[:, (k + 2) % 3]) / 6.0
             keep = inside[:, k] >= 0
-            np.add.at(gradient, inside[keep, k], part[keep])
+            for axis in range(3):
+                gradient[:, axis] += np.bincount(inside[keep, k], part[keep, axis], minlength=len(x))
         return float(change), gradient
 
     def energy(self, candidates, x: np.ndarray, y: np.ndarray, target: np.ndarray) -> float:  # type: ignore[no-untyped-def]
@@ -195,23 +179,24 @@ class _Problem:
         rank-one Hessian by Sherman–Morrison)."""
         import ipctk
 
-        x = x.copy()
         y = target[self.vertices]
+        near = self.candidates(x, y)
+        if near.compute_collision_free_stepsize(self.mesh, x, y, CCD_GAP) >= 1.0 and not len(self.collisions(near, y)):
+            return y.copy(), 0  # nothing on the way nor at the target: the target as it is
+        x = x.copy()
         near = self.candidates(x, x)
         taken = 0
-        for taken in range(1, iterations + 1):
+        while taken < iterations:
+            taken += 1
             c = self.collisions(near, x)
             d = (x - y).ravel()
             change, w = self.volume(x, target)
-            w = w.ravel()[self.dofs]
-            gradient = (self.tracking @ d + self.barrier.gradient(c, self.mesh, x))[self.dofs] \
-                + self.incompressibility * change * w
+            w = w.ravel()
+            gradient = self.tracking @ d + self.barrier.gradient(c, self.mesh, x) + self.incompressibility * change * w
             hessian = self.barrier.hessian(c, self.mesh, x, ipctk.PSDProjectionMethod.CLAMP)
-            h = spla.splu((self.tracking_ff + hessian.tocsr()[self.dofs][:, self.dofs]).tocsc())
+            h = spla.splu((self.tracking + hessian).tocsc())
             u, v = h.solve(-gradient), h.solve(w)
-            step = np.zeros(x.size)
-            step[self.dofs] = u - v * (self.incompressibility * (w @ u) / (1.0 + self.incompressibility * (w @ v)))
-            step = step.reshape(-1, 3)
+            step = (u - v * (self.incompressibility * (w @ u) / (1.0 + self.incompressibility * (w @ v)))).reshape(-1, 3)
             longest = float(np.linalg.norm(step, axis=1).max())
             if longest < tolerance:
                 break
@@ -219,7 +204,7 @@ class _Problem:
             swept = self.candidates(x, x + step)
             alpha = min(1.0, swept.compute_collision_free_stepsize(self.mesh, x, x + step, CCD_GAP))
             e0 = self.energy(near, x, y, target)
-            slope = float(gradient @ step.ravel()[self.dofs])
+            slope = float(gradient @ step.ravel())
             while alpha > 1e-6 and self.energy(swept, x + alpha * step, y, target) > e0 + 1e-4 * alpha * slope:
                 alpha *= 0.5
             x = x + alpha * step
@@ -233,24 +218,17 @@ class _Problem:
         return float(np.sqrt(c.compute_minimum_distance(self.mesh, x))) if len(c) else self.dhat
 
 
-def _point_segment(p: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """(K,) distance of each point to its segment a→b (all (K, 3))."""
-    d = b - a
-    t = np.clip(np.einsum("ij,ij->i", p - a, d) / np.maximum(np.einsum("ij,ij->i", d, d), 1e-30), 0.0, 1.0)
-    return np.linalg.norm(p - a - t[:, None] * d, axis=1)
-
-
 def barrier_resolve(path: Sequence[np.ndarray], test: SelfContact, stiffness: float = STIFFNESS,
                     smoothing: float = SMOOTHING, dhat: float = DHAT, reach: float = REACH, rings: int = RINGS,
                     iterations: int = NEWTON, tolerance: float = TOLERANCE,
-                    incompressibility: float = INCOMPRESSIBILITY) -> BarrierResult:
+                    incompressibility: float = INCOMPRESSIBILITY, folding: Sequence[int] = ()) -> BarrierResult:
     """The skin at the last of `path`'s postures (each (V, 3); the first should be free of crossings,
     e.g. the rest skin), with no skin of one contact group passing into another's: each posture in
     turn is the target y of the barrier problem, started from the previous solution."""
     adjacency = _adjacency(test.faces, len(test.rest))
     target = np.asarray(path[-1], dtype=float)
-    free = contact_region(target, test, adjacency, reach, rings)
-    problem = _Problem(test, free, adjacency, stiffness, smoothing, dhat, incompressibility)
+    free = contact_region(path[1:], test, adjacency, reach, rings)
+    problem = _Problem(test, free, adjacency, stiffness, smoothing, dhat, incompressibility, folding)
     ids = problem.vertices
     x = np.array(path[0], dtype=float)[ids]
     taken = []
