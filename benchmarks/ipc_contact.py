@@ -5,8 +5,8 @@ For each body and pose, on the coarse skin: new self-crossing triangle pairs bey
 (`geometry.self_intersections`) before (elastic pose) and after the barrier pass; skin vertices inside
 another part and the deepest (`geometry.contact.SelfContact`, to 25 mm); enclosed volume against rest;
 the elastic pose's time, the barrier pass's time (its path of skinned postures included) and the ratio
-(elastic + barrier) / elastic, measured in this run. The path: the rest skin, the skinned skin at
-STEPS fractions of the pose's joint angles, then the elastic skin.
+(elastic + barrier) / elastic, measured in this run (`hitogata.dynamics.barrier_pose.barrier_skin`: the
+path is the rest skin, the skinned skin at STEPS fractions of the pose's joint angles, the elastic skin).
 
     PYTHONPATH=src python benchmarks/ipc_contact.py [female|male ...] [--poses "elbow 150°,knee 135°"]
 """
@@ -20,15 +20,11 @@ import numpy as np
 from skin_stretch_lines import poses
 
 from hitogata.body import default_body
-from hitogata.dynamics.contact import GROUPS
+from hitogata.dynamics.barrier_pose import barrier_skin
 from hitogata.dynamics.single_pose import elastic_dynamics, elastic_pose
 from hitogata.geometry import enclosed_volume, self_intersections
-from hitogata.geometry.barrier_contact import barrier_resolve
 
-STEPS = 4  # skinned postures on the way from rest to the pose
 DEEP = ("elbow 150°", "knee 135°", "hip flexion 120°", "seated 90/90", "hip adduction 30°")
-# groups whose skin may fold onto itself (far apart at rest): all but the hands, feet and head
-FOLDING = [g for g, name in enumerate(GROUPS) if not name.startswith(("hand", "foot", "head"))]
 
 
 def new_pairs(v: np.ndarray, faces: np.ndarray, rest: set[tuple[int, int]]) -> int:
@@ -36,33 +32,31 @@ def new_pairs(v: np.ndarray, faces: np.ndarray, rest: set[tuple[int, int]]) -> i
 
 
 def main(sexes: list[str], names: list[str]) -> None:
-    print("| body | pose | crossings elastic | crossings barrier | inside | deepest mm | volume | "
+    print("| body | pose | crossings elastic | crossings barrier | inside | deepest mm | volume elastic | volume | "
           "elastic s | barrier s | ratio | free vertices | Newton its | min gap mm |")
-    print("|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|---:|")
+    print("|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|---:|")
     for sex in sexes:
         body = default_body(sex)
         dynamics = elastic_dynamics(body)
-        test, poser = dynamics.contact, dynamics.poser
+        test = dynamics.contact
         rest = set(map(tuple, self_intersections(body.vertices, body.faces).tolist()))
         rest_volume = enclosed_volume(body.vertices, body.faces)
-        all_poses = poses(poser.skeleton)
+        all_poses = poses(dynamics.poser.skeleton)
         for name in names:
             clinical = all_poses[name]
             start = time.perf_counter()
             plain = elastic_pose(dynamics, clinical=clinical)
             t_elastic = time.perf_counter() - start
             start = time.perf_counter()
-            q = poser.angles(None, None, None, clinical, "raise")
-            fractions = np.arange(1, STEPS + 1)[:, None] / STEPS
-            skinned = poser.pose_many(fractions * q, dynamics.rig.method)
-            result = barrier_resolve([body.vertices, *skinned, plain.vertices], test, folding=FOLDING)
+            result = barrier_skin(plain)
             t_barrier = time.perf_counter() - start
             v = result.vertices
             inside = test.penetrations(v)
             volume = enclosed_volume(v, body.faces) / rest_volume - 1.0
+            before = enclosed_volume(plain.vertices, body.faces) / rest_volume - 1.0
             print(f"| {sex} | {name} | {new_pairs(plain.vertices, body.faces, rest)} | "
                   f"{new_pairs(v, body.faces, rest)} | {len(inside)} | {inside.deepest * 1e3:.1f} | "
-                  f"{volume * 100:+.2f}% | {t_elastic:.2f} | {t_barrier:.2f} | "
+                  f"{before * 100:+.2f}% | {volume * 100:+.2f}% | {t_elastic:.2f} | {t_barrier:.2f} | "
                   f"{(t_elastic + t_barrier) / t_elastic:.2f} | {result.free.sum()} | "
                   f"{','.join(map(str, result.iterations))} | {result.min_distance * 1e3:.2f} |", flush=True)
 

@@ -24,6 +24,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 import scipy.sparse as sp
@@ -31,6 +32,9 @@ import scipy.sparse.linalg as spla
 from scipy.spatial import cKDTree
 
 from hitogata.geometry.contact import SelfContact
+
+if TYPE_CHECKING:
+    import ipctk  # optional (the `contact` extra): imported where used
 
 DHAT = 2e-3  # m: the barrier's reach; skin in contact ends up within it
 SAME_APART = 0.03  # m: skin of one group meets itself only if this far apart at rest (a crease folding onto itself)
@@ -134,7 +138,7 @@ class _Problem:
         a = (sp.identity(n) + smoothing * laplacian).tocsr()
         self.tracking = sp.kron(a, sp.identity(3)).tocsr()  # dofs vertex-major (x0, y0, z0, x1, …), as ipctk's
 
-    def candidates(self, x0: np.ndarray, x1: np.ndarray):  # type: ignore[no-untyped-def]
+    def candidates(self, x0: np.ndarray, x1: np.ndarray) -> ipctk.Candidates:
         """The primitive pairs that may meet and may come within dhat of each other on the way x0 → x1."""
         import ipctk
 
@@ -142,7 +146,7 @@ class _Problem:
         c.build(self.mesh, x0, x1, self.dhat)
         return c
 
-    def collisions(self, candidates, x: np.ndarray):  # type: ignore[no-untyped-def]
+    def collisions(self, candidates: ipctk.Candidates, x: np.ndarray) -> ipctk.NormalCollisions:
         import ipctk
 
         c = ipctk.NormalCollisions()
@@ -166,7 +170,7 @@ class _Problem:
                 gradient[:, axis] += np.bincount(inside[keep, k], part[keep, axis], minlength=len(x))
         return float(change), gradient
 
-    def energy(self, candidates, x: np.ndarray, y: np.ndarray, target: np.ndarray) -> float:  # type: ignore[no-untyped-def]
+    def energy(self, candidates: ipctk.Candidates, x: np.ndarray, y: np.ndarray, target: np.ndarray) -> float:
         d = (x - y).ravel()
         change, _ = self.volume(x, target)
         return (0.5 * float(d @ (self.tracking @ d)) + 0.5 * self.incompressibility * change ** 2
@@ -231,6 +235,10 @@ def barrier_resolve(path: Sequence[np.ndarray], test: SelfContact, stiffness: fl
     problem = _Problem(test, free, adjacency, stiffness, smoothing, dhat, incompressibility, folding)
     ids = problem.vertices
     x = np.array(path[0], dtype=float)[ids]
+    import ipctk
+
+    if ipctk.has_intersections(problem.mesh, x):
+        raise ValueError("the path's first skin passes through itself where skin may meet: no barrier can start there")
     taken = []
     for y in path[1:]:
         x, n = problem.minimise(x, np.asarray(y, dtype=float), iterations, tolerance)
