@@ -31,14 +31,16 @@ def test_spheres_driven_together_meet_flattened_and_keep_their_volume():
     assert result.iterations == [0, 0, 2, 3]  # the two first steps meet nothing: the target as it is
     assert len(self_intersections(x, faces)) == 0 and len(test.penetrations(x)) == 0
     assert 0.0 < result.min_distance < DHAT
-    assert result.min_distance == pytest.approx(2.501e-4, rel=1e-3)
-    # flattened against each other: every vertex of the first sphere below every vertex of the second
-    assert x[:len(v), 2].max() < x[len(v):, 2].min()
+    assert result.min_distance == pytest.approx(2.460e-4, rel=1e-3)
+    # flattened against each other: the poles that met (each 10 mm inside the other sphere in the
+    # target) pushed back 5 mm each, to either side of the mid-plane z = 45 mm
+    top, bottom = x[np.argmax(v[:, 2]), 2], x[len(v) + np.argmin(v[:, 2]), 2]
+    assert (round(top * 1e3, 2), round(bottom * 1e3, 2)) == (44.80, 45.26)
     # the volume the overlap held (counted twice by the target) swells the skin around the contact
-    assert enclosed_volume(x, faces) / enclosed_volume(path[-1], faces) - 1 == pytest.approx(-3.47e-5, abs=1e-6)
+    assert enclosed_volume(x, faces) / enclosed_volume(path[-1], faces) - 1 == pytest.approx(-6.91e-5, abs=1e-6)
     # only the skin near the contact moves: the far poles stay where the target has them
     moved = np.linalg.norm(x - path[-1], axis=1) > 1e-9
-    assert moved.sum() == 602 and not moved[np.argmin(v[:, 2])] and not moved[len(v) + np.argmax(v[:, 2])]
+    assert moved.sum() == 470 and not moved[np.argmin(v[:, 2])] and not moved[len(v) + np.argmax(v[:, 2])]
 
 
 @pytest.mark.slow
@@ -59,5 +61,5 @@ def test_knee_at_135_degrees_holds_no_crossing():
     assert (new_pairs(plain.vertices), new_pairs(result.vertices)) == (85, 0)
     assert len(dynamics.contact.penetrations(result.vertices)) == 0
     volume = enclosed_volume(result.vertices, body.faces) / enclosed_volume(body.vertices, body.faces) - 1
-    assert volume == pytest.approx(-0.0006, abs=1e-4)
-    assert result.free.sum() == 371
+    assert volume == pytest.approx(-0.000525, abs=1e-5)  # the elastic pose's own: -0.06 %
+    assert result.free.sum() == 343

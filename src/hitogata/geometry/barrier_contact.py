@@ -41,7 +41,7 @@ SAME_APART = 0.03  # m: skin of one group meets itself only if this far apart at
 APART = 2 * DHAT  # m: primitives nearer than this at rest never collide (they would start inside the barrier)
 STIFFNESS = 1e8  # barrier weight against the tracking energy (the toolkit's barrier is of squared distances, ~1e-8 at 1 mm)
 SMOOTHING = 10.0  # k: the Laplacian's weight; a push spreads over ~√k rings
-REACH = 0.03  # m: a vertex this close to another group's vertex in the target may meet it
+REACH = 0.02  # m: a vertex this close to another group's vertex in the target may meet it
 RINGS = 3  # rings of skin around those that are free to move
 NEWTON = 30  # most Newton iterations a step
 # m⁻⁴: weight of ½ (V − V_target)², the enclosed volume held to the target's (whose overlaps count twice:
