@@ -65,21 +65,16 @@ class BarrierResult:
     min_distance: float
 
 
-def _adjacency(faces: np.ndarray, n: int) -> sp.csr_matrix:
-    edges = np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]])
-    a = sp.coo_matrix((np.ones(len(edges)), (edges[:, 0], edges[:, 1])), shape=(n, n))
-    return ((a + a.T) > 0).astype(float).tocsr()
-
-
-def _grow(mask: np.ndarray, adjacency: sp.csr_matrix, rings: int) -> np.ndarray:
+def _grow(mask: np.ndarray, test: SelfContact, rings: int) -> np.ndarray:
+    """`mask` (V,) bool grown by `rings` rings of the skin's neighbours."""
     out = mask.copy()
     for _ in range(rings):
-        out = out | (adjacency @ out.astype(float) > 0)
+        out = out | (test.neighbour_average @ out.astype(float) > 0)
     return out
 
 
-def contact_region(path: Sequence[np.ndarray], test: SelfContact, adjacency: sp.csr_matrix,
-                   reach: float = REACH, rings: int = RINGS) -> np.ndarray:
+def contact_region(path: Sequence[np.ndarray], test: SelfContact, reach: float = REACH, rings: int = RINGS
+                   ) -> np.ndarray:
     """(V,) bool: skin that may meet another group along `path` (at some posture of it, a vertex
     within `reach` of another group's vertex that lay at least `reach` further away at rest: contacts
     the posture brings, not the rest body's own; one of the two has moved), grown by `rings`."""
@@ -93,14 +88,14 @@ def contact_region(path: Sequence[np.ndarray], test: SelfContact, adjacency: sp.
         keep = (test.groups[i] != test.groups[j]) & (np.linalg.norm(test.rest[i] - test.rest[j], axis=1) > now + reach)
         near[i[keep]] = True
         near[j[keep]] = True
-    return _grow(near, adjacency, rings)
+    return _grow(near, test, rings)
 
 
 class _Problem:
     """The barrier problem on the free skin: its collision mesh, which of its primitive pairs may
     meet, the tracking energy's matrix."""
 
-    def __init__(self, test: SelfContact, free: np.ndarray, adjacency: sp.csr_matrix, stiffness: float,
+    def __init__(self, test: SelfContact, free: np.ndarray, stiffness: float,
                  smoothing: float, dhat: float, incompressibility: float, folding: Sequence[int]) -> None:
         import ipctk
 
@@ -133,7 +128,7 @@ class _Problem:
             {(int(i), int(j)): False for i, j in close}, True)
         self.dhat = dhat
         self.barrier = ipctk.BarrierPotential(dhat, stiffness)
-        sub = adjacency[self.vertices][:, self.vertices]
+        sub = (test.neighbour_average[self.vertices][:, self.vertices] > 0).astype(float)
         laplacian = sp.diags(np.asarray(sub.sum(axis=1)).ravel()) - sub
         a = (sp.identity(n) + smoothing * laplacian).tocsr()
         self.tracking = sp.kron(a, sp.identity(3)).tocsr()  # dofs vertex-major (x0, y0, z0, x1, …), as ipctk's
@@ -229,10 +224,9 @@ def barrier_resolve(path: Sequence[np.ndarray], test: SelfContact, stiffness: fl
     """The skin at the last of `path`'s postures (each (V, 3); the first should be free of crossings,
     e.g. the rest skin), with no skin of one contact group passing into another's: each posture in
     turn is the target y of the barrier problem, started from the previous solution."""
-    adjacency = _adjacency(test.faces, len(test.rest))
     target = np.asarray(path[-1], dtype=float)
-    free = contact_region(path[1:], test, adjacency, reach, rings)
-    problem = _Problem(test, free, adjacency, stiffness, smoothing, dhat, incompressibility, folding)
+    free = contact_region(path[1:], test, reach, rings)
+    problem = _Problem(test, free, stiffness, smoothing, dhat, incompressibility, folding)
     ids = problem.vertices
     x = np.array(path[0], dtype=float)[ids]
     import ipctk
