@@ -1,0 +1,242 @@
+"""The skin's self-contact as a barrier problem (IPC: Li et al. 2020, Incremental Potential Contact).
+
+A study beside `hitogata.geometry.contact.separate` (which parts the skin vertex by vertex): here the
+skin near contact is the unknown x of one smooth minimisation,
+
+    E(x) = ½ (x − y)ᵀ (I + k·L) (x − y) + ½ λ (V(x) − V(y))² + κ Σ b(d(x)),
+
+y the posture's skin (elastic or skinned), L the skin's uniform graph Laplacian (a pushed region
+carries its neighbours with it, as a membrane would), V the enclosed volume (y's counts an overlap
+twice, so the tissue a contact presses aside comes back as a swelling of the free skin around it), b the
+IPC log barrier (reach `DHAT`) over the vertex–triangle and edge–edge distances of skin that may meet:
+vertices of different contact groups (`hitogata.dynamics.contact`) more than `APART` apart at rest, or
+of one group whose skin folds onto itself (`folding`: a crease) more than `SAME_APART` apart.
+The barrier is infinite at contact, so a start free of crossings stays free when every Newton step is
+cut short by continuous collision detection (CCD): the pose is reached along a path of postures (the
+rest skin, skinned postures on the way, the target), each step started from the last one's minimum.
+
+Distances, barrier derivatives, broad phase and CCD are the IPC Toolkit's (`ipctk`, MIT licence). The
+unknowns are the skin near the contacts along the path (`REACH` of another group, grown by `RINGS`
+rings); the rest of the skin is the target's.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+import numpy as np
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
+from scipy.spatial import cKDTree
+
+from hitogata.geometry.contact import SelfContact
+
+if TYPE_CHECKING:
+    import ipctk  # optional (the `contact` extra): imported where used
+
+DHAT = 2e-3  # m: the barrier's reach; skin in contact ends up within it
+SAME_APART = 0.03  # m: skin of one group meets itself only if this far apart at rest (a crease folding onto itself)
+APART = 2 * DHAT  # m: primitives nearer than this at rest never collide (they would start inside the barrier)
+STIFFNESS = 1e8  # barrier weight against the tracking energy (the toolkit's barrier is of squared distances, ~1e-8 at 1 mm)
+SMOOTHING = 10.0  # k: the Laplacian's weight; a push spreads over ~√k rings
+REACH = 0.02  # m: a vertex this close to another group's vertex in the target may meet it
+RINGS = 3  # rings of skin around those that are free to move
+NEWTON = 30  # most Newton iterations a step
+# m⁻⁴: weight of ½ (V − V_target)², the enclosed volume held to the target's (whose overlaps count twice:
+# the tissue a contact presses aside comes back as a swelling of the free skin around it)
+INCOMPRESSIBILITY = 1e9
+TOLERANCE = 1e-3  # m: a Newton step below this (largest vertex move) has converged
+# m: CCD keeps the skin this far apart along a step (its time-of-impact tolerance is relative to the
+# step, so a long step could otherwise end nanometres from contact, where the next CCD misses a crossing)
+CCD_GAP = 0.005 * DHAT
+MAX_STEP = 0.1  # m: the longest vertex move of one Newton step (a trust region: CCD then sees contact coming)
+
+
+@dataclass(frozen=True)
+class BarrierResult:
+    """The resolved skin (V, 3), the free vertices, Newton iterations taken per path step, and the
+    smallest distance (m) between skin that may collide at the end."""
+
+    vertices: np.ndarray
+    free: np.ndarray
+    iterations: list[int]
+    min_distance: float
+
+
+def _grow(mask: np.ndarray, test: SelfContact, rings: int) -> np.ndarray:
+    """`mask` (V,) bool grown by `rings` rings of the skin's neighbours."""
+    out = mask.copy()
+    for _ in range(rings):
+        out = out | (test.neighbour_average @ out.astype(float) > 0)
+    return out
+
+
+def contact_region(path: Sequence[np.ndarray], test: SelfContact, reach: float = REACH, rings: int = RINGS
+                   ) -> np.ndarray:
+    """(V,) bool: skin that may meet another group along `path` (at some posture of it, a vertex
+    within `reach` of another group's vertex that lay at least `reach` further away at rest: contacts
+    the posture brings, not the rest body's own; one of the two has moved), grown by `rings`."""
+    near = np.zeros(len(test.rest), dtype=bool)
+    for target in path:
+        moved = np.flatnonzero(np.linalg.norm(target - test.rest, axis=1) > reach)
+        if not len(moved):
+            continue
+        found = cKDTree(target[moved]).sparse_distance_matrix(cKDTree(target), reach, output_type="ndarray")
+        i, j, now = moved[found["i"]], found["j"], found["v"]
+        keep = (test.groups[i] != test.groups[j]) & (np.linalg.norm(test.rest[i] - test.rest[j], axis=1) > now + reach)
+        near[i[keep]] = True
+        near[j[keep]] = True
+    return _grow(near, test, rings)
+
+
+class _Problem:
+    """The barrier problem on the free skin: its collision mesh, which of its primitive pairs may
+    meet, the tracking energy's matrix."""
+
+    def __init__(self, test: SelfContact, free: np.ndarray, stiffness: float,
+                 smoothing: float, dhat: float, incompressibility: float, folding: Sequence[int]) -> None:
+        import ipctk
+
+        self.incompressibility = incompressibility
+        # the collision mesh: the free skin's triangles, every vertex of them an unknown (a fixed
+        # vertex would jump with its target, unchecked by CCD)
+        faces = test.faces[free[test.faces].all(axis=1)]
+        self.vertices = np.unique(faces)  # global ids of the sub-mesh's vertices
+        local = np.full(len(test.rest), -1)
+        local[self.vertices] = np.arange(len(self.vertices))
+        self.faces = local[faces].astype(np.int32)
+        # the triangles whose volume the unknowns change: those with a corner in the sub-mesh
+        self.touching = test.faces[(local[test.faces] >= 0).any(axis=1)]
+        self.local = local
+        self.rest = test.rest[self.vertices]
+        self.edges = np.asarray(ipctk.edges(self.faces), dtype=np.int32)
+        self.mesh = ipctk.CollisionMesh(self.rest, self.edges, self.faces)
+        self.groups = test.groups[self.vertices].astype(np.int32)
+        # which vertex pairs may meet: a folding group's vertices are each a patch of their own, the
+        # others one patch per group; never a pair near at rest. The toolkit lets two primitives meet
+        # when any of their vertex pairs may: a triangle reaching past APART (SAME_APART) from a vertex
+        # meets it, which the rest skin's own spacing allows (nothing lies within the barrier at rest)
+        n = len(self.vertices)
+        folds = np.isin(self.groups, np.asarray(folding, dtype=np.int32))
+        patch = np.where(folds, test.n_groups + np.arange(n), self.groups).astype(np.int32)
+        close = cKDTree(self.rest).query_pairs(SAME_APART, output_type="ndarray")
+        same = self.groups[close[:, 0]] == self.groups[close[:, 1]]
+        close = close[same | (np.linalg.norm(self.rest[close[:, 0]] - self.rest[close[:, 1]], axis=1) <= APART)]
+        self.mesh.can_collide = ipctk.make_vertex_patches_filter(patch) & ipctk.make_sparse_filter(
+            {(int(i), int(j)): False for i, j in close}, True)
+        self.dhat = dhat
+        self.barrier = ipctk.BarrierPotential(dhat, stiffness)
+        sub = (test.neighbour_average[self.vertices][:, self.vertices] > 0).astype(float)
+        laplacian = sp.diags(np.asarray(sub.sum(axis=1)).ravel()) - sub
+        a = (sp.identity(n) + smoothing * laplacian).tocsr()
+        self.tracking = sp.kron(a, sp.identity(3)).tocsr()  # dofs vertex-major (x0, y0, z0, x1, …), as ipctk's
+
+    def candidates(self, x0: np.ndarray, x1: np.ndarray) -> ipctk.Candidates:
+        """The primitive pairs that may meet and may come within dhat of each other on the way x0 → x1."""
+        import ipctk
+
+        c = ipctk.Candidates()
+        c.build(self.mesh, x0, x1, self.dhat)
+        return c
+
+    def collisions(self, candidates: ipctk.Candidates, x: np.ndarray) -> ipctk.NormalCollisions:
+        import ipctk
+
+        c = ipctk.NormalCollisions()
+        c.build(candidates, self.mesh, x, self.dhat)
+        return c
+
+    def volume(self, x: np.ndarray, target: np.ndarray) -> tuple[float, np.ndarray]:
+        """The enclosed volume's change (m³) from `target` (the whole skin, V×3) with the sub-mesh at
+        x, and its gradient (n, 3) in x."""
+        full = target[self.touching]  # (T, 3, 3)
+        moved = full.copy()
+        inside = self.local[self.touching]
+        moved[inside >= 0] = x[inside[inside >= 0]]
+        change = (np.einsum("ij,ij->i", moved[:, 0], np.cross(moved[:, 1], moved[:, 2]))
+                  - np.einsum("ij,ij->i", full[:, 0], np.cross(full[:, 1], full[:, 2]))).sum() / 6.0
+        gradient = np.zeros_like(x)
+        for k in range(3):
+            part = np.cross(moved[:, (k + 1) % 3], moved[:, (k + 2) % 3]) / 6.0
+            keep = inside[:, k] >= 0
+            for axis in range(3):
+                gradient[:, axis] += np.bincount(inside[keep, k], part[keep, axis], minlength=len(x))
+        return float(change), gradient
+
+    def energy(self, candidates: ipctk.Candidates, x: np.ndarray, y: np.ndarray, target: np.ndarray) -> float:
+        d = (x - y).ravel()
+        change, _ = self.volume(x, target)
+        return (0.5 * float(d @ (self.tracking @ d)) + 0.5 * self.incompressibility * change ** 2
+                + self.barrier(self.collisions(candidates, x), self.mesh, x))
+
+    def minimise(self, x: np.ndarray, target: np.ndarray, iterations: int, tolerance: float
+                 ) -> tuple[np.ndarray, int]:
+        """Newton from x (free of crossings) towards the minimum for the whole skin's `target`, every
+        step limited by CCD and backtracked to decrease the energy (the volume term Gauss–Newton, its
+        rank-one Hessian by Sherman–Morrison)."""
+        import ipctk
+
+        y = target[self.vertices]
+        near = self.candidates(x, y)
+        if near.compute_collision_free_stepsize(self.mesh, x, y, CCD_GAP) >= 1.0 and not len(self.collisions(near, y)):
+            return y.copy(), 0  # nothing on the way nor at the target: the target as it is
+        x = x.copy()
+        near = self.candidates(x, x)
+        taken = 0
+        while taken < iterations:
+            taken += 1
+            c = self.collisions(near, x)
+            d = (x - y).ravel()
+            change, w = self.volume(x, target)
+            w = w.ravel()
+            gradient = self.tracking @ d + self.barrier.gradient(c, self.mesh, x) + self.incompressibility * change * w
+            hessian = self.barrier.hessian(c, self.mesh, x, ipctk.PSDProjectionMethod.CLAMP)
+            h = spla.splu((self.tracking + hessian).tocsc())
+            u, v = h.solve(-gradient), h.solve(w)
+            step = (u - v * (self.incompressibility * (w @ u) / (1.0 + self.incompressibility * (w @ v)))).reshape(-1, 3)
+            longest = float(np.linalg.norm(step, axis=1).max())
+            if longest < tolerance:
+                break
+            step *= min(1.0, MAX_STEP / longest)
+            swept = self.candidates(x, x + step)
+            alpha = min(1.0, swept.compute_collision_free_stepsize(self.mesh, x, x + step, CCD_GAP))
+            e0 = self.energy(near, x, y, target)
+            slope = float(gradient @ step.ravel())
+            while alpha > 1e-6 and self.energy(swept, x + alpha * step, y, target) > e0 + 1e-4 * alpha * slope:
+                alpha *= 0.5
+            x = x + alpha * step
+            near = swept
+            if alpha * np.abs(step).max() < tolerance:
+                break
+        return x, taken
+
+    def min_distance(self, x: np.ndarray) -> float:
+        c = self.collisions(self.candidates(x, x), x)
+        return float(np.sqrt(c.compute_minimum_distance(self.mesh, x))) if len(c) else self.dhat
+
+
+def barrier_resolve(path: Sequence[np.ndarray], test: SelfContact, stiffness: float = STIFFNESS,
+                    smoothing: float = SMOOTHING, dhat: float = DHAT, reach: float = REACH, rings: int = RINGS,
+                    iterations: int = NEWTON, tolerance: float = TOLERANCE,
+                    incompressibility: float = INCOMPRESSIBILITY, folding: Sequence[int] = ()) -> BarrierResult:
+    """The skin at the last of `path`'s postures (each (V, 3); the first should be free of crossings,
+    e.g. the rest skin), with no skin of one contact group passing into another's: each posture in
+    turn is the target y of the barrier problem, started from the previous solution."""
+    target = np.asarray(path[-1], dtype=float)
+    free = contact_region(path[1:], test, reach, rings)
+    problem = _Problem(test, free, stiffness, smoothing, dhat, incompressibility, folding)
+    ids = problem.vertices
+    x = np.array(path[0], dtype=float)[ids]
+    import ipctk
+
+    if ipctk.has_intersections(problem.mesh, x):
+        raise ValueError("the path's first skin passes through itself where skin may meet: no barrier can start there")
+    taken = []
+    for y in path[1:]:
+        x, n = problem.minimise(x, np.asarray(y, dtype=float), iterations, tolerance)
+        taken.append(n)
+    out = target.copy()
+    out[ids] = x
+    return BarrierResult(out, free, taken, problem.min_distance(x))

@@ -1,0 +1,65 @@
+"""Self-contact as a barrier problem (`geometry.barrier_contact`, IPC): two spheres driven through each
+other along a path, and the female knee at 135° (slow)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import trimesh
+
+from hitogata.geometry import enclosed_volume, self_intersections
+from hitogata.geometry.barrier_contact import DHAT, barrier_resolve
+from hitogata.geometry.contact import SelfContact
+
+pytest.importorskip("ipctk")
+
+RADIUS = 0.05
+
+
+def test_spheres_driven_together_meet_flattened_and_keep_their_volume():
+    sphere = trimesh.creation.icosphere(subdivisions=3, radius=RADIUS)
+    v, f = sphere.vertices, sphere.faces
+    faces = np.concatenate([f, f + len(v)])
+
+    def apart(d: float) -> np.ndarray:  # the second sphere's centre d above the first's
+        return np.concatenate([v, v + [0.0, 0.0, d]])
+
+    test = SelfContact(apart(0.2), faces, np.repeat([0, 1], len(v)))
+    path = [apart(d) for d in (0.2, 0.15, 0.12, 0.1, 0.09)]  # the target: 10 mm of overlap
+    result = barrier_resolve(path, test)
+    x = result.vertices
+    assert result.iterations == [0, 0, 2, 3]  # the two first steps meet nothing: the target as it is
+    assert len(self_intersections(x, faces)) == 0 and len(test.penetrations(x)) == 0
+    assert 0.0 < result.min_distance < DHAT
+    assert result.min_distance == pytest.approx(2.460e-4, rel=1e-3)
+    # flattened against each other: the poles that met (each 10 mm inside the other sphere in the
+    # target) pushed back 5 mm each, to either side of the mid-plane z = 45 mm
+    top, bottom = x[np.argmax(v[:, 2]), 2], x[len(v) + np.argmin(v[:, 2]), 2]
+    assert (round(top * 1e3, 2), round(bottom * 1e3, 2)) == (44.80, 45.26)
+    # the volume the overlap held (counted twice by the target) swells the skin around the contact
+    assert enclosed_volume(x, faces) / enclosed_volume(path[-1], faces) - 1 == pytest.approx(-6.91e-5, abs=1e-6)
+    # only the skin near the contact moves: the far poles stay where the target has them
+    moved = np.linalg.norm(x - path[-1], axis=1) > 1e-9
+    assert moved.sum() == 470 and not moved[np.argmin(v[:, 2])] and not moved[len(v) + np.argmax(v[:, 2])]
+
+
+@pytest.mark.slow
+def test_knee_at_135_degrees_holds_no_crossing():
+    from hitogata.body import default_body
+    from hitogata.dynamics.barrier_pose import barrier_skin
+    from hitogata.dynamics.single_pose import elastic_dynamics, elastic_pose
+
+    body = default_body("female")
+    dynamics = elastic_dynamics(body)
+    rest_pairs = set(map(tuple, self_intersections(body.vertices, body.faces).tolist()))
+    plain = elastic_pose(dynamics, clinical={"shank_l.flexion": np.radians(135)})
+    result = barrier_skin(plain)
+
+    def new_pairs(x: np.ndarray) -> int:
+        return sum(1 for p in map(tuple, self_intersections(x, body.faces).tolist()) if p not in rest_pairs)
+
+    assert (new_pairs(plain.vertices), new_pairs(result.vertices)) == (85, 0)
+    assert len(dynamics.contact.penetrations(result.vertices)) == 0
+    volume = enclosed_volume(result.vertices, body.faces) / enclosed_volume(body.vertices, body.faces) - 1
+    assert volume == pytest.approx(-0.000525, abs=1e-5)  # the elastic pose's own: -0.06 %
+    assert result.free.sum() == 343
