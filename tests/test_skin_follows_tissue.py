@@ -63,8 +63,8 @@ def test_the_ankle_no_longer_tears(elbow):
 RATE = 10.0
 
 
-def whole(dyn, body, scenario) -> list[str]:
-    motion = simulate(dyn, scenario.timeline, scenario.duration, RATE, 1, scenario.model.gravity, scenario.on_limit)
+def whole(dyn, body, scenario, rate: float = RATE) -> list[str]:
+    motion = simulate(dyn, scenario.timeline, scenario.duration, rate, 1, scenario.model.gravity, scenario.on_limit)
     worst = surface_integrity(body.vertices, body.faces, motion.skin, motion.times, motion.skinned_skin).worst()
     print(scenario.title, worst)
     return surface_problems(worst)
@@ -78,19 +78,35 @@ def demo(female):
 
 @pytest.mark.parametrize("name", [
     "rectus_stretch",
-    pytest.param("trunk_flexion_arms_raised", marks=pytest.mark.xfail(strict=True, reason=(
-        "arms raised 110° with the trunk flexed 56°: 3 triangle pairs fold and 3 cross by the armpits "
-        "(elastic displacement up to 44 mm there) at t = 1.0-1.2 s; no tear, no jump"))),
+    "trunk_flexion_arms_raised",
 ])
 def test_the_demo_keeps_the_skin_whole(demo, female, name):
     scenario = dataclasses.replace(load_scenario(shipped_scenarios()[name]), rate=RATE)
     assert whole(demo, female, scenario) == []
 
 
-@pytest.mark.xfail(strict=True, reason=(
-    "elbow at 150°: 10 triangle pairs fold and 89 cross in the elbow crease beyond skinning's (1 and 9 "
-    "while the whole body's skin was faded towards its bone-capsule faces as if at a cut): tissue of the "
-    "forearm and the upper arm pass through each other, no contact in the mechanics; no tear, no jump"))
 def test_elbow_flexion_keeps_the_skin_whole(elbow):
     body, scenario, dyn = elbow
     assert whole(dyn, body, scenario) == []
+
+
+MOBILITY_RATE = 5.0
+MOBILITY = ("mobility_arms_overhead", "mobility_reach_forward", "mobility_arms_crossed", "mobility_sit",
+            "mobility_deep_squat", "mobility_stride", "mobility_toe_touch", "mobility_trunk_twist")
+
+
+@pytest.fixture(scope="module")
+def mobility(female):
+    """The mobility scenarios' model (each asks for the default female, 40 mm, 30 modes)."""
+    models = {load_scenario(shipped_scenarios()[name]).model for name in MOBILITY}
+    assert len(models) == 1  # one model serves them all
+    return build_dynamics(female, load_scenario(shipped_scenarios()[MOBILITY[0]]))
+
+
+@pytest.mark.parametrize("name", MOBILITY)
+def test_the_mobility_scenarios_keep_the_skin_whole(mobility, female, name):
+    """Sampled at MOBILITY_RATE: their keyframes lie 0.4-1.5 s apart (smoothstep between, the held
+    poses held 0.6 s or more), so every pose lies within 0.1 s of a sampled one."""
+    scenario = load_scenario(shipped_scenarios()[name])
+    assert scenario.body.sex == "female" and scenario.body.stature is None  # the default female
+    assert whole(mobility, female, scenario, MOBILITY_RATE) == []

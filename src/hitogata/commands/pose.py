@@ -17,6 +17,7 @@ from hitogata.dynamics.single_pose import elastic_dynamics, elastic_pose
 from hitogata.errors import HitogataError
 from hitogata.export.body_files import body_figures, detail_extras, shape_extras
 from hitogata.export.meshfiles import MESH_SUFFIXES, write_mesh
+from hitogata.geometry.offset_limit import HELD
 from hitogata.export.pose_files import check_posed_path, write_posed
 from hitogata.export.posed_mesh import write_sidecar
 from hitogata.pose import Poser
@@ -75,6 +76,9 @@ def run(args: argparse.Namespace) -> None:
         written.append(write_mesh(mesh, held.vertices, held.faces))
         written.append(write_sidecar(mesh, {**extras, "skinning": "dqs", "surface": "elastic", "contact": args.contact}))
         print(f"elastic body: {held.quality.line()}")
+        kept_back = held.held_back > HELD
+        print(f"elastic displacement held back where it would fold or cross the skin: {int(kept_back.sum())} "
+              f"vertices, at most {held.held_back.max() * 1e3:.1f} mm")
         inside = held.penetrations
         print(f"skin inside another part: {len(inside)} vertices, deepest {inside.deepest * 1e3:.1f} mm"
               + ("" if args.contact else " (--contact parts them)"))

@@ -21,7 +21,9 @@ At every time step: muscle contractions and joint angles → joint angles
 4. the posed body: nodes x = g + R δ; skin vertices = their own skinning +
    the nodes' elastic displacement x − g interpolated (`NodeRig.skin_map`),
    faded out towards the cut faces of a trunk model (neck, hips, arms),
-   beyond which the body moves by skinning alone.
+   beyond which the body moves by skinning alone, and held back where it
+   would fold or cross the skin where skinning does not (a 40 mm mesh does
+   not resolve a crease: `geometry.offset_limit`).
 
 Fictitious forces of the rotating frames on δ itself (Coriolis,
 centrifugal) are left out: δ is millimetres against metres of gross motion.
@@ -44,6 +46,7 @@ from hitogata.dynamics.timeline import RootTrack, Timeline
 from hitogata.errors import HitogataError
 from hitogata.fem import advance, lumped_masses, modal_step
 from hitogata.fem.elements import P2_EDGES
+from hitogata.geometry.offset_limit import OffsetLimiter
 from hitogata.options import OnLimit, Skinning
 from hitogata.pose import Poser, poser_for
 from hitogata.skinning import skin_vertices
@@ -133,10 +136,17 @@ class BodyDynamics:
         """Φ q as (N, 3)."""
         return self.vectors @ q
 
+    @cached_property
+    def skin_limiter(self) -> OffsetLimiter:
+        """Holds the skin's elastic displacement back where it would fold or cross the skin (made on first use)."""
+        body = self.poser.body
+        return OffsetLimiter(body.vertices, body.faces)
+
     def frame(self, rotations: np.ndarray, translations: np.ndarray, node_rotations: np.ndarray,
-              delta_qs: np.ndarray, dynamic: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+              delta_qs: np.ndarray, dynamic: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """The per-frame elastic update: elastic displacement of the nodes (N, 3), the skin (V, 3),
-        and the skin by skinning alone (V, 3), float32.
+        the skin by skinning alone (V, 3), float32, and how far (m) each skin vertex's elastic
+        displacement was held back to keep the skin whole (V,) (`geometry.offset_limit`).
 
         rotations/translations: the parts' (parts, 3, 3), (parts, 3); node_rotations (N, 3, 3);
         delta_qs (N, 3) the quasi-static correction; dynamic (k,) = q − s.
@@ -144,8 +154,11 @@ class BodyDynamics:
         local = delta_qs.astype(np.float32) + (self.vectors32 @ dynamic.astype(np.float32)).reshape(-1, 3)
         elastic = rotate(node_rotations.astype(np.float32), local)
         plain = skin_vertices(self.poser.skin, rotations[None], translations[None], self.rig.method)[0]
-        skin = plain + self.skin_fade[:, None] * (self.rig.skin_map @ elastic)
-        return elastic, skin.astype(np.float32), plain.astype(np.float32)
+        plain = plain.astype(np.float32)
+        offset = self.skin_fade[:, None] * (self.rig.skin_map @ elastic)
+        skin, kept = self.skin_limiter(plain, offset)
+        held = (1.0 - kept) * np.linalg.norm(offset, axis=1)
+        return elastic, skin, plain, held.astype(np.float32)
 
     def loads(self, node_rotations: np.ndarray, contractions: dict[str, float], gravity: bool) -> np.ndarray:
         """World nodal forces (N, 3): muscle eigenstrains turned with the nodes, and gravity's change.
@@ -214,6 +227,7 @@ class Motion:
     elastic: np.ndarray  # (F, N, 3) float32, x − g: the elastic body's displacement from the skinning
     skin: np.ndarray  # (F, V, 3) float32, the body's skin surface
     skinned_skin: np.ndarray  # (F, V, 3) float32, the same skin by skinning alone
+    held_back: np.ndarray  # (F, V) float32 m: elastic displacement held back to keep the skin whole
     q: np.ndarray  # (F, k) modal coordinates
     s: np.ndarray  # (F, k) their quasi-static values
     qd: np.ndarray  # (F, k) modal velocities
@@ -319,8 +333,9 @@ def _frames(dynamics: BodyDynamics, times, angles, rotations, translations, skin
     elastic = np.empty((n, dynamics.n_nodes, 3), dtype=np.float32)
     skin = np.empty((n, len(dynamics.poser.body.vertices), 3), dtype=np.float32)
     plain = np.empty_like(skin)
+    held = np.empty(skin.shape[:2], dtype=np.float32)
     for k in range(n):
-        elastic[k], skin[k], plain[k] = dynamics.frame(rotations[k], translations[k], node_rotations[k],
-                                                       delta_qs[k], q[k] - s[k])
+        elastic[k], skin[k], plain[k], held[k] = dynamics.frame(rotations[k], translations[k], node_rotations[k],
+                                                                delta_qs[k], q[k] - s[k])
     nodes = (skinned + elastic).astype(np.float32)
-    return Motion(dynamics, times, angles, rotations, translations, nodes, elastic, skin, plain, q, s, qd)
+    return Motion(dynamics, times, angles, rotations, translations, nodes, elastic, skin, plain, held, q, s, qd)

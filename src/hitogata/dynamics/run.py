@@ -18,6 +18,7 @@ from hitogata.dynamics.scenario import BodySpec, Scenario
 from hitogata.errors import HitogataError
 from hitogata.export.atomic import write_bytes_atomically
 from hitogata.geometry.integrity import surface_integrity
+from hitogata.geometry.offset_limit import HELD
 
 # The skin is whole when, beyond what skinning alone does at the same pose, no neighbouring
 # triangles fold and none cross, no vertex is below the floor, and the elastic displacement
@@ -72,9 +73,13 @@ class Summary:
             (f"  skin surface: {s['folds_beyond_skinning']} folded and {s['self_intersections_beyond_skinning']} "
              f"crossing triangle pairs beyond skinning's (new since rest: {s['new_folds']}, "
              f"{s['new_self_intersections']}); {s['below_floor']} vertices below the floor "
+             f"({s['below_floor_beyond_skinning']} beyond skinning's) "
              f"(lowest {s['lowest_m'] * 1e3:.1f} mm); fastest vertex {s['largest_speed_m_s']:.2f} m/s; "
              f"elastic displacement changes at most {s['largest_elastic_jump_m'] * 1e3:.1f} mm a frame "
              f"({s['largest_elastic_jump_speed_m_s']:.2f} m/s)"),
+            (f"  elastic displacement held back where it would fold or cross the skin (a 40 mm mesh does "
+             f"not resolve a crease): at most {f['held_back_mm']:.1f} mm at t = {f['held_back_time_s']:.2f} s, "
+             f"on up to {f['held_back_vertices']} vertices a frame"),
             "  regions moved most (peak mean elastic displacement): "
             + ", ".join(f"{k} {v:.1f} mm" for k, v in f["region_motion_mm"].items()),
             f"  tissue: inverted elements at most {f['inverted_max']}; region volumes within "
@@ -126,6 +131,9 @@ def figures(motion: Motion, scenario: Scenario) -> dict:
         "volume_change_max_percent": worst_change * 100.0,
         "frames": len(motion.times),
         "surface": surface.worst(),
+        "held_back_mm": float(motion.held_back.max() * 1e3),
+        "held_back_vertices": int((motion.held_back > HELD).sum(axis=1).max()),
+        "held_back_time_s": float(motion.times[int(np.argmax(motion.held_back.max(axis=1)))]),
     }
 
 
@@ -137,8 +145,8 @@ def surface_problems(surface: dict) -> list[str]:
     if surface["self_intersections_beyond_skinning"]:
         out.append(f"{surface['self_intersections_beyond_skinning']} crossing triangle pairs at "
                    f"t = {surface['new_self_intersections_time_s']:.2f} s")
-    if surface["below_floor"]:
-        out.append(f"{surface['below_floor']} vertices below the floor")
+    if surface["below_floor_beyond_skinning"]:
+        out.append(f"{surface['below_floor_beyond_skinning']} vertices below the floor where skinning has them above")
     if surface["largest_elastic_jump_speed_m_s"] > JUMP_SPEED:
         out.append(f"a jump of {surface['largest_elastic_jump_m'] * 1e3:.0f} mm in one frame at "
                    f"t = {surface['largest_elastic_jump_time_s']:.2f} s")

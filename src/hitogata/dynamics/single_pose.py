@@ -46,6 +46,7 @@ class ElasticPose:
     nodes: np.ndarray  # (N, 3) the FE nodes, elastic
     quality: PoseQuality  # inversions, region volumes, distortion of the elastic body
     dynamics: BodyDynamics
+    held_back: np.ndarray  # (V,) m: elastic displacement held back to keep the skin whole (`geometry.offset_limit`)
 
     @property
     def faces(self) -> np.ndarray:
@@ -84,11 +85,12 @@ def elastic_pose(
     posed = poser.pose(contractions, lengths, angles, clinical, dynamics.rig.method, on_limit)
     g, r = dynamics.rig.pose(posed.pose.rotations, posed.pose.translations)
     delta, _ = dynamics.quasi_static(g[0], r[0], None, None, iterations)  # warm=None: from rest
-    _, skin, _ = dynamics.frame(
+    _, skin, _, held = dynamics.frame(
         posed.pose.rotations[0], posed.pose.translations[0], r[0], delta, np.zeros(len(dynamics.eigenvalues))
     )
     if contact:
         skin, _ = separate(skin, dynamics.contact)
     nodes = g[0] + rotate(r[0], delta)
-    return ElasticPose(posed, skin.astype(float), nodes, pose_quality(dynamics.model, nodes, "elastic"), dynamics)
+    return ElasticPose(posed, skin.astype(float), nodes, pose_quality(dynamics.model, nodes, "elastic"), dynamics,
+                       held.astype(float))
 

@@ -37,6 +37,7 @@ from hitogata.geometry.mesh_checks import _PLANE_TOLERANCE, _faces, _triangles_i
 FOLD_ANGLE = 120.0  # degrees between neighbouring triangles' normals: a fold, not a bend
 FLOOR_TOLERANCE = 1e-3  # m: a vertex lower than the floor by more than this is below it
 MOVED = 1e-6  # m: a vertex this close to its reference position is where the reference has it
+SPARSE_ACTIVE = 0.25  # with fewer active boxes than this share, only theirs are looked up
 
 
 @dataclass(frozen=True)
@@ -51,6 +52,7 @@ class SurfaceIntegrity:
     lowest: np.ndarray  # lowest vertex height
     # against the reference motion (zeros without one):
     folds_beyond_reference: np.ndarray  # new folds the reference has not at the same frame
+    below_floor_beyond_reference: np.ndarray  # vertices below the floor whose reference position is not
     intersections_beyond_reference: np.ndarray  # new crossings the reference has not at the same frame
     displacement: np.ndarray  # largest distance of a vertex from its reference position
     jump: np.ndarray  # largest change of a vertex's displacement from the previous frame
@@ -69,6 +71,7 @@ class SurfaceIntegrity:
             "self_intersections_beyond_skinning": int(self.intersections_beyond_reference.max()),
             "largest_speed_m_s": float(self.speed.max()), "largest_speed_time_s": at(self.speed),
             "below_floor": int(self.below_floor.max()), "lowest_m": float(self.lowest.min()),
+            "below_floor_beyond_skinning": int(self.below_floor_beyond_reference.max()),
             "largest_elastic_m": float(self.displacement.max()), "largest_elastic_time_s": at(self.displacement),
             "largest_elastic_jump_m": float(self.jump.max()),
             "largest_elastic_jump_speed_m_s": float(self.jump_speed.max()),
@@ -94,7 +97,8 @@ def surface_integrity(rest: np.ndarray, faces: np.ndarray, frames: np.ndarray, t
     folded_at_rest = _folded(rest, faces, pairs)
     crossing_at_rest = _pair_keys(_crossing_pairs(rest, faces), len(faces))
     out = {k: np.zeros(n, dtype=int) for k in ("new_folds", "new_intersections", "below_floor",
-                                               "folds_beyond_reference", "intersections_beyond_reference")}
+                                               "folds_beyond_reference", "intersections_beyond_reference",
+                                               "below_floor_beyond_reference")}
     out.update({k: np.zeros(n) for k in ("speed", "lowest", "displacement", "jump", "jump_speed")})
     previous = previous_offset = None
     for k in range(n):
@@ -106,7 +110,8 @@ def surface_integrity(rest: np.ndarray, faces: np.ndarray, frames: np.ndarray, t
         crossing = _crossing_pairs(x, faces, moved)
         new = crossing[~np.isin(_pair_keys(crossing, len(faces)), crossing_at_rest)]
         out["new_folds"][k], out["new_intersections"][k] = int(folds.sum()), len(new)
-        out["below_floor"][k] = int((x[:, 1] < floor - FLOOR_TOLERANCE).sum())
+        low = x[:, 1] < floor - FLOOR_TOLERANCE
+        out["below_floor"][k] = int(low.sum())
         out["lowest"][k] = float(x[:, 1].min())
         if previous is not None:
             dt = times[k] - times[k - 1]
@@ -114,6 +119,7 @@ def surface_integrity(rest: np.ndarray, faces: np.ndarray, frames: np.ndarray, t
         if r is not None:
             out["folds_beyond_reference"][k] = int((folds & ~_folded(r, faces, pairs)).sum())
             out["intersections_beyond_reference"][k] = int((~_intersect(r, faces, new)).sum())
+            out["below_floor_beyond_reference"][k] = int((low & (r[:, 1] >= floor - FLOOR_TOLERANCE)).sum())
             offset = x - r
             out["displacement"][k] = float(np.linalg.norm(offset, axis=1).max())
             if previous_offset is not None:
@@ -123,6 +129,7 @@ def surface_integrity(rest: np.ndarray, faces: np.ndarray, frames: np.ndarray, t
             previous_offset = offset
         else:
             out["folds_beyond_reference"][k], out["intersections_beyond_reference"][k] = folds.sum(), len(new)
+            out["below_floor_beyond_reference"][k] = out["below_floor"][k]
         previous = x
     return SurfaceIntegrity(times=times, **out)
 
@@ -177,7 +184,9 @@ def box_pairs(lo: np.ndarray, hi: np.ndarray, active: np.ndarray | None = None) 
     Boxes are sorted into size classes (powers of two of their largest side),
     one k-d tree of centres per class; each pair of classes is searched in the
     Chebyshev metric within the sum of their largest half-sides, so a box meets
-    only boxes near it, never a whole crowded cell of tiny ones.
+    only boxes near it, never a whole crowded cell of tiny ones. With few
+    active boxes only theirs are looked up (a tree of the active ones per
+    class against each class's whole tree): the cost goes with the active.
     """
     centre, half = 0.5 * (lo + hi), 0.5 * (hi - lo)
     size = np.maximum(half.max(axis=1), 1e-12)
@@ -186,11 +195,17 @@ def box_pairs(lo: np.ndarray, hi: np.ndarray, active: np.ndarray | None = None) 
     classes = [np.flatnonzero(level == c) for c in np.unique(level)]
     trees = [cKDTree(centre[m]) for m in classes]
     largest = [float(size[m].max()) for m in classes]
+    sparse = active.mean() < SPARSE_ACTIVE
+    if sparse:
+        movers = [m[active[m]] for m in classes]
+        mover_trees = [cKDTree(centre[m]) if len(m) else None for m in movers]
     found_i, found_j = [], []
     for a, (ma, ta) in enumerate(zip(classes, trees)):
         for b in range(a, len(classes)):
             reach = largest[a] + largest[b]
-            if a == b:
+            if sparse:
+                i, j = _mover_hits(movers, mover_trees, classes, trees, a, b, reach)
+            elif a == b:
                 hits = ta.query_pairs(reach, p=np.inf, output_type="ndarray")
                 i, j = ma[hits[:, 0]], ma[hits[:, 1]]
             else:
@@ -202,4 +217,23 @@ def box_pairs(lo: np.ndarray, hi: np.ndarray, active: np.ndarray | None = None) 
             found_i.append(i[keep])
             found_j.append(j[keep])
     i, j = np.concatenate(found_i), np.concatenate(found_j)
-    return np.minimum(i, j), np.maximum(i, j)
+    i, j = np.minimum(i, j), np.maximum(i, j)
+    if sparse:  # a pair of two active boxes is found from both sides
+        unique = np.unique(i.astype(np.int64) * len(lo) + j)
+        i, j = unique // len(lo), unique % len(lo)
+    return i, j
+
+
+def _mover_hits(movers: list[np.ndarray], mover_trees: list, classes: list[np.ndarray], trees: list,
+                a: int, b: int, reach: float) -> tuple[np.ndarray, np.ndarray]:
+    """Candidate pairs between classes a and b with an active box: a's active against all of b,
+    and (a != b) all of a against b's active; never a box with itself."""
+    found_i, found_j = [np.zeros(0, dtype=np.int64)], [np.zeros(0, dtype=np.int64)]
+    for one, other in ((a, b), (b, a)) if a != b else ((a, a),):
+        if mover_trees[one] is None:
+            continue
+        hits = mover_trees[one].sparse_distance_matrix(trees[other], reach, p=np.inf, output_type="ndarray")
+        i, j = movers[one][hits["i"]], classes[other][hits["j"]]
+        found_i.append(i[i != j])
+        found_j.append(j[i != j])
+    return np.concatenate(found_i), np.concatenate(found_j)

@@ -1,0 +1,107 @@
+"""Keep an offset surface whole: hold back an offset field where it would fold or cross the surface.
+
+The elastic skin is the skinned skin plus an offset interpolated from the
+finite-element nodes (`BodyDynamics.frame`). At 40 mm the elements cannot
+resolve a crease: where the forearm meets the upper arm at 150°, or the
+thigh meets the belly, the tissue on the two sides of the crease carries
+offsets that push one side's skin through the other's, or fold neighbouring
+triangles, where skinning alone does not (the elbow scenario: 10 folded and
+89 crossing triangle pairs beyond skinning's at 150°).
+
+`OffsetLimiter` scales the offset down, vertex by vertex, until the surface
+`reference + w·offset` has no folded neighbour pair and no crossing
+triangle pair that the reference (and the rest surface) has not:
+
+1. broad phase once per call: a triangle at any weights in [0, 1] lies in
+   the union of its boxes at weight 0 and 1, so the pairs of overlapping
+   union boxes with a face that moves are the only ones that can cross
+   (less those crossing in the reference or at rest, which are not this
+   offset's doing); the broad phase's cost goes with the faces that move;
+2. in rounds: the vertices of every offending pair have their hold raised
+   by `STEP` (to 1 at most: offset gone), and the hold spreads over the
+   skin around them, fading smoothly to nothing over `WIDTH` along the
+   surface, so the held-back region has no edge of its own.
+
+At hold 1 on all its corners a triangle is where the reference puts it, so
+every offending pair has a corner whose hold can still rise: the rounds end.
+The weights (V,) say how much of the offset each vertex kept.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import scipy.sparse as sp
+from scipy.sparse.csgraph import dijkstra
+
+from hitogata.geometry.integrity import MOVED, _crossing_pairs, _folded, _intersect, _neighbour_pairs, _pair_keys, box_pairs
+from hitogata.geometry.mesh_checks import _faces, _undirected_edges
+
+HELD = 1e-4  # m: a vertex whose offset is held back by more is reported as held back
+STEP = 0.5  # hold added per round to the corners of an offending pair
+WIDTH = 0.04  # m along the surface: a hold fades to nothing over one 40 mm element of the tissue mesh
+MAX_ROUNDS = 64  # far beyond need (each round lifts a corner; 2-6 rounds are typical): a guard
+
+
+class OffsetLimiter:
+    """For one surface (rest vertices (V, 3), faces (T, 3)): weights that keep reference + w·offset whole."""
+
+    def __init__(self, rest: np.ndarray, faces: np.ndarray) -> None:
+        self.faces = _faces(faces)
+        rest = np.asarray(rest, dtype=np.float64)
+        self.pairs = _neighbour_pairs(self.faces)
+        self.crossing_at_rest = _pair_keys(_crossing_pairs(rest, self.faces), len(self.faces))
+        edges, _ = _undirected_edges(self.faces)
+        length = np.linalg.norm(rest[edges[:, 0]] - rest[edges[:, 1]], axis=1)
+        n = len(rest)
+        self.graph = sp.coo_matrix((length, (edges[:, 0], edges[:, 1])), shape=(n, n)).tocsr()
+
+    def __call__(self, reference: np.ndarray, offset: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """The surface reference + w·offset (V, 3), in the reference's dtype (checked as rounded to it: a
+        float32 surface is judged as it will be stored), and w (V,), 1 where nothing offends."""
+        dtype = np.asarray(reference).dtype
+        reference = np.asarray(reference, dtype=np.float64)
+        offset = np.asarray(offset, dtype=np.float64)
+        candidates = self._candidates(reference, reference + offset, offset)
+        folded_in_reference = _folded(reference, self.faces, self.pairs)
+        hold = np.zeros(len(reference))
+        w = np.ones(len(reference))
+        crosses = np.zeros(len(candidates), dtype=bool)
+        retest = np.ones(len(candidates), dtype=bool)  # pairs with a corner whose weight changed
+        for _ in range(MAX_ROUNDS):
+            surface = (reference + w[:, None] * offset).astype(dtype)
+            x = surface.astype(np.float64)
+            crosses[retest] = _intersect(x, self.faces, candidates[retest])
+            folds = self.pairs[_folded(x, self.faces, self.pairs) & ~folded_in_reference]
+            offending = np.unique(self.faces[np.concatenate([candidates[crosses].ravel(), folds.ravel()])])
+            offending = offending[hold[offending] < 1.0]
+            if not len(offending):
+                break
+            hold[offending] = np.minimum(hold[offending] + STEP, 1.0)
+            previous, w = w, 1.0 - self._spread(hold)
+            changed = (w != previous)[self.faces].any(axis=1)
+            retest = changed[candidates].any(axis=1)
+        return surface, w
+
+    def _candidates(self, reference: np.ndarray, full: np.ndarray, offset: np.ndarray) -> np.ndarray:
+        """(K, 2) face pairs that may cross at some weights and do not cross in the reference or at rest."""
+        a, b = reference[self.faces], full[self.faces]
+        # widened by MOVED: the surface is judged rounded to its dtype (float32 moves a vertex ~1e-7 m)
+        lo = np.minimum(a.min(axis=1), b.min(axis=1)) - MOVED
+        hi = np.maximum(a.max(axis=1), b.max(axis=1)) + MOVED
+        # as surface_integrity: a face whose corners all stay within MOVED of the reference is the reference's
+        active = (np.abs(offset).max(axis=1) > MOVED)[self.faces].any(axis=1)
+        i, j = box_pairs(lo, hi, active)
+        apart = ~(self.faces[i][:, :, None] == self.faces[j][:, None, :]).any(axis=(1, 2))
+        pairs = np.stack([i[apart], j[apart]], axis=1)
+        pairs = pairs[~np.isin(_pair_keys(pairs, len(self.faces)), self.crossing_at_rest)]
+        return pairs[~_intersect(reference, self.faces, pairs)]
+
+    def _spread(self, hold: np.ndarray) -> np.ndarray:
+        """(V,) the holds spread over the surface: each held vertex's hold times a smooth fall to 0 at WIDTH."""
+        out = np.zeros_like(hold)
+        for level in np.unique(hold[hold > 0]):
+            sources = np.flatnonzero(hold == level)
+            distance = dijkstra(self.graph, directed=False, indices=sources, limit=WIDTH, min_only=True)
+            u = np.clip(np.asarray(distance) / WIDTH, 0.0, 1.0)
+            out = np.maximum(out, level * (1.0 - u * u * (3.0 - 2.0 * u)))
+        return out
