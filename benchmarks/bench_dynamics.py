@@ -186,11 +186,12 @@ def update(dyn: BodyDynamics, frame, delta: np.ndarray, repeat: int) -> None:
 
 
 def demo_times(out: Path) -> dict[str, float]:
-    """Seconds of the demo's model, simulation and files, summed over its experiments' summaries."""
-    split = {"model": 0.0, "simulation": 0.0, "files": 0.0}
+    """Seconds of the demo's parts (model, simulation, checks, files: what its summaries list), summed
+    over its experiments' summaries."""
+    split: dict[str, float] = {}
     for path in sorted((out / "dynamics").glob("*_summary.json")):
         for key, value in json.loads(path.read_text())["seconds"].items():
-            split[key] += value
+            split[key] = split.get(key, 0.0) + value
     return split
 
 
