@@ -53,7 +53,7 @@ The solve runs on the elements' corner (linear) mesh: the correction is
 smooth, the shear-only energy does not lock, and it is ~10x cheaper than on
 the quadratic mesh; the dynamics lift it to the mid-edge nodes.
 
-Speed (whole default female body, 11,195 elements, 2,661 free nodes, one CPU
+Speed (whole default female body, 11,024 elements, 2,662 free nodes, one CPU
 thread): a local/global step costs ~9 ms — the deformation gradients and the
 global step's right side are fixed sparse maps of the positions and the
 rotations, the rotations are extracted on component arrays
