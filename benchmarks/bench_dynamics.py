@@ -29,6 +29,7 @@ from __future__ import annotations
 import argparse
 import json
 import os
+import resource
 import subprocess
 import sys
 import tempfile
@@ -186,11 +187,12 @@ def update(dyn: BodyDynamics, frame, delta: np.ndarray, repeat: int) -> None:
 
 
 def demo_times(out: Path) -> dict[str, float]:
-    """Seconds of the demo's model, simulation and files, summed over its experiments' summaries."""
-    split = {"model": 0.0, "simulation": 0.0, "files": 0.0}
+    """Seconds of the demo's parts (model, simulation, checks, files: what its summaries list), summed
+    over its experiments' summaries."""
+    split: dict[str, float] = {}
     for path in sorted((out / "dynamics").glob("*_summary.json")):
         for key, value in json.loads(path.read_text())["seconds"].items():
-            split[key] += value
+            split[key] = split.get(key, 0.0) + value
     return split
 
 
@@ -198,12 +200,12 @@ def demo(baseline: bool) -> None:
     from hitogata.dynamics.demo import run_demo
 
     with tempfile.TemporaryDirectory() as out:
-        start = time.perf_counter()
+        start, start_cpu = time.perf_counter(), time.process_time()
         run_demo(out)
-        wall = time.perf_counter() - start
+        wall, cpu = time.perf_counter() - start, time.process_time() - start_cpu
         split = demo_times(Path(out))
     line = ", ".join(f"{k} {v:.1f} s" for k, v in split.items())
-    print(f"demo (dynamics part): {wall:.1f} s wall ({line}; {load()})  (goal <= 60 s)")
+    print(f"demo (dynamics part): {wall:.1f} s wall, {cpu:.1f} s CPU ({line}; {load()})  (goal <= 60 s)")
     if not baseline:
         return
     with tempfile.TemporaryDirectory() as tree:
@@ -216,14 +218,16 @@ def demo(baseline: bool) -> None:
             return
         out = Path(tree) / "out"
         code = "import sys; from hitogata.dynamics.demo import run_demo; run_demo(sys.argv[1])"
-        start = time.perf_counter()
+        start, children = time.perf_counter(), resource.getrusage(resource.RUSAGE_CHILDREN)
         subprocess.run([sys.executable, "-c", code, str(out)], env={**os.environ, "PYTHONPATH": f"{tree}/src"},
                        check=True)
         old_wall = time.perf_counter() - start
+        after = resource.getrusage(resource.RUSAGE_CHILDREN)
+        old_cpu = after.ru_utime + after.ru_stime - children.ru_utime - children.ru_stime
         old_split = demo_times(out)
     line = ", ".join(f"{k} {v:.1f} s" for k, v in old_split.items())
-    print(f"  {BASELINE}'s demo (its trunk model): {old_wall:.1f} s wall ({line}; {load()}); "
-          f"ratio {BASELINE} / new {old_wall / wall:.2f}x")
+    print(f"  {BASELINE}'s demo (its trunk model): {old_wall:.1f} s wall, {old_cpu:.1f} s CPU ({line}; {load()}); "
+          f"ratio {BASELINE} / new {old_wall / wall:.2f}x wall, {old_cpu / cpu:.2f}x CPU")
 
 
 def main() -> None:

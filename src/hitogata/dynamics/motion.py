@@ -61,6 +61,9 @@ CUT_FADE = 4.0  # elements: the skin's elastic displacement fades in over this d
 MIN_FREQUENCY = 0.05  # Hz: modes below are rigid-body motions of loose mesh pieces, not vibrations
 GRAVITY = np.array([0.0, -9.81, 0.0])
 SOFT_REGIONS = ("viscera", "muscle", "skin")
+# m/s: the fastest a skin vertex's held-back elastic displacement is given back (a quarter of
+# `run.JUMP_SPEED`, the speed of a tear; soft tissue wobbling at 3 Hz, 2 cm, moves 0.4 m/s)
+RELEASE_SPEED = 0.25
 ITERATIONS = 6  # most local/global steps per time step, warm-started from the previous step
 TOLERANCE = 1e-5  # m: a quasi-static answer is converged when a step moves no node further
 
@@ -143,21 +146,25 @@ class BodyDynamics:
         return OffsetLimiter(body.vertices, body.faces)
 
     def frame(self, rotations: np.ndarray, translations: np.ndarray, node_rotations: np.ndarray,
-              delta_qs: np.ndarray, dynamic: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+              delta_qs: np.ndarray, dynamic: np.ndarray,
+              reach: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """The per-frame elastic update: elastic displacement of the nodes (N, 3), the skin (V, 3),
         the skin by skinning alone (V, 3), float32, and how far (m) each skin vertex's elastic
         displacement was held back to keep the skin whole (V,) (`geometry.offset_limit`).
 
         rotations/translations: the parts' (parts, 3, 3), (parts, 3); node_rotations (N, 3, 3);
-        delta_qs (N, 3) the quasi-static correction; dynamic (k,) = q − s.
+        delta_qs (N, 3) the quasi-static correction; dynamic (k,) = q − s; reach (V,) m: the
+        longest elastic displacement each skin vertex may keep (None: all of it).
         """
         local = delta_qs.astype(np.float32) + (self.vectors32 @ dynamic.astype(np.float32)).reshape(-1, 3)
         elastic = rotate(node_rotations.astype(np.float32), local)
         plain = skin_vertices(self.poser.skin, rotations[None], translations[None], self.rig.method)[0]
         plain = plain.astype(np.float32)
         offset = self.skin_fade[:, None] * (self.rig.skin_map @ elastic)
-        skin, kept = self.skin_limiter(plain, offset)
-        held = (1.0 - kept) * np.linalg.norm(offset, axis=1)
+        length = np.linalg.norm(offset, axis=1)
+        ceiling = None if reach is None else reach / np.maximum(length, 1e-12)
+        skin, kept = self.skin_limiter(plain, offset, ceiling)
+        held = (1.0 - kept) * length
         return elastic, skin, plain, held.astype(np.float32)
 
     def loads(self, node_rotations: np.ndarray, contractions: dict[str, float], gravity: bool) -> np.ndarray:
@@ -335,7 +342,11 @@ def _frames(dynamics: BodyDynamics, times, angles, rotations, translations, skin
     plain = np.empty_like(skin)
     held = np.empty(skin.shape[:2], dtype=np.float32)
     for k in range(n):
+        # a held-back displacement comes back at RELEASE_SPEED at most: no jump where a crease opens
+        reach = None if k == 0 else np.where(
+            held[k - 1] > 0, np.linalg.norm(skin[k - 1] - plain[k - 1], axis=1) + RELEASE_SPEED * (times[k] - times[k - 1]),
+            np.inf)
         elastic[k], skin[k], plain[k], held[k] = dynamics.frame(rotations[k], translations[k], node_rotations[k],
-                                                                delta_qs[k], q[k] - s[k])
+                                                                delta_qs[k], q[k] - s[k], reach)
     nodes = (skinned + elastic).astype(np.float32)
     return Motion(dynamics, times, angles, rotations, translations, nodes, elastic, skin, plain, held, q, s, qd)

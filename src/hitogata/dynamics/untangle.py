@@ -57,9 +57,12 @@ class Untangler:
 
     def deficit(self, x: np.ndarray, elements: np.ndarray) -> float:
         """Σ max(0, floor − v/V) + W Σ max(0, −v/V) over the listed elements: an inverted element
-        weighs more than a flat one, so lifting it is worth flattening a neighbour a little."""
+        weighs more than a flat one, so lifting it is worth flattening a neighbour a little. Shortfalls
+        within ROUND_OFF of the floor do not count (as in `below_floor`): a programme that lifts an
+        element onto the floor leaves ~1e-16 of one, and chasing it cost 19 more programmes (0.06 s)."""
         ratio = corner_volumes(x, self.corners[elements]) / self.rest_volumes[elements]
-        return float(np.maximum(self.floor - ratio, 0.0).sum() + INVERSION_WEIGHT * np.maximum(-ratio, 0.0).sum())
+        short = self.floor - ratio
+        return float(np.where(short > ROUND_OFF, short, 0.0).sum() + INVERSION_WEIGHT * np.maximum(-ratio, 0.0).sum())
 
     def __call__(self, x: np.ndarray) -> np.ndarray:
         """Node positions (N, 3) with the elements below the floor lifted as far as the free nodes allow."""

@@ -55,16 +55,19 @@ class OffsetLimiter:
         n = len(rest)
         self.graph = sp.coo_matrix((length, (edges[:, 0], edges[:, 1])), shape=(n, n)).tocsr()
 
-    def __call__(self, reference: np.ndarray, offset: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    def __call__(self, reference: np.ndarray, offset: np.ndarray,
+                 ceiling: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
         """The surface reference + w·offset (V, 3), in the reference's dtype (checked as rounded to it: a
-        float32 surface is judged as it will be stored), and w (V,), 1 where nothing offends."""
+        float32 surface is judged as it will be stored), and w (V,), 1 where nothing offends;
+        ceiling (V,): w never above it (a motion releases a held offset gradually)."""
         dtype = np.asarray(reference).dtype
         reference = np.asarray(reference, dtype=np.float64)
         offset = np.asarray(offset, dtype=np.float64)
         candidates = self._candidates(reference, reference + offset, offset)
         folded_in_reference = _folded(reference, self.faces, self.pairs)
         hold = np.zeros(len(reference))
-        w = np.ones(len(reference))
+        top = np.ones(len(reference)) if ceiling is None else np.clip(ceiling, 0.0, 1.0)
+        w = top
         crosses = np.zeros(len(candidates), dtype=bool)
         retest = np.ones(len(candidates), dtype=bool)  # pairs with a corner whose weight changed
         for _ in range(MAX_ROUNDS):
@@ -77,7 +80,7 @@ class OffsetLimiter:
             if not len(offending):
                 break
             hold[offending] = np.minimum(hold[offending] + STEP, 1.0)
-            previous, w = w, 1.0 - self._spread(hold)
+            previous, w = w, np.minimum(top, 1.0 - self._spread(hold))
             changed = (w != previous)[self.faces].any(axis=1)
             retest = changed[candidates].any(axis=1)
         return surface, w
