@@ -95,7 +95,8 @@ def test_a_torn_run_warns_in_one_line_before_its_figures():
     figures = {"body": "b", "model": "m", "frequencies_hz": [1.0], "damping_ratios": [0.2], "largest_elastic_mm": 740.0,
                "largest_elastic_time_s": 0.04, "largest_elastic_part": "shank_r", "largest_total_mm": 740.0,
                "region_motion_mm": {}, "inverted_max": 0, "volume_change_max_percent": 0.0,
-               "seconds": {"model": 0.0, "simulation": 0.0, "files": 0.0}, "surface": surface}
+               "seconds": {"model": 0.0, "simulation": 0.0, "files": 0.0}, "surface": surface,
+               "held_back_mm": 0.0, "held_back_time_s": 0.0, "held_back_vertices": 0}
     lines = Summary("t", figures).text().splitlines()
     warnings = [k for k, line in enumerate(lines) if "WARNING" in line]
     assert len(warnings) == 1 and "largest skin displacement" in lines[warnings[0] + 1]

@@ -61,8 +61,8 @@ CUT_FADE = 4.0  # elements: the skin's elastic displacement fades in over this d
 MIN_FREQUENCY = 0.05  # Hz: modes below are rigid-body motions of loose mesh pieces, not vibrations
 GRAVITY = np.array([0.0, -9.81, 0.0])
 SOFT_REGIONS = ("viscera", "muscle", "skin")
-# m/s: the fastest a skin vertex's held-back elastic displacement is given back (a quarter of
-# `run.JUMP_SPEED`, the speed of a tear; soft tissue wobbling at 3 Hz, 2 cm, moves 0.4 m/s)
+# m/s: the fastest a motion holds back or gives back a skin vertex's elastic displacement (a quarter
+# of `run.JUMP_SPEED`, the speed of a tear; soft tissue wobbling at 3 Hz, 2 cm, moves 0.4 m/s)
 RELEASE_SPEED = 0.25
 ITERATIONS = 6  # most local/global steps per time step, warm-started from the previous step
 TOLERANCE = 1e-5  # m: a quasi-static answer is converged when a step moves no node further
@@ -145,27 +145,28 @@ class BodyDynamics:
         body = self.poser.body
         return OffsetLimiter(body.vertices, body.faces)
 
-    def frame(self, rotations: np.ndarray, translations: np.ndarray, node_rotations: np.ndarray,
-              delta_qs: np.ndarray, dynamic: np.ndarray,
-              reach: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-        """The per-frame elastic update: elastic displacement of the nodes (N, 3), the skin (V, 3),
-        the skin by skinning alone (V, 3), float32, and how far (m) each skin vertex's elastic
-        displacement was held back to keep the skin whole (V,) (`geometry.offset_limit`).
+    def skin_offset(self, rotations: np.ndarray, translations: np.ndarray, node_rotations: np.ndarray,
+                    delta_qs: np.ndarray, dynamic: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The elastic displacement of the nodes (N, 3), the skin by skinning alone (V, 3) and the
+        elastic offset its vertices take (V, 3), float32, before any is held back.
 
         rotations/translations: the parts' (parts, 3, 3), (parts, 3); node_rotations (N, 3, 3);
-        delta_qs (N, 3) the quasi-static correction; dynamic (k,) = q − s; reach (V,) m: the
-        longest elastic displacement each skin vertex may keep (None: all of it).
+        delta_qs (N, 3) the quasi-static correction; dynamic (k,) = q − s.
         """
         local = delta_qs.astype(np.float32) + (self.vectors32 @ dynamic.astype(np.float32)).reshape(-1, 3)
         elastic = rotate(node_rotations.astype(np.float32), local)
         plain = skin_vertices(self.poser.skin, rotations[None], translations[None], self.rig.method)[0]
-        plain = plain.astype(np.float32)
         offset = self.skin_fade[:, None] * (self.rig.skin_map @ elastic)
-        length = np.linalg.norm(offset, axis=1)
-        ceiling = None if reach is None else reach / np.maximum(length, 1e-12)
-        skin, kept = self.skin_limiter(plain, offset, ceiling)
-        held = (1.0 - kept) * length
-        return elastic, skin, plain, held.astype(np.float32)
+        return elastic, plain.astype(np.float32), offset.astype(np.float32)
+
+    def frame(self, rotations: np.ndarray, translations: np.ndarray, node_rotations: np.ndarray,
+              delta_qs: np.ndarray, dynamic: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """One posture's elastic update (`skin_offset`): the nodes' elastic displacement (N, 3), the
+        skin (V, 3), the skin by skinning alone (V, 3), float32, and how far (m) each skin vertex's
+        elastic displacement was held back to keep the skin whole (V,) (`geometry.offset_limit`)."""
+        elastic, plain, offset = self.skin_offset(rotations, translations, node_rotations, delta_qs, dynamic)
+        skin, kept = self.skin_limiter(plain, offset)
+        return elastic, skin, plain, ((1.0 - kept) * np.linalg.norm(offset, axis=1)).astype(np.float32)
 
     def loads(self, node_rotations: np.ndarray, contractions: dict[str, float], gravity: bool) -> np.ndarray:
         """World nodal forces (N, 3): muscle eigenstrains turned with the nodes, and gravity's change.
@@ -335,18 +336,32 @@ def _angles(poser: Poser, channels: dict[str, dict[str, np.ndarray]], n: int, on
 
 def _frames(dynamics: BodyDynamics, times, angles, rotations, translations, skinned, node_rotations,
             delta_qs, q, s, qd) -> Motion:
-    """Assemble the output frames: elastic displacement, nodes and skin surfaces."""
+    """Assemble the output frames: elastic displacement, nodes and skin surfaces.
+
+    The skin's elastic offset is held back where it would fold or cross the skin (`skin_limiter`),
+    and a motion holds and gives back at RELEASE_SPEED at most: each frame's kept length is
+    capped by every other frame's held one plus RELEASE_SPEED x the time between (a crease
+    that closes is held from before it closes), and the frames so capped are checked again.
+    """
     n = len(times)
     elastic = np.empty((n, dynamics.n_nodes, 3), dtype=np.float32)
     skin = np.empty((n, len(dynamics.poser.body.vertices), 3), dtype=np.float32)
-    plain = np.empty_like(skin)
-    held = np.empty(skin.shape[:2], dtype=np.float32)
+    plain, offset = np.empty_like(skin), np.empty_like(skin)
+    limiter = dynamics.skin_limiter
+    candidates, kept = [], np.empty(skin.shape[:2])
     for k in range(n):
-        # a held-back displacement comes back at RELEASE_SPEED at most: no jump where a crease opens
-        reach = None if k == 0 else np.where(
-            held[k - 1] > 0, np.linalg.norm(skin[k - 1] - plain[k - 1], axis=1) + RELEASE_SPEED * (times[k] - times[k - 1]),
-            np.inf)
-        elastic[k], skin[k], plain[k], held[k] = dynamics.frame(rotations[k], translations[k], node_rotations[k],
-                                                                delta_qs[k], q[k] - s[k], reach)
+        elastic[k], plain[k], offset[k] = dynamics.skin_offset(rotations[k], translations[k], node_rotations[k],
+                                                               delta_qs[k], q[k] - s[k])
+        candidates.append(limiter.candidates(plain[k], offset[k]))
+        skin[k], kept[k] = limiter(plain[k], offset[k], candidates=candidates[k])
+    length = np.linalg.norm(offset, axis=2)
+    cap = np.where(kept < 1.0, kept * length, np.inf)  # the holds, spread in time below
+    for k in range(1, n):
+        cap[k] = np.minimum(cap[k], cap[k - 1] + RELEASE_SPEED * (times[k] - times[k - 1]))
+    for k in range(n - 2, -1, -1):
+        cap[k] = np.minimum(cap[k], cap[k + 1] + RELEASE_SPEED * (times[k + 1] - times[k]))
+    for k in np.flatnonzero((cap < kept * length - 1e-9).any(axis=1)):  # held more than its own limit
+        skin[k], kept[k] = limiter(plain[k], offset[k], cap[k] / np.maximum(length[k], 1e-12), candidates[k])
+    held = ((1.0 - kept) * length).astype(np.float32)
     nodes = (skinned + elastic).astype(np.float32)
     return Motion(dynamics, times, angles, rotations, translations, nodes, elastic, skin, plain, held, q, s, qd)

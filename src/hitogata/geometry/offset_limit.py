@@ -36,6 +36,7 @@ from scipy.sparse.csgraph import dijkstra
 from hitogata.geometry.integrity import MOVED, _crossing_pairs, _folded, _intersect, _neighbour_pairs, _pair_keys, box_pairs
 from hitogata.geometry.mesh_checks import _faces, _undirected_edges
 
+ROUNDING = 1e-6  # m: boxes widened by this cover a float32 surface's rounding
 HELD = 1e-4  # m: a vertex whose offset is held back by more is reported as held back
 STEP = 0.5  # hold added per round to the corners of an offending pair
 WIDTH = 0.04  # m along the surface: a hold fades to nothing over one 40 mm element of the tissue mesh
@@ -55,15 +56,17 @@ class OffsetLimiter:
         n = len(rest)
         self.graph = sp.coo_matrix((length, (edges[:, 0], edges[:, 1])), shape=(n, n)).tocsr()
 
-    def __call__(self, reference: np.ndarray, offset: np.ndarray,
-                 ceiling: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+    def __call__(self, reference: np.ndarray, offset: np.ndarray, ceiling: np.ndarray | None = None,
+                 candidates: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
         """The surface reference + w·offset (V, 3), in the reference's dtype (checked as rounded to it: a
         float32 surface is judged as it will be stored), and w (V,), 1 where nothing offends;
-        ceiling (V,): w never above it (a motion releases a held offset gradually)."""
+        ceiling (V,): w never above it (a motion holds and gives back gradually); candidates: this
+        reference and offset's `candidates`, if already found."""
         dtype = np.asarray(reference).dtype
+        if candidates is None:
+            candidates = self.candidates(reference, offset)
         reference = np.asarray(reference, dtype=np.float64)
         offset = np.asarray(offset, dtype=np.float64)
-        candidates = self._candidates(reference, reference + offset, offset)
         folded_in_reference = _folded(reference, self.faces, self.pairs)
         hold = np.zeros(len(reference))
         top = np.ones(len(reference)) if ceiling is None else np.clip(ceiling, 0.0, 1.0)
@@ -85,12 +88,14 @@ class OffsetLimiter:
             retest = changed[candidates].any(axis=1)
         return surface, w
 
-    def _candidates(self, reference: np.ndarray, full: np.ndarray, offset: np.ndarray) -> np.ndarray:
+    def candidates(self, reference: np.ndarray, offset: np.ndarray) -> np.ndarray:
         """(K, 2) face pairs that may cross at some weights and do not cross in the reference or at rest."""
-        a, b = reference[self.faces], full[self.faces]
-        # widened by MOVED: the surface is judged rounded to its dtype (float32 moves a vertex ~1e-7 m)
-        lo = np.minimum(a.min(axis=1), b.min(axis=1)) - MOVED
-        hi = np.maximum(a.max(axis=1), b.max(axis=1)) + MOVED
+        reference = np.asarray(reference, dtype=np.float64)
+        offset = np.asarray(offset, dtype=np.float64)
+        a, b = reference[self.faces], (reference + offset)[self.faces]
+        # widened: the surface is judged rounded to its dtype (float32 moves a vertex ~1e-7 m)
+        lo = np.minimum(a.min(axis=1), b.min(axis=1)) - ROUNDING
+        hi = np.maximum(a.max(axis=1), b.max(axis=1)) + ROUNDING
         # as surface_integrity: a face whose corners all stay within MOVED of the reference is the reference's
         active = (np.abs(offset).max(axis=1) > MOVED)[self.faces].any(axis=1)
         i, j = box_pairs(lo, hi, active)
