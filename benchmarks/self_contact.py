@@ -1,20 +1,23 @@
-"""The skin passing through itself at the extreme poses, by skinning and by the elastic body, with and
-without the contact pass (`hitogata.geometry.contact.separate`), and what the pass costs.
+"""The skin passing through itself at the extreme poses of issue 12: by skinning, by the elastic body, and
+by the elastic body with its self-contact resolved (`elastic_pose(..., contact=True)`: the barrier of
+`hitogata.geometry.barrier_contact`, IPC), and what contact costs.
 
-For both default bodies and each pose of issue 12 (`skin_stretch_lines.poses`), on the coarse skin:
-new self-crossing triangle pairs beyond the rest body's (`geometry.self_intersections`), skin vertices
-inside another part (`geometry.contact`: count, deepest in mm, depth up to DETECT), and the change of
-the body's enclosed volume; the elastic pose's time without and with contact and their ratio,
-measured in this run. Prints a Markdown table (docs/elastic.md).
+For each body and pose (`skin_stretch_lines.poses`), on the coarse skin: new self-crossing triangle pairs
+beyond the rest body's (`geometry.self_intersections`), skin vertices inside another part and the deepest
+in mm (`geometry.contact.SelfContact`, to 25 mm), the enclosed volume against rest; the elastic pose's time
+without and with contact and their ratio, measured in this run; for the contact: the free skin (vertices),
+Newton iterations per step of the path, the smallest gap left between skin that may meet. Prints a
+Markdown table (docs/elastic.md).
 
-    PYTHONPATH=src python benchmarks/self_contact.py [female|male ...]
+    PYTHONPATH=src python benchmarks/self_contact.py [female|male ...] [--poses "elbow 150°,knee 135°"]
 """
 
 from __future__ import annotations
 
-import sys
+import argparse
 import time
 
+import numpy as np
 from skin_stretch_lines import poses
 
 from hitogata.body import default_body
@@ -22,35 +25,51 @@ from hitogata.dynamics.single_pose import elastic_dynamics, elastic_pose
 from hitogata.geometry import enclosed_volume, self_intersections
 
 
-def main(sexes: list[str]) -> None:
-    print("| body | pose | surface | new crossing pairs | vertices inside | deepest mm | volume | time s |")
-    print("|---|---|---|---:|---:|---:|---:|---:|")
+def crossing_pairs(v: np.ndarray, faces: np.ndarray) -> set[tuple[int, int]]:
+    return set(map(tuple, self_intersections(v, faces).tolist()))
+
+
+def main(sexes: list[str], names: list[str] | None) -> None:
+    print("| body | pose | surface | new crossing pairs | vertices inside | deepest mm | volume | time s | ratio | "
+          "free vertices | Newton its | min gap mm |")
+    print("|---|---|---|---:|---:|---:|---:|---:|---:|---:|---|---:|")
     for sex in sexes:
         body = default_body(sex)
         dynamics = elastic_dynamics(body)
         test = dynamics.contact
-        rest_pairs = len(self_intersections(body.vertices, body.faces))
+        rest = crossing_pairs(body.vertices, body.faces)
         rest_volume = enclosed_volume(body.vertices, body.faces)
         ratios = []
         for pose, clinical in poses(dynamics.poser.skeleton).items():
-            timed = {}
-            for contact in (False, True):
-                start = time.perf_counter()
-                timed[contact] = (elastic_pose(dynamics, clinical=clinical, contact=contact),
-                                  time.perf_counter() - start)
-            ratios.append(timed[True][1] / timed[False][1])
-            plain = timed[False][0]
-            surfaces = {"DQS": (plain.skinned, None), "elastic": (plain.vertices, timed[False][1]),
-                        "elastic + contact": (timed[True][0].vertices, timed[True][1])}
-            for name, (v, seconds) in surfaces.items():
+            if names and pose not in names:
+                continue
+            start = time.perf_counter()
+            plain = elastic_pose(dynamics, clinical=clinical)
+            t_plain = time.perf_counter() - start
+            start = time.perf_counter()
+            held = elastic_pose(dynamics, clinical=clinical, contact=True)
+            t_held = time.perf_counter() - start
+            ratios.append(t_held / t_plain)
+            rows = {"DQS": (plain.skinned, ""), "elastic": (plain.vertices, f"{t_plain:.2f}"),
+                    "elastic + contact": (held.vertices, f"{t_held:.2f}")}
+            for name, (v, spent) in rows.items():
                 inside = test.penetrations(v)
-                pairs = len(self_intersections(v, body.faces)) - rest_pairs
+                pairs = len(crossing_pairs(v, body.faces) - rest)
                 volume = enclosed_volume(v, body.faces) / rest_volume - 1.0
-                spent = f"{seconds:.2f}" if seconds is not None else ""
+                extra = "| | | | |"
+                if name == "elastic + contact" and held.barrier is not None:
+                    b = held.barrier
+                    extra = (f"| {t_held / t_plain:.2f} | {int(b.free.sum())} | {','.join(map(str, b.iterations))} | "
+                             f"{b.min_distance * 1e3:.2f} |")
                 print(f"| {sex} | {pose} | {name} | {pairs} | {len(inside)} | {inside.deepest * 1e3:.1f} | "
-                      f"{volume * 100:+.2f}% | {spent} |", flush=True)
-        print(f"<!-- {sex}: contact pass costs {min(ratios):.1f}-{max(ratios):.1f}x the elastic pose -->", flush=True)
+                      f"{volume * 100:+.2f}% | {spent} {extra}", flush=True)
+        print(f"<!-- {sex}: elastic + contact costs {min(ratios):.2f}-{max(ratios):.2f}x the elastic pose -->",
+              flush=True)
 
 
 if __name__ == "__main__":
-    main(sys.argv[1:] or ["female", "male"])
+    parser = argparse.ArgumentParser()
+    parser.add_argument("sexes", nargs="*", default=["female", "male"])
+    parser.add_argument("--poses", default=None, help="comma-separated pose names; default all")
+    args = parser.parse_args()
+    main(args.sexes, args.poses.split(",") if args.poses else None)

@@ -1,5 +1,5 @@
 """Self-contact as a barrier problem (`geometry.barrier_contact`, IPC): two spheres driven through each
-other along a path, and the female knee at 135° (slow)."""
+other along a path (the body's elbow and knee: tests/test_self_contact.py)."""
 
 from __future__ import annotations
 
@@ -10,8 +10,6 @@ import trimesh
 from hitogata.geometry import enclosed_volume, self_intersections
 from hitogata.geometry.barrier_contact import DHAT, barrier_resolve
 from hitogata.geometry.contact import SelfContact
-
-pytest.importorskip("ipctk")
 
 RADIUS = 0.05
 
@@ -42,24 +40,3 @@ def test_spheres_driven_together_meet_flattened_and_keep_their_volume():
     moved = np.linalg.norm(x - path[-1], axis=1) > 1e-9
     assert moved.sum() == 470 and not moved[np.argmin(v[:, 2])] and not moved[len(v) + np.argmax(v[:, 2])]
 
-
-@pytest.mark.slow
-def test_knee_at_135_degrees_holds_no_crossing():
-    from hitogata.body import default_body
-    from hitogata.dynamics.barrier_pose import barrier_skin
-    from hitogata.dynamics.single_pose import elastic_dynamics, elastic_pose
-
-    body = default_body("female")
-    dynamics = elastic_dynamics(body)
-    rest_pairs = set(map(tuple, self_intersections(body.vertices, body.faces).tolist()))
-    plain = elastic_pose(dynamics, clinical={"shank_l.flexion": np.radians(135)})
-    result = barrier_skin(plain)
-
-    def new_pairs(x: np.ndarray) -> int:
-        return sum(1 for p in map(tuple, self_intersections(x, body.faces).tolist()) if p not in rest_pairs)
-
-    assert (new_pairs(plain.vertices), new_pairs(result.vertices)) == (85, 0)
-    assert len(dynamics.contact.penetrations(result.vertices)) == 0
-    volume = enclosed_volume(result.vertices, body.faces) / enclosed_volume(body.vertices, body.faces) - 1
-    assert volume == pytest.approx(-0.000525, abs=1e-5)  # the elastic pose's own: -0.06 %
-    assert result.free.sum() == 343

@@ -149,7 +149,7 @@ def test_list_names_the_muscles_and_dofs(female_args, capsys) -> None:
         (["--muscle", "biceps_brachii_l=10%", "--angle", "forearm_l.flexion=60deg"], "set both by an angle and by"),
         (["--muscle", "biceps_brachii_l=10%", "--muscle", "biceps_brachii_l=5%"], "given twice"),
         (["--skinning", "dqs"], "cannot go in a GLB (glTF viewers skin linearly); write .obj or .ply"),
-        (["--contact"], "--contact: the skin's contact is parted on the elastic body; add --elastic"),
+        (["--contact"], "--contact: the skin's self-contact is resolved on the elastic body; add --elastic"),
     ],
 )
 def test_bad_input_one_line_and_no_file(tmp_path: Path, female_args, capsys, args: list[str], message: str) -> None:

@@ -5,6 +5,7 @@ import json
 
 import numpy as np
 import pytest
+import trimesh
 
 from hitogata.cli import main
 from hitogata.dynamics.single_pose import elastic_dynamics, elastic_pose
@@ -66,3 +67,17 @@ def test_measure_reads_a_dqs_obj_with_its_json(tmp_path, female_args, capsys):
     assert err.endswith(f"{out}: no twist.json beside it; allowed a .glb written by `hitogata body` or "
                         "`hitogata pose`, or an .obj/.ply written by `hitogata pose` with its .json")
     assert not (tmp_path / "r2" / "measurements.json").exists()
+
+
+@pytest.mark.slow
+def test_pose_elastic_contact_writes_the_contact_resolved_skin(tmp_path, female_args, capsys):
+    out = tmp_path / "knee.ply"
+    assert main(["pose", "--elastic", "--contact", "--skinning", "dqs", "--angle", "knee_l.flexion=135deg",
+                 "--out", str(out)]) == 0
+    printed = capsys.readouterr().out
+    extras = json.loads((tmp_path / "knee.json").read_text())
+    assert extras["surface"] == "elastic" and extras["contact"] is True
+    held = elastic_pose(elastic_dynamics(female_args), clinical={"shank_l.flexion": np.radians(135)}, contact=True)
+    written = trimesh.load(out, process=False)
+    assert np.abs(written.vertices - held.vertices).max() < 1e-6  # the library's contact-resolved skin
+    assert "skin inside another part: 0 vertices, deepest 0.0 mm\n" in printed

@@ -53,7 +53,7 @@ def run(args: argparse.Namespace) -> None:
         raise HitogataError("--out: give the output file (.glb, .obj or .ply), or --list")
     check_posed_path(args.out, args.skinning)
     if args.contact and not args.elastic:
-        raise HitogataError("--contact: the skin's contact is parted on the elastic body; add --elastic")
+        raise HitogataError("--contact: the skin's self-contact is resolved on the elastic body; add --elastic")
     if args.elastic and args.skinning != "dqs" and Path(args.out).suffix.lower() != ".glb":
         raise HitogataError("--elastic: the elastic body stands on dual-quaternion skinning; add --skinning dqs")
     poser, request, posed = pose_from_args(args)
@@ -81,7 +81,7 @@ def run(args: argparse.Namespace) -> None:
               f"vertices, at most {held.held_back.max() * 1e3:.1f} mm")
         inside = held.penetrations
         print(f"skin inside another part: {len(inside)} vertices, deepest {inside.deepest * 1e3:.1f} mm"
-              + ("" if args.contact else " (--contact parts them)"))
+              + ("" if args.contact else " (--contact resolves them)"))
     if not (args.elastic and Path(args.out).suffix.lower() != ".glb"):
         written.insert(0, write_posed(args.out, poser, posed, extras))
         if Path(args.out).suffix.lower() != ".glb":
@@ -114,7 +114,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     )
     parser.add_argument(
         "--contact", action="store_true",
-        help="with --elastic: part the skin where it passes into another part (elbow, knee, hip creases; "
-        "contacts up to 25 mm deep, see docs/elastic.md)",
+        help="with --elastic: resolve the skin's self-contact (elbow, knee, hip creases) as a barrier problem "
+        "(IPC), so no part of the skin passes into another; see docs/elastic.md",
     )
     parser.set_defaults(run=run)

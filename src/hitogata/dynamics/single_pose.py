@@ -4,8 +4,12 @@
 skins the FE nodes (the dynamics' skinning, DQS by default), solves the
 tissue's quasi-static equilibrium about them from rest (no loads, no
 dynamics: a posture held), and carries the nodes' elastic displacement to the
-skin as a simulation frame does (`BodyDynamics.frame`). `elastic_dynamics`
-builds and caches the whole-body model it needs, once per body and size.
+skin as a simulation frame does (`BodyDynamics.frame`). With `contact`, the
+skin's self-contact is then resolved as a barrier problem
+(`hitogata.geometry.barrier_contact`, IPC) along a path of postures: the rest
+skin, the skin skinned at `CONTACT_STEPS` even fractions of the joint angles
+(the same skinning), the elastic skin. `elastic_dynamics` builds and caches
+the whole-body model it needs, once per body and size.
 """
 
 from __future__ import annotations
@@ -16,14 +20,21 @@ from dataclasses import dataclass
 import numpy as np
 
 from hitogata.body import Body
+from hitogata.dynamics.contact import GROUPS
 from hitogata.dynamics.motion import BodyDynamics
 from hitogata.dynamics.quality import STATIC_ITERATIONS, PoseQuality, pose_quality
 from hitogata.dynamics.quasistatic import rotate
-from hitogata.geometry.contact import Penetrations, separate
+from hitogata.geometry.barrier_contact import BarrierResult, barrier_resolve
+from hitogata.geometry.contact import Penetrations
 from hitogata.options import OnLimit
 from hitogata.pose import PosedBody
 
 ELEMENT_SIZE = 40.0  # mm: the whole body's lattice for a held posture (as the large-motion tests)
+CONTACT_STEPS = 4  # skinned postures on the contact's path from rest to the posture
+# groups whose skin may fold onto itself (a crease: skin far apart at rest meets); a hand's, a foot's and
+# the head's small triangles lie close everywhere and stay held in shape by their bones
+FOLDING = tuple(g for g, name in enumerate(GROUPS) if not name.startswith(("hand", "foot", "head")))
+
 
 def elastic_dynamics(body: Body, element_size: float = ELEMENT_SIZE) -> BodyDynamics:
     """The whole body's elastic model ready for posing (2 modes: statics need none), built once per body
@@ -47,6 +58,7 @@ class ElasticPose:
     quality: PoseQuality  # inversions, region volumes, distortion of the elastic body
     dynamics: BodyDynamics
     held_back: np.ndarray  # (V,) m: elastic displacement held back to keep the skin whole (`geometry.offset_limit`)
+    barrier: BarrierResult | None = None  # the barrier's figures (free skin, Newton steps) when contact was resolved
 
     @property
     def faces(self) -> np.ndarray:
@@ -79,8 +91,8 @@ def elastic_pose(
     contact: bool = False,
 ) -> ElasticPose:
     """The elastic skin of one posture (names and units as `Poser.pose`), solved from rest;
-    contact: the skin's penetrations into other parts parted afterwards (`geometry.contact.separate`:
-    shallow contacts only, see docs/elastic.md)."""
+    contact: no part of the skin passing into another (the barrier along the path of skinned
+    postures, see the module's text and docs/elastic.md)."""
     poser = dynamics.poser
     posed = poser.pose(contractions, lengths, angles, clinical, dynamics.rig.method, on_limit)
     g, r = dynamics.rig.pose(posed.pose.rotations, posed.pose.translations)
@@ -88,9 +100,18 @@ def elastic_pose(
     _, skin, _, held = dynamics.frame(
         posed.pose.rotations[0], posed.pose.translations[0], r[0], delta, np.zeros(len(dynamics.eigenvalues))
     )
-    if contact:
-        skin, _ = separate(skin, dynamics.contact)
+    resolved = _barrier(dynamics, posed, skin) if contact else None
+    if resolved is not None:
+        skin = resolved.vertices
     nodes = g[0] + rotate(r[0], delta)
     return ElasticPose(posed, skin.astype(float), nodes, pose_quality(dynamics.model, nodes, "elastic"), dynamics,
-                       held.astype(float))
+                       held.astype(float), resolved)
+
+
+def _barrier(dynamics: BodyDynamics, posed: PosedBody, skin: np.ndarray) -> BarrierResult:
+    """The elastic `skin` of `posed` with its self-contact resolved, reached from the rest skin through
+    the skin skinned at CONTACT_STEPS even fractions of the posture's joint angles."""
+    fractions = np.arange(1, CONTACT_STEPS + 1)[:, None] / CONTACT_STEPS
+    skinned = dynamics.poser.pose_many(fractions * posed.angles, dynamics.rig.method)
+    return barrier_resolve([dynamics.poser.body.vertices, *skinned, skin], dynamics.contact, folding=FOLDING)
 

@@ -1,7 +1,7 @@
 """The skin's self-contact as a barrier problem (IPC: Li et al. 2020, Incremental Potential Contact).
 
-A study beside `hitogata.geometry.contact.separate` (which parts the skin vertex by vertex): here the
-skin near contact is the unknown x of one smooth minimisation,
+The contact method of the elastic body (`hitogata.dynamics.single_pose.elastic_pose(..., contact=True)`):
+the skin near contact is the unknown x of one smooth minimisation,
 
     E(x) = ½ (x − y)ᵀ (I + k·L) (x − y) + ½ λ (V(x) − V(y))² + κ Σ b(d(x)),
 
@@ -34,7 +34,7 @@ from scipy.spatial import cKDTree
 from hitogata.geometry.contact import SelfContact
 
 if TYPE_CHECKING:
-    import ipctk  # optional (the `contact` extra): imported where used
+    import ipctk  # imported where used: half a second, paid only when contact is resolved
 
 DHAT = 2e-3  # m: the barrier's reach; skin in contact ends up within it
 SAME_APART = 0.03  # m: skin of one group meets itself only if this far apart at rest (a crease folding onto itself)

@@ -30,19 +30,12 @@ from dataclasses import dataclass, fields
 import numpy as np
 import scipy.sparse as sp
 
-from hitogata.geometry.mesh_checks import enclosed_volume
-from hitogata.geometry.normals import vertex_normals
 from hitogata.volume.surface import closest_points_on_triangles
 
 # m: deepest penetration looked for; deeper, the closest surface is often the wrong one (a calf 6 cm
 # into the thigh at a 135° knee is closer to the thigh's side than to its back)
 DETECT = 0.025
 REST_APART = 0.02  # m: a vertex and a triangle this close at rest are one sheet of skin, never in contact
-SEPARATION_GAP = 2e-3  # m: skin pushed apart ends this far outside the surface it was in
-SEPARATION_ROUNDS = 30  # most rounds of `separate`
-STEP = 0.004  # m: the most a round parts a vertex from a surface (a deep one's normal is a poor guide)
-SPREAD = 10  # neighbour-averaging rounds carrying a push onto the skin around
-BULGE = 12  # rings of skin around a contact that swell with the tissue it pressed aside
 _RIM = 1e-6  # barycentric weight under which a closest point lies on a triangle's edge
 
 
@@ -179,71 +172,3 @@ def _point_triangle_distance(points: np.ndarray, tri: np.ndarray) -> np.ndarray:
     closest = closest_points_on_triangles(points, tri[:, 0], tri[:, 1], tri[:, 2])
     return np.linalg.norm(points - closest, axis=1)
 
-
-def separate(vertices: np.ndarray, test: SelfContact, gap: float = SEPARATION_GAP,
-             rounds: int = SEPARATION_ROUNDS) -> tuple[np.ndarray, Penetrations]:
-    """The skin (V, 3) with its penetrations pushed apart and the tissue they held bulging around
-    them, and the penetrations left after that.
-
-    Rounds of `_push_apart` (each vertex and the closest point it is inside moved apart along the
-    surface's normal, half each, to `gap` outside, carried smoothly onto the skin around); then
-    the volume the overlap held, restored by a smooth swelling of the skin ringing the contact
-    (`_bulge`: soft tissue is nearly incompressible, so what a crease presses aside rises beside
-    it), and rounds of pushing again for what the swelling brought into contact.
-    """
-    x = np.array(vertices, dtype=float)
-    volume = enclosed_volume(x, test.faces)
-    pressed = np.zeros(len(x), dtype=bool)
-    found = test.penetrations(x)
-    for stage in range(2):
-        for _ in range(rounds):
-            if not len(found):
-                break
-            x += _push_apart(x, found, test, gap, pressed)
-            found = test.penetrations(x)
-        if stage == 0:
-            if not pressed.any():  # nothing touched: the skin as it came
-                return x, found
-            x += _bulge(x, test, pressed, volume - enclosed_volume(x, test.faces))
-            found = test.penetrations(x)
-    return x, found
-
-
-def _push_apart(x: np.ndarray, found: Penetrations, test: SelfContact, gap: float,
-                pressed: np.ndarray) -> np.ndarray:
-    """(V, 3) moves parting each penetrating vertex from the closest point it is inside (that
-    point's share spread over its triangle's corners by weight), spread smoothly onto the skin
-    around (SPREAD rounds of neighbour averaging, the pushed vertices held); marks `pressed`."""
-    push = 0.5 * np.minimum(found.depth + gap, STEP)[:, None] * found.normal
-    move = np.zeros_like(x)
-    weight = np.zeros(len(x))
-    np.add.at(move, found.vertex, push)
-    np.add.at(weight, found.vertex, 1.0)
-    corners = test.faces[found.face]
-    np.add.at(move, corners.ravel(), -(found.barycentric[:, :, None] * push[:, None, :]).reshape(-1, 3))
-    np.add.at(weight, corners.ravel(), found.barycentric.ravel())
-    pinned = weight > 0
-    pressed |= pinned
-    move[pinned] /= np.maximum(weight[pinned], 1.0)[:, None]
-    held = move[pinned]
-    for _ in range(SPREAD):
-        move = test.neighbour_average @ move
-        move[pinned] = held
-    return move
-
-
-def _bulge(x: np.ndarray, test: SelfContact, pressed: np.ndarray, volume: float) -> np.ndarray:
-    """(V, 3) an outward swelling of the skin ringing the pressed vertices (BULGE rings, smooth,
-    zero on the pressed skin itself) enclosing `volume` (m³) more."""
-    ring = pressed.astype(float)
-    for _ in range(BULGE):
-        ring = test.neighbour_average @ ring
-    ring[pressed] = 0.0
-    tri = x[test.faces]
-    face_areas = 0.5 * np.linalg.norm(np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]), axis=1)
-    areas = np.bincount(test.faces.ravel(), np.repeat(face_areas, 3), minlength=len(x)) / 3.0
-    normals = vertex_normals(x, test.faces)
-    capacity = float(ring @ areas)
-    if capacity <= 0.0 or volume <= 0.0:
-        return np.zeros_like(x)
-    return (volume / capacity) * ring[:, None] * normals
