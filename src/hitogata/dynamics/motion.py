@@ -360,8 +360,9 @@ def _frames(dynamics: BodyDynamics, times, angles, rotations, translations, skin
         cap[k] = np.minimum(cap[k], cap[k - 1] + RELEASE_SPEED * (times[k] - times[k - 1]))
     for k in range(n - 2, -1, -1):
         cap[k] = np.minimum(cap[k], cap[k + 1] + RELEASE_SPEED * (times[k + 1] - times[k]))
-    for k in np.flatnonzero((cap < kept * length - 1e-9).any(axis=1)):  # held more than its own limit
-        skin[k], kept[k] = limiter(plain[k], offset[k], cap[k] / np.maximum(length[k], 1e-12), candidates[k])
+    for again in np.flatnonzero((cap < kept * length - 1e-9).any(axis=1)):  # held more than its own limit
+        skin[again], kept[again] = limiter(plain[again], offset[again],
+                                           cap[again] / np.maximum(length[again], 1e-12), candidates[again])
     held = ((1.0 - kept) * length).astype(np.float32)
     nodes = (skinned + elastic).astype(np.float32)
     return Motion(dynamics, times, angles, rotations, translations, nodes, elastic, skin, plain, held, q, s, qd)

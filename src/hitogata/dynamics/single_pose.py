@@ -92,17 +92,21 @@ def elastic_pose(
 ) -> ElasticPose:
     """The elastic skin of one posture (names and units as `Poser.pose`), solved from rest;
     contact: no part of the skin passing into another (the barrier along the path of skinned
-    postures, see the module's text and docs/elastic.md)."""
+    postures, see the module's text and docs/elastic.md); without it, the elastic displacement is
+    held back where it would fold or cross the skin beyond skinning's (`BodyDynamics.frame`)."""
     poser = dynamics.poser
     posed = poser.pose(contractions, lengths, angles, clinical, dynamics.rig.method, on_limit)
     g, r = dynamics.rig.pose(posed.pose.rotations, posed.pose.translations)
     delta, _ = dynamics.quasi_static(g[0], r[0], None, None, iterations)  # warm=None: from rest
-    _, skin, _, held = dynamics.frame(
-        posed.pose.rotations[0], posed.pose.translations[0], r[0], delta, np.zeros(len(dynamics.eigenvalues))
-    )
-    resolved = _barrier(dynamics, posed, skin) if contact else None
-    if resolved is not None:
-        skin = resolved.vertices
+    at_rest = np.zeros(len(dynamics.eigenvalues))
+    resolved = None
+    if contact:  # the barrier takes the whole elastic skin: nothing need be held back
+        _, plain, offset = dynamics.skin_offset(posed.pose.rotations[0], posed.pose.translations[0], r[0], delta,
+                                                at_rest)
+        resolved = _barrier(dynamics, posed, plain + offset)
+        skin, held = resolved.vertices, np.zeros(len(plain))
+    else:
+        _, skin, _, held = dynamics.frame(posed.pose.rotations[0], posed.pose.translations[0], r[0], delta, at_rest)
     nodes = g[0] + rotate(r[0], delta)
     return ElasticPose(posed, skin.astype(float), nodes, pose_quality(dynamics.model, nodes, "elastic"), dynamics,
                        held.astype(float), resolved)
