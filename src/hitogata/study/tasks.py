@@ -272,14 +272,20 @@ def task_rows(task: Task) -> dict[str, list]:
             add(kind=kind, name=name, standing_m=standing,
                 low_m=float(np.nanmin(series)) if finite else nan, high_m=float(np.nanmax(series)) if finite else nan,
                 ease_increase_m=increase, ease_decrease_m=decrease,
-                peak_time_s=float(times[np.nanargmax(series)]) if finite else nan)
+                peak_time_s=peak_time(times, series) if finite else nan)
     if want_zones:
         for i, name in enumerate(ZONE_NAMES):
             p95, mean, compression, area = zones[:, i].T
             add(kind="zone", name=name, stretch_p95_pct=float(np.nanmax(p95)), stretch_mean_pct=float(np.nanmax(mean)),
                 compression_pct=float(np.nanmin(compression)), area_change_pct=float(np.nanmax(area)),
-                peak_time_s=float(times[np.nanargmax(p95)]))
+                peak_time_s=peak_time(times, p95))
     for column, kind in COLUMNS.items():
         if kind == "float":
             rows[column] = [round(value, DECIMALS) for value in rows[column]]
     return rows
+
+
+def peak_time(times: np.ndarray, series: np.ndarray) -> float:
+    """The first time the series comes within round-off (10^-DECIMALS) of its largest value: a
+    measurement the motion leaves unchanged peaks at the start, whatever its last bits do."""
+    return float(times[np.flatnonzero(series >= np.nanmax(series) - 10.0 ** -DECIMALS)[0]])
