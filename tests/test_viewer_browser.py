@@ -103,6 +103,14 @@ def field(page, label: str):
     return row.locator("xpath=ancestor::div[contains(@class, 'mantine-Flex-root')][1]//input").first
 
 
+def open_trunk(page) -> None:
+    """Open the muscles' Trunk folder unless it is open (the page is shared: another test may have)."""
+    trunk = page.get_by_text("Trunk", exact=True)
+    trunk.wait_for()
+    if not page.locator("label").filter(has_text="rectus abdominis (left)").locator("visible=true").count():
+        click(trunk)
+
+
 def stature_shown(page) -> str:
     return page.locator("tr", has_text="stature").first.inner_text()
 
@@ -111,7 +119,7 @@ def test_a_muscle_slider_moves_the_pose_the_picture_and_a_measurement(app, page)
     click(page.get_by_role("tab", name="Muscles"))
     click(page.get_by_role("button", name="Reset pose"))  # shared state: start from rest
     assert wait_for(lambda: app.state.drivers == {} and not app.showing_sequence)
-    click(page.get_by_text("Trunk", exact=True))
+    open_trunk(page)
     thumb = slider_thumb(page, "rectus abdominis (left)")
     assert thumb.get_attribute("aria-valuenow") == "0"
     assert app.wait_idle(PATIENCE)
@@ -194,10 +202,7 @@ def test_a_held_arrow_key_moves_a_focused_slider_and_not_the_camera(app, page):
     click(page.get_by_role("tab", name="Muscles"))
     click(page.get_by_role("button", name="Reset pose"))
     assert wait_for(lambda: app.state.drivers == {} and not app.showing_sequence)
-    trunk = page.get_by_text("Trunk", exact=True)
-    trunk.wait_for()
-    if not page.locator("label").filter(has_text="rectus abdominis (left)").locator("visible=true").count():
-        click(trunk)  # the folder is closed (an earlier test may have opened it)
+    open_trunk(page)
     client = max(app.server.get_clients().items())[1]  # this page's (a reloaded page's old one may linger)
     thumb = slider_thumb(page, "rectus abdominis (left)")
     thumb.focus()
