@@ -32,7 +32,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.spatial import cKDTree
 
-from hitogata.geometry.mesh_checks import _PLANE_TOLERANCE, _faces, _triangles_intersect
+from hitogata.geometry.mesh_checks import _PLANE_TOLERANCE, _apart, _faces, _triangles_intersect
 
 FOLD_ANGLE = 120.0  # degrees between neighbouring triangles' normals: a fold, not a bend
 FLOOR_TOLERANCE = 1e-3  # m: a vertex lower than the floor by more than this is below it
@@ -175,8 +175,7 @@ def _crossing_pairs(x: np.ndarray, faces: np.ndarray, active: np.ndarray | None 
     tri = x[faces]
     lo, hi = tri.min(axis=1), tri.max(axis=1)
     i, j = box_pairs(lo, hi, active)
-    apart = ~(faces[i][:, :, None] == faces[j][:, None, :]).any(axis=(1, 2))
-    pairs = np.stack([i[apart], j[apart]], axis=1)
+    pairs = _apart(faces, i, j)
     return pairs[_intersect(x, faces, pairs)]
 
 

@@ -158,13 +158,17 @@ def self_intersections(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
         return np.empty((0, 2), dtype=np.int64)
     tri = vertices[faces]
     lo, hi = tri.min(axis=1), tri.max(axis=1)
-    i, j = _overlapping_boxes(lo, hi)
-    apart = ~(faces[i][:, :, None] == faces[j][:, None, :]).any(axis=(1, 2))
-    i, j = i[apart], j[apart]
+    i, j = _apart(faces, *_overlapping_boxes(lo, hi)).T
     tolerance = _PLANE_TOLERANCE * float(np.linalg.norm(hi.max(axis=0) - lo.min(axis=0)))
     hit = _triangles_intersect(tri[i], tri[j], tolerance)
     pairs = np.stack([i[hit], j[hit]], axis=1)
     return pairs[np.lexsort((pairs[:, 1], pairs[:, 0]))]
+
+
+def _apart(faces: np.ndarray, i: np.ndarray, j: np.ndarray) -> np.ndarray:
+    """(K, 2) the face pairs (i, j) that share no vertex: touching neighbours never count as crossing."""
+    apart = ~(faces[i][:, :, None] == faces[j][:, None, :]).any(axis=(1, 2))
+    return np.stack([i[apart], j[apart]], axis=1)
 
 
 def _overlapping_boxes(lo: np.ndarray, hi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

@@ -34,7 +34,7 @@ import scipy.sparse as sp
 from scipy.sparse.csgraph import dijkstra
 
 from hitogata.geometry.integrity import MOVED, _crossing_pairs, _folded, _intersect, _neighbour_pairs, _pair_keys, box_pairs
-from hitogata.geometry.mesh_checks import _faces, _undirected_edges
+from hitogata.geometry.mesh_checks import _apart, _faces, _undirected_edges
 
 ROUNDING = 1e-6  # m: boxes widened by this cover a float32 surface's rounding
 HELD = 1e-4  # m: a vertex whose offset is held back by more is reported as held back
@@ -99,8 +99,7 @@ class OffsetLimiter:
         # as surface_integrity: a face whose corners all stay within MOVED of the reference is the reference's
         active = (np.abs(offset).max(axis=1) > MOVED)[self.faces].any(axis=1)
         i, j = box_pairs(lo, hi, active)
-        apart = ~(self.faces[i][:, :, None] == self.faces[j][:, None, :]).any(axis=(1, 2))
-        pairs = np.stack([i[apart], j[apart]], axis=1)
+        pairs = _apart(self.faces, i, j)
         pairs = pairs[~np.isin(_pair_keys(pairs, len(self.faces)), self.crossing_at_rest)]
         return pairs[~_intersect(reference, self.faces, pairs)]
 
