@@ -90,14 +90,15 @@ def test_elbow_and_knee_of_the_elastic_body_hold_their_contact(female):
         held = elastic_pose(dynamics, clinical={dof: angle}, contact=True)
         assert held.barrier is not None and plain.barrier is None
         moved = np.linalg.norm(held.vertices - plain.vertices, axis=1) > 1e-9
-        # only the free skin near the contacts moves (and what the pose without contact held back)
-        assert not (moved & ~held.barrier.free & (plain.held_back == 0)).any()
+        # only the free skin near the contacts moves (and what either pose held back)
+        assert not (moved & ~held.barrier.free & (plain.held_back == 0) & (held.held_back == 0)).any()
         figures[dof] = (len(plain.penetrations), round(plain.penetrations.deepest * 1e3, 1), new_pairs(plain.vertices),
                         len(held.penetrations), round(held.penetrations.deepest * 1e3, 1), new_pairs(held.vertices),
                         round((enclosed_volume(held.vertices, faces) / rest_volume - 1) * 100, 3),
                         int(held.barrier.free.sum()))
     # (inside, deepest mm, new crossing pairs) without contact (its offset held back where it would cross
     # beyond skinning's: skinning's own pairs stay), then with it (the barrier on the whole elastic skin);
-    # volume change % against rest, the free skin. Left: 2 crossing pairs in the elbow's crease
-    assert figures == {"forearm_l.flexion": (77, 24.8, 134, 0, 0.0, 2, -0.174, 632),
+    # volume change % against rest, the free skin (the barrier's 2 pairs in the elbow's crease, of skin it does
+    # not hold apart, held back towards its last step's start)
+    assert figures == {"forearm_l.flexion": (77, 24.8, 134, 0, 0.0, 0, -0.164, 632),
                        "shank_l.flexion": (40, 24.9, 83, 0, 0.0, 0, -0.06, 343)}

@@ -101,3 +101,32 @@ def test_a_torn_run_warns_in_one_line_before_its_figures():
     warnings = [k for k, line in enumerate(lines) if "WARNING" in line]
     assert len(warnings) == 1 and "largest skin displacement" in lines[warnings[0] + 1]
     assert "not results" in lines[warnings[0]]
+
+
+def test_the_offset_limiter_holds_back_only_what_crosses_or_folds():
+    """Two sheets 30 mm apart; an offset pushes a patch of the upper one 50 mm down (through the lower
+    sheet) and drags one vertex far across its neighbours (a fold): the limiter keeps the surface whole,
+    holding back near the offending skin only; with folds=False it holds back no more than that."""
+    from hitogata.geometry.offset_limit import OffsetLimiter
+
+    v, f = grid(n=11, size=0.2)
+    top = v + [0.0, 0.03, 0.0]
+    vertices, faces = np.concatenate([v, top]), np.concatenate([f, f + len(v)])
+    offset = np.zeros_like(vertices)
+    centre = len(v) + 5 * 11 + 5
+    patch = len(v) + np.flatnonzero(np.linalg.norm(v[:, [0, 2]] - v[5 * 11 + 5, [0, 2]], axis=1) < 0.03)
+    offset[patch, 1] = -0.05
+    dragged = len(v) + 1 * 11 + 8  # far from the patch
+    offset[dragged] = [0.06, 0.0, 0.0]
+    limiter = OffsetLimiter(vertices, faces)
+    assert len(self_intersections(vertices + offset, faces)) > 0
+    surface, kept = limiter(vertices, offset)
+    assert len(self_intersections(surface, faces)) == 0
+    assert kept[centre] < 0.7 and kept[dragged] < 1.0  # the push and the drag held back
+    # a hold fades out over 40 mm of surface from the offending triangles' corners
+    far = (np.linalg.norm(vertices - vertices[centre], axis=1) > 0.11) & (
+        np.linalg.norm(vertices - vertices[dragged], axis=1) > 0.11)
+    assert far.sum() == 41 and np.all(kept[far] == 1.0)
+    crossing_only, kept_more = limiter(vertices, offset, folds=False)  # crossings only: holds no more
+    assert len(self_intersections(crossing_only, faces)) == 0
+    assert np.all(kept_more >= kept) and kept_more[centre] < 0.7

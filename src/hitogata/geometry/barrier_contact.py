@@ -56,13 +56,15 @@ MAX_STEP = 0.1  # m: the longest vertex move of one Newton step (a trust region:
 
 @dataclass(frozen=True)
 class BarrierResult:
-    """The resolved skin (V, 3), the free vertices, Newton iterations taken per path step, and the
-    smallest distance (m) between skin that may collide at the end."""
+    """The resolved skin (V, 3), the free vertices, Newton iterations taken per path step, the
+    smallest distance (m) between skin that may collide at the end, and the resolved skin at the
+    path's last posture but one (V, 3: the start of the last step, free of crossings as it is)."""
 
     vertices: np.ndarray
     free: np.ndarray
     iterations: list[int]
     min_distance: float
+    before_last: np.ndarray
 
 
 def _grow(mask: np.ndarray, test: SelfContact, rings: int) -> np.ndarray:
@@ -234,9 +236,11 @@ def barrier_resolve(path: Sequence[np.ndarray], test: SelfContact, stiffness: fl
     if ipctk.has_intersections(problem.mesh, x):
         raise ValueError("the path's first skin passes through itself where skin may meet: no barrier can start there")
     taken = []
+    before = x
     for y in path[1:]:
+        before = x
         x, n = problem.minimise(x, np.asarray(y, dtype=float), iterations, tolerance)
         taken.append(n)
-    out = target.copy()
-    out[ids] = x
-    return BarrierResult(out, free, taken, problem.min_distance(x))
+    out, start = target.copy(), np.array(path[-2], dtype=float)
+    out[ids], start[ids] = x, before
+    return BarrierResult(out, free, taken, problem.min_distance(x), start)

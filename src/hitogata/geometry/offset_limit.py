@@ -57,11 +57,12 @@ class OffsetLimiter:
         self.graph = sp.coo_matrix((length, (edges[:, 0], edges[:, 1])), shape=(n, n)).tocsr()
 
     def __call__(self, reference: np.ndarray, offset: np.ndarray, ceiling: np.ndarray | None = None,
-                 candidates: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+                 candidates: np.ndarray | None = None, folds: bool = True) -> tuple[np.ndarray, np.ndarray]:
         """The surface reference + w·offset (V, 3), in the reference's dtype (checked as rounded to it: a
         float32 surface is judged as it will be stored), and w (V,), 1 where nothing offends;
         ceiling (V,): w never above it (a motion holds and gives back gradually); candidates: this
-        reference and offset's `candidates`, if already found."""
+        reference and offset's `candidates`, if already found; folds: False holds back crossings only
+        (a fold held back towards a reference that crosses nearby would bring that crossing back)."""
         dtype = np.asarray(reference).dtype
         if candidates is None:
             candidates = self.candidates(reference, offset)
@@ -77,8 +78,8 @@ class OffsetLimiter:
             surface = (reference + w[:, None] * offset).astype(dtype)
             x = surface.astype(np.float64)
             crosses[retest] = _intersect(x, self.faces, candidates[retest])
-            folds = self.pairs[_folded(x, self.faces, self.pairs) & ~folded_in_reference]
-            offending = np.unique(self.faces[np.concatenate([candidates[crosses].ravel(), folds.ravel()])])
+            folded = self.pairs[_folded(x, self.faces, self.pairs) & ~folded_in_reference] if folds else self.pairs[:0]
+            offending = np.unique(self.faces[np.concatenate([candidates[crosses].ravel(), folded.ravel()])])
             offending = offending[hold[offending] < 1.0]
             if not len(offending):
                 break
