@@ -2,7 +2,7 @@
 by the elastic body with its self-contact resolved (`elastic_pose(..., contact=True)`: the barrier of
 `hitogata.geometry.barrier_contact`, IPC), and what contact costs.
 
-For each body and pose (`skin_stretch_lines.poses`), on the coarse skin: new self-crossing triangle pairs
+For each body and pose (`hitogata.skeleton.extreme_poses`), on the coarse skin: new self-crossing triangle pairs
 beyond the rest body's (`geometry.self_intersections`), skin vertices inside another part and the deepest
 in mm (`geometry.contact.SelfContact`, to 25 mm), the enclosed volume against rest; the elastic pose's time
 without and with contact and their ratio, measured in this run; for the contact: the free skin (vertices),
@@ -18,11 +18,11 @@ import argparse
 import time
 
 import numpy as np
-from skin_stretch_lines import poses
 
 from hitogata.body import default_body
 from hitogata.dynamics.single_pose import elastic_dynamics, elastic_pose
 from hitogata.geometry import enclosed_volume, self_intersections
+from hitogata.skeleton.extreme_poses import extreme_poses
 
 
 def crossing_pairs(v: np.ndarray, faces: np.ndarray) -> set[tuple[int, int]]:
@@ -40,7 +40,7 @@ def main(sexes: list[str], names: list[str] | None) -> None:
         rest = crossing_pairs(body.vertices, body.faces)
         rest_volume = enclosed_volume(body.vertices, body.faces)
         ratios = []
-        for pose, clinical in poses(dynamics.poser.skeleton).items():
+        for pose, clinical in extreme_poses(dynamics.poser.skeleton).items():
             if names and pose not in names:
                 continue
             start = time.perf_counter()

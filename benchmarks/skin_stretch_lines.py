@@ -27,41 +27,13 @@ from hitogata.body import default_body
 from hitogata.dynamics.single_pose import elastic_dynamics, elastic_pose
 from hitogata.measure.body_lines import LINE_NAMES, body_lines
 from hitogata.measure.strain import skin_strain
+from hitogata.skeleton.extreme_poses import extreme_poses
 
-SPINE = [f"lumbar_{i}" for i in range(1, 6)] + [f"thoracic_{i}" for i in range(1, 13)]
-NECK = [f"cervical_{i}" for i in range(1, 8)] + ["head"]
 SHORT = {
     "elbow_posterior": "elbow post.", "elbow_circumference": "elbow circ.", "knee_anterior": "knee ant.",
     "knee_posterior": "knee post.", "knee_circumference": "knee circ.", "back_width": "back width",
     "seat_vertical": "seat vert.",
 }
-
-
-def at_limit(skeleton, parts: list[str], dof: str) -> dict[str, float]:
-    """Clinical angles (radians) putting every segment of a region at the upper end of its range."""
-    out = {}
-    for part in parts:
-        k = skeleton.dof_index(f"{part}.{dof}")
-        out[f"{part}.{dof}"] = float(skeleton.rest[k] + skeleton.upper[k])
-    return out
-
-
-def poses(skeleton) -> dict[str, dict[str, float]]:
-    """The issue's extreme poses as clinical angles, radians."""
-    d = np.radians
-    return {
-        "elbow 150°": {"forearm_l.flexion": d(150)},
-        "knee 135°": {"shank_l.flexion": d(135)},
-        "hip flexion 120°": {"thigh_l.flexion": d(120)},
-        "seated 90/90": {"thigh_l.flexion": d(90), "thigh_r.flexion": d(90),
-                         "shank_l.flexion": d(90), "shank_r.flexion": d(90)},
-        "hip adduction 30°": {"thigh_l.abduction": d(-30)},
-        "shoulder flexion 180°": {"shoulder_l.flexion": d(180)},
-        "shoulder abduction 170°": {"shoulder_l.abduction": d(170)},
-        "neck flexion 45°": at_limit(skeleton, NECK, "flexion"),
-        "trunk flexion 80°": at_limit(skeleton, SPINE, "flexion"),
-        "trunk rotation 45°": at_limit(skeleton, SPINE, "rotation"),
-    }
 
 
 def stretch_peaks(strain) -> str:
@@ -86,7 +58,7 @@ def main(sexes: list[str]) -> None:
         fine = body.fine_skinning
         lines = body_lines(body, fine.fine.vertices, fine.fine.faces)
         rest = {n: lines[n].length(fine.fine.vertices) for n in LINE_NAMES}
-        for pose, clinical in poses(poser.skeleton).items():
+        for pose, clinical in extreme_poses(poser.skeleton).items():
             start = time.perf_counter()
             held = elastic_pose(dynamics, clinical=clinical)
             seconds = time.perf_counter() - start
