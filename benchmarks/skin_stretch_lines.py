@@ -55,7 +55,8 @@ def poses(skeleton) -> dict[str, dict[str, float]]:
         "hip flexion 120°": {"thigh_l.flexion": d(120)},
         "seated 90/90": {"thigh_l.flexion": d(90), "thigh_r.flexion": d(90),
                          "shank_l.flexion": d(90), "shank_r.flexion": d(90)},
-        "hip adduction 30°": {"thigh_l.abduction": d(-30)},
+        # AAOS: the other leg abducted out of the way (one leg alone goes through the other: skeleton.combined)
+        "hip adduction 30°": {"thigh_l.abduction": d(-30), "thigh_r.abduction": d(30)},
         "shoulder flexion 180°": {"shoulder_l.flexion": d(180)},
         "shoulder abduction 170°": {"shoulder_l.abduction": d(170)},
         "neck flexion 45°": at_limit(skeleton, NECK, "flexion"),
