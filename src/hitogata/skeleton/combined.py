@@ -7,7 +7,8 @@ joints free; some motions are bounded by what several joints do together:
 - the thoracolumbar spine bends as a whole (AAOS regional ranges: flexion
   80°, extension 25°, lateral bending 35°, rotation 45°; the shipped
   segments' ranges are shared from these, so this guards edited lists);
-- the two legs do not pass through each other: a hip adducts its 30° (AAOS)
+- the two legs do not pass through each other: a hip adducts its 30° (AAOS:
+  Greene & Heckman 1994, The Clinical Measurement of Joint Motion)
   with the other leg out of the way, in AAOS's test position abducted as
   far, so the two hips' clinical abductions sum to at least 0° (in the
   anatomical position, 0° each, the straight legs stand together). Measured
