@@ -2,7 +2,7 @@
 
 Clinical angles (radians, `Poser.pose(clinical=...)`) by pose name: elbow
 150°, knee 135°, hip flexion 120°, both hips and knees at 90° (seated), hip
-adduction 30°, shoulder flexion 180° and abduction 170° (through the shoulder
+adduction 30° (the other leg abducted 30° out of the way), shoulder flexion 180° and abduction 170° (through the shoulder
 complex: the girdle follows by the scapulohumeral rhythm), and the neck and
 trunk with every segment at the end of its range (the AAOS regional ranges:
 neck flexion 45°, trunk flexion 80°, trunk rotation 45°). The limbs are the
@@ -37,7 +37,8 @@ def extreme_poses(skeleton: Skeleton) -> dict[str, dict[str, float]]:
         "hip flexion 120°": {"thigh_l.flexion": d(120)},
         "seated 90/90": {"thigh_l.flexion": d(90), "thigh_r.flexion": d(90),
                          "shank_l.flexion": d(90), "shank_r.flexion": d(90)},
-        "hip adduction 30°": {"thigh_l.abduction": d(-30)},
+        # AAOS: the other leg abducted out of the way (one leg alone goes through the other: skeleton.combined)
+        "hip adduction 30°": {"thigh_l.abduction": d(-30), "thigh_r.abduction": d(30)},
         "shoulder flexion 180°": {"shoulder_l.flexion": d(180)},
         "shoulder abduction 170°": {"shoulder_l.abduction": d(170)},
         "neck flexion 45°": at_limit(skeleton, NECK, "flexion"),
