@@ -48,7 +48,7 @@ def test_contact_holds_through_an_elbow_flexion(female, flexion):
     # the free skin grows with the crease; every frame started from the last one's skin (none from rest again)
     assert took.free.tolist() == [0, 0, 0, 0, 101, 157, 184, 218, 519, 636]
     assert took.from_rest.tolist() == [True] + [False] * 9
-    assert contact_figures(held)["frames_meeting"] == 6
+    assert contact_figures(took)["frames_meeting"] == 6
     worst = surface_integrity(female.vertices, faces, held.skin, held.times, held.skinned_skin).worst()
     assert worst["self_intersections_beyond_skinning"] == 0 and worst["below_floor_beyond_skinning"] == 0
     # no jump, no tear: the elastic displacement changes at most 10 mm a frame

@@ -81,7 +81,6 @@ def skin_contact(poser: Poser) -> SelfContact:
     return SelfContact(body.vertices, body.faces, vertex_groups(poser.skin.weights, poser.skeleton.names))
 
 
-
 def approach(poser: Poser, angles: np.ndarray, skinning: Skinning, root: np.ndarray | None = None
              ) -> list[np.ndarray]:
     """A path from the rest skin to a posture for the contact barrier (`geometry.barrier_contact`): the

@@ -13,6 +13,7 @@ import numpy as np
 from hitogata.body import Body, default_body
 from hitogata.dynamics import files
 from hitogata.dynamics.motion import BodyDynamics, Motion, simulate
+from hitogata.dynamics.motion_contact import MotionContact
 from hitogata.dynamics.quasistatic import corner_volumes
 from hitogata.dynamics.scenario import BodySpec, Scenario
 from hitogata.errors import HitogataError
@@ -98,10 +99,8 @@ def _contact_line(c: dict) -> str:
             f"({c['seconds_per_frame_meeting']:.2f} s a frame where skin meets)")
 
 
-def contact_figures(motion: Motion) -> dict:
-    """What resolving the motion's self-contact took (`Motion.contact`), for the summary."""
-    c = motion.contact
-    assert c is not None
+def contact_figures(c: MotionContact) -> dict:
+    """What resolving a motion's self-contact took (`Motion.contact`), for the summary."""
     meeting = c.free > 0
     return {
         "frames": len(c.free),
@@ -159,7 +158,7 @@ def figures(motion: Motion, scenario: Scenario) -> dict:
         "held_back_mm": float(motion.held_back.max() * 1e3),
         "held_back_vertices": int((motion.held_back > HELD).sum(axis=1).max()),
         "held_back_time_s": float(motion.times[int(np.argmax(motion.held_back.max(axis=1)))]),
-        **({"contact": contact_figures(motion)} if motion.contact is not None else {}),
+        **({"contact": contact_figures(motion.contact)} if motion.contact is not None else {}),
     }
 
 

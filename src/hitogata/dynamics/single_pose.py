@@ -8,8 +8,8 @@ skin as a simulation frame does (`BodyDynamics.frame`). With `contact`, the
 skin's self-contact is then resolved as a barrier problem
 (`hitogata.geometry.barrier_contact`, IPC) along a path of postures: the rest
 skin, the skin skinned at even fractions of the joint angles (the same
-skinning: `dynamics.contact.approach`), the elastic skin. `elastic_dynamics` builds and caches
-the whole-body model it needs, once per body and size.
+skinning: `dynamics.contact.approach`), the elastic skin. `elastic_dynamics`
+builds and caches the whole-body model it needs, once per body and size.
 """
 
 from __future__ import annotations
