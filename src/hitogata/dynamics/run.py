@@ -96,7 +96,9 @@ def _contact_line(c: dict) -> str:
     return (f"  self-contact resolved (IPC barrier frame to frame) in {c['frames_meeting']} of {c['frames']} frames "
             f"where skin meets: up to {c['free_vertices_max']} free vertices, {c['newton_iterations']} Newton "
             f"iterations in all, smallest gap {c['min_gap_mm']:.2f} mm, {c['seconds']:.1f} s "
-            f"({c['seconds_per_frame_meeting']:.2f} s a frame where skin meets)")
+            f"({c['seconds_per_frame_meeting']:.2f} s a frame where skin meets"
+            + (f"; frames reached from rest again, their start crossing itself: {c['restarts_from_rest']}"
+               if c["restarts_from_rest"] else "") + ")")
 
 
 def contact_figures(c: MotionContact) -> dict:
