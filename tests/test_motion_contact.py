@@ -22,22 +22,27 @@ def flexion(female):
     """The whole default female body (the model `elastic_pose` shares) flexing the left elbow, without and
     with contact."""
     scenario = load_scenario(shipped_scenarios()["elbow_flexion_body"])
-    return {contact: simulate(elastic_dynamics(female), scenario.timeline, 0.9, RATE, contact=contact)
+    calls: list[tuple[int, int]] = []
+    runs = {contact: simulate(elastic_dynamics(female), scenario.timeline, 0.9, RATE, contact=contact,
+                              progress=(lambda done, total: calls.append((done, total))) if contact else None)
             for contact in (False, True)}
+    return runs, calls
 
 
 @pytest.mark.slow
 def test_contact_holds_through_an_elbow_flexion(female, flexion):
+    runs, calls = flexion
     faces = female.faces
     rest = set(map(tuple, self_intersections(female.vertices, faces).tolist()))
-    test = flexion[True].dynamics.contact
+    test = runs[True].dynamics.contact
 
     def per_frame(skins: np.ndarray) -> list[tuple[int, int]]:
         """(new crossing pairs beyond the rest body's, vertices inside another part) per frame."""
         return [(len(set(map(tuple, self_intersections(x, faces).tolist())) - rest), len(test.penetrations(x)))
                 for x in skins]
 
-    plain, held = flexion[False], flexion[True]
+    plain, held = runs[False], runs[True]
+    assert calls == [(n, 20) for n in range(1, 21)]  # progress: 10 steps, then 10 frames' contact
     np.testing.assert_array_equal(plain.skinned_skin, held.skinned_skin)  # the same motion, its skin resolved
     # without contact skinning's crossings stay (the forearm's skin through the upper arm's); with it none
     assert per_frame(plain.skin) == [(0, 0), (0, 0), (0, 0), (0, 0), (12, 0), (29, 6), (41, 16), (53, 27), (61, 34),

@@ -261,7 +261,8 @@ def simulate(dynamics: BodyDynamics, timeline: Timeline, duration: float, rate: 
              progress: Callable[[int, int], None] | None = None, root: RootTrack | None = None,
              contact: bool = False) -> Motion:
     """Run a timeline for `duration` seconds; outputs at `rate` frames per second, `substeps` steps per frame;
-    root: the whole body's rigid motion (None: it stands where it is); contact: every frame's skin with
+    progress(done, total) is called after each step (and each frame's contact); root: the whole body's
+    rigid motion (None: it stands where it is); contact: every frame's skin with
     no part of it passing into another (`dynamics.motion_contact`, a few tenths of a second a frame
     where skin meets)."""
     if not (np.isfinite(duration) and duration > 0 and np.isfinite(rate) and rate > 0):
@@ -271,6 +272,7 @@ def simulate(dynamics: BodyDynamics, timeline: Timeline, duration: float, rate: 
     n_frames = int(round(duration * rate)) + 1
     h = 1.0 / (rate * substeps)
     n_steps = (n_frames - 1) * substeps + 1
+    total = n_steps + (n_frames if contact else 0)  # progress: the steps, then each frame's contact
     t = np.arange(n_steps) * h
     sk = dynamics.poser.skeleton
     rest = {("clinical", c.name): float(sk.rest[sk.dof_names.index(c.name)]) for c in timeline.channels
@@ -321,7 +323,7 @@ def simulate(dynamics: BodyDynamics, timeline: Timeline, duration: float, rate: 
             g_out[keep[n]], r_out[keep[n]], dqs_out[keep[n]] = g_now, r_now, delta
         g_prev = g_now
         if progress is not None:
-            progress(n + 1, n_steps)
+            progress(n + 1, total)
 
     step = modal_step(lam, dynamics.model.alpha, dynamics.model.beta, h)
     q, qd = np.zeros((n_steps, k)), np.zeros((n_steps, k))
@@ -333,7 +335,8 @@ def simulate(dynamics: BodyDynamics, timeline: Timeline, duration: float, rate: 
                      g_out, r_out, dqs_out, q[frames], s_all[frames], qd[frames])
     if not contact:
         return motion
-    skin, took = resolve_frames(dynamics, motion.skin, motion.angles, None if roots is None else roots[frames])
+    skin, took = resolve_frames(dynamics, motion.skin, motion.angles, None if roots is None else roots[frames],
+                                None if progress is None else lambda k: progress(n_steps + k, total))
     return replace(motion, skin=skin, contact=took)
 
 

@@ -21,6 +21,7 @@ that was not free, at its target), the frame is reached from rest instead.
 from __future__ import annotations
 
 import time
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
@@ -45,11 +46,12 @@ class MotionContact:
 
 
 def resolve_frames(dynamics: BodyDynamics, skins: np.ndarray, angles: np.ndarray,
-                   roots: np.ndarray | None = None) -> tuple[np.ndarray, MotionContact]:
+                   roots: np.ndarray | None = None, progress: Callable[[int], None] | None = None
+                   ) -> tuple[np.ndarray, MotionContact]:
     """The frames' skins (F, V, 3) with their self-contact resolved (float32), and what it took.
 
     angles: (F, D) the frames' joint angles; roots: (F, 4, 4) the whole body's transform per frame
-    (None: it stands where it is)."""
+    (None: it stands where it is); progress(frames done) after each frame."""
     n = len(skins)
     out = np.empty_like(skins, dtype=np.float32)
     free, iterations, from_rest = np.zeros(n, dtype=int), np.zeros(n, dtype=int), np.zeros(n, dtype=bool)
@@ -75,6 +77,8 @@ def resolve_frames(dynamics: BodyDynamics, skins: np.ndarray, angles: np.ndarray
             previous = y
         out[k] = previous
         seconds[k] = time.perf_counter() - start
+        if progress is not None:
+            progress(k + 1)
     return out, MotionContact(free, iterations, seconds, from_rest, gap)
 
 
