@@ -20,7 +20,8 @@ def run(args: argparse.Namespace) -> None:
 
         given = body_from_extras(args.body, read_glb_skin(args.body).extras or {})
     scenario, body = checked_scenario(load_scenario(args.scenario), given)  # names and values, before the model
-    summary = run_scenario(scenario, args.workdir, progress=sys.stderr.isatty() and not args.quiet, body=body)
+    summary = run_scenario(scenario, args.workdir, progress=sys.stderr.isatty() and not args.quiet, body=body,
+                           contact=args.contact)
     print(summary.text(), end="")
     print(f"wrote {len(summary.files) + 2} files to {args.out}/")
 
@@ -32,6 +33,9 @@ def register(sub: argparse._SubParsersAction) -> None:
                         help=f"a scenario file (docs/scenarios.md) or a shipped one: {names}")
     add_output(parser, "folder", "output folder; default ./results (a new or empty folder)", default="results")
     parser.add_argument("--quiet", action="store_true", help="no progress bars")
+    parser.add_argument("--contact", action="store_true",
+                        help="resolve the skin's self-contact in every frame (no part passing into another; "
+                        "a few tenths of a second a frame where skin meets: docs/scenarios.md)")
     parser.add_argument("--body", type=input_path("file", suffixes=(".glb",)), default=None,
                         help="run on the body of a .glb written by `hitogata body` or `hitogata fit` "
                         "instead of the scenario's [body]")

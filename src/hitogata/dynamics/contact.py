@@ -20,6 +20,7 @@ import scipy.sparse as sp
 from hitogata.geometry.contact import SelfContact
 
 if TYPE_CHECKING:
+    from hitogata.options import Skinning
     from hitogata.pose import Poser
 
 # Each group: the part-name prefixes it holds (a sided group takes parts of its own side only).
@@ -41,6 +42,10 @@ GROUPS: dict[str, tuple[str, ...]] = {
            "foot": (f"foot_{side}", f"toes_{side}"),
        }.items()},
 }
+# groups whose skin may fold onto itself (a crease: skin far apart at rest meets); a hand's, a foot's and
+# the head's small triangles lie close everywhere and stay held in shape by their bones
+FOLDING = tuple(g for g, name in enumerate(GROUPS) if not name.startswith(("hand", "foot", "head")))
+APPROACH_STEPS = 4  # skinned postures on the barrier's path from rest to a posture
 
 
 def part_groups(names: tuple[str, ...]) -> np.ndarray:
@@ -75,3 +80,12 @@ def skin_contact(poser: Poser) -> SelfContact:
     body = poser.body
     return SelfContact(body.vertices, body.faces, vertex_groups(poser.skin.weights, poser.skeleton.names))
 
+
+def approach(poser: Poser, angles: np.ndarray, skinning: Skinning, root: np.ndarray | None = None
+             ) -> list[np.ndarray]:
+    """A path from the rest skin to a posture for the contact barrier (`geometry.barrier_contact`): the
+    rest skin (free of crossings), then the skin skinned at APPROACH_STEPS even fractions of the joint
+    angles (D,) (`root`: the whole body's (4, 4) transform, at every fraction), each step short enough
+    for the barrier's continuous collision detection to follow."""
+    fractions = np.arange(1, APPROACH_STEPS + 1)[:, None] / APPROACH_STEPS
+    return [poser.body.vertices, *poser.pose_many(fractions * angles, skinning, root)]

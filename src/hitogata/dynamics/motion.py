@@ -24,6 +24,9 @@ At every time step: muscle contractions and joint angles → joint angles
    beyond which the body moves by skinning alone, and held back where it
    would fold or cross the skin where skinning does not (a 40 mm mesh does
    not resolve a crease: `geometry.offset_limit`).
+5. with `contact`: every frame's skin with its self-contact resolved, each
+   frame's barrier problem started from the last one's answer (IPC in time:
+   `dynamics.motion_contact`).
 
 Fictitious forces of the rotating frames on δ itself (Coriolis,
 centrifugal) are left out: δ is millimetres against metres of gross motion.
@@ -32,7 +35,7 @@ centrifugal) are left out: δ is millimetres against metres of gross motion.
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from functools import cached_property
 from typing import TYPE_CHECKING
 
@@ -40,6 +43,7 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from hitogata.dynamics.contact import skin_contact
+from hitogata.dynamics.motion_contact import MotionContact, resolve_frames
 from hitogata.dynamics.quasistatic import QuasiStatic, WarmStart, rotate, unrotate
 from hitogata.dynamics.rigging import NodeRig, joint_nodes, node_rig
 from hitogata.dynamics.timeline import RootTrack, Timeline
@@ -233,12 +237,13 @@ class Motion:
     translations: np.ndarray  # (F, parts, 3)
     nodes: np.ndarray  # (F, N, 3) float32, deformed FE nodes
     elastic: np.ndarray  # (F, N, 3) float32, x − g: the elastic body's displacement from the skinning
-    skin: np.ndarray  # (F, V, 3) float32, the body's skin surface
+    skin: np.ndarray  # (F, V, 3) float32, the body's skin surface (contact-resolved when `contact` is)
     skinned_skin: np.ndarray  # (F, V, 3) float32, the same skin by skinning alone
     held_back: np.ndarray  # (F, V) float32 m: elastic displacement held back to keep the skin whole
     q: np.ndarray  # (F, k) modal coordinates
     s: np.ndarray  # (F, k) their quasi-static values
     qd: np.ndarray  # (F, k) modal velocities
+    contact: MotionContact | None = None  # what resolving the skin's self-contact took, when it was
 
     @property
     def frequencies(self) -> np.ndarray:
@@ -253,9 +258,13 @@ class Motion:
 
 def simulate(dynamics: BodyDynamics, timeline: Timeline, duration: float, rate: float, substeps: int = 1,
              gravity: bool = True, on_limit: OnLimit = "raise", iterations: int = ITERATIONS,
-             progress: Callable[[int, int], None] | None = None, root: RootTrack | None = None) -> Motion:
+             progress: Callable[[int, int], None] | None = None, root: RootTrack | None = None,
+             contact: bool = False) -> Motion:
     """Run a timeline for `duration` seconds; outputs at `rate` frames per second, `substeps` steps per frame;
-    root: the whole body's rigid motion (None: it stands where it is)."""
+    progress(done, total) is called after each step (and each frame's contact); root: the whole body's
+    rigid motion (None: it stands where it is); contact: every frame's skin with
+    no part of it passing into another (`dynamics.motion_contact`, a few tenths of a second a frame
+    where skin meets)."""
     if not (np.isfinite(duration) and duration > 0 and np.isfinite(rate) and rate > 0):
         raise HitogataError(f"duration {duration!r} s and rate {rate!r}/s: allowed positive numbers")
     if int(substeps) != substeps or substeps < 1:
@@ -263,13 +272,15 @@ def simulate(dynamics: BodyDynamics, timeline: Timeline, duration: float, rate: 
     n_frames = int(round(duration * rate)) + 1
     h = 1.0 / (rate * substeps)
     n_steps = (n_frames - 1) * substeps + 1
+    total = n_steps + (n_frames if contact else 0)  # progress: the steps, then each frame's contact
     t = np.arange(n_steps) * h
     sk = dynamics.poser.skeleton
     rest = {("clinical", c.name): float(sk.rest[sk.dof_names.index(c.name)]) for c in timeline.channels
             if c.kind == "clinical" and c.name in sk.dof_names}
     channels = timeline.sample(t, rest)
     angles = _angles(dynamics.poser, channels, n_steps, on_limit)
-    pose = dynamics.poser.kinematics.pose(angles, root=None if root is None else root.sample(t))
+    roots = None if root is None else root.sample(t)
+    pose = dynamics.poser.kinematics.pose(angles, root=roots)
     contractions = channels["contraction"]
 
     k = len(dynamics.eigenvalues)
@@ -312,7 +323,7 @@ def simulate(dynamics: BodyDynamics, timeline: Timeline, duration: float, rate: 
             g_out[keep[n]], r_out[keep[n]], dqs_out[keep[n]] = g_now, r_now, delta
         g_prev = g_now
         if progress is not None:
-            progress(n + 1, n_steps)
+            progress(n + 1, total)
 
     step = modal_step(lam, dynamics.model.alpha, dynamics.model.beta, h)
     q, qd = np.zeros((n_steps, k)), np.zeros((n_steps, k))
@@ -320,8 +331,13 @@ def simulate(dynamics: BodyDynamics, timeline: Timeline, duration: float, rate: 
     for n in range(n_steps - 1):
         q[n + 1], qd[n + 1] = advance(step, q[n], qd[n], p_all[n], p_all[n + 1])
 
-    return _frames(dynamics, t[frames], angles[frames], pose.rotations[frames], pose.translations[frames],
-                   g_out, r_out, dqs_out, q[frames], s_all[frames], qd[frames])
+    motion = _frames(dynamics, t[frames], angles[frames], pose.rotations[frames], pose.translations[frames],
+                     g_out, r_out, dqs_out, q[frames], s_all[frames], qd[frames])
+    if not contact:
+        return motion
+    skin, took = resolve_frames(dynamics, motion.skin, motion.angles, None if roots is None else roots[frames],
+                                None if progress is None else lambda k: progress(n_steps + k, total))
+    return replace(motion, skin=skin, contact=took)
 
 
 def _angles(poser: Poser, channels: dict[str, dict[str, np.ndarray]], n: int, on_limit: OnLimit) -> np.ndarray:

@@ -13,6 +13,7 @@ import numpy as np
 from hitogata.body import Body, default_body
 from hitogata.dynamics import files
 from hitogata.dynamics.motion import BodyDynamics, Motion, simulate
+from hitogata.dynamics.motion_contact import MotionContact
 from hitogata.dynamics.quasistatic import corner_volumes
 from hitogata.dynamics.scenario import BodySpec, Scenario
 from hitogata.errors import HitogataError
@@ -84,10 +85,35 @@ class Summary:
             + ", ".join(f"{k} {v:.1f} mm" for k, v in f["region_motion_mm"].items()),
             f"  tissue: inverted elements at most {f['inverted_max']}; region volumes within "
             f"{f['volume_change_max_percent']:.2f}% of rest",
+            *([_contact_line(f["contact"])] if "contact" in f else []),
             f"  time: model {f['seconds']['model']:.1f} s, simulation {f['seconds']['simulation']:.1f} s, "
             f"files {f['seconds']['files']:.1f} s, checks {f['seconds'].get('checks', 0.0):.1f} s",
         ]
         return "\n".join(lines) + "\n"
+
+
+def _contact_line(c: dict) -> str:
+    return (f"  self-contact resolved (IPC barrier frame to frame) in {c['frames_meeting']} of {c['frames']} frames "
+            f"where skin meets: up to {c['free_vertices_max']} free vertices, {c['newton_iterations']} Newton "
+            f"iterations in all, smallest gap {c['min_gap_mm']:.2f} mm, {c['seconds']:.1f} s "
+            f"({c['seconds_per_frame_meeting']:.2f} s a frame where skin meets"
+            + (f"; frames reached from rest again, their start crossing itself: {c['restarts_from_rest']}"
+               if c["restarts_from_rest"] else "") + ")")
+
+
+def contact_figures(c: MotionContact) -> dict:
+    """What resolving a motion's self-contact took (`Motion.contact`), for the summary."""
+    meeting = c.free > 0
+    return {
+        "frames": len(c.free),
+        "frames_meeting": int(meeting.sum()),
+        "free_vertices_max": int(c.free.max()),
+        "newton_iterations": int(c.iterations.sum()),
+        "min_gap_mm": float(c.min_distance.min() * 1e3),
+        "restarts_from_rest": int(c.from_rest[1:].sum()),
+        "seconds": float(c.seconds.sum()),
+        "seconds_per_frame_meeting": float(c.seconds[meeting].mean()) if meeting.any() else 0.0,
+    }
 
 
 def figures(motion: Motion, scenario: Scenario) -> dict:
@@ -134,6 +160,7 @@ def figures(motion: Motion, scenario: Scenario) -> dict:
         "held_back_mm": float(motion.held_back.max() * 1e3),
         "held_back_vertices": int((motion.held_back > HELD).sum(axis=1).max()),
         "held_back_time_s": float(motion.times[int(np.argmax(motion.held_back.max(axis=1)))]),
+        **({"contact": contact_figures(motion.contact)} if motion.contact is not None else {}),
     }
 
 
@@ -179,8 +206,9 @@ def _bar(label: str, enabled: bool) -> Callable[[int, int], None] | None:
 
 
 def run_scenario(scenario: Scenario, out: str | Path, progress: bool = False, body: Body | None = None,
-                 dynamics: BodyDynamics | None = None, name: str = "motion") -> Summary:
-    """Simulate a scenario and write what its [output] asks for into `out` (created if needed)."""
+                 dynamics: BodyDynamics | None = None, name: str = "motion", contact: bool = False) -> Summary:
+    """Simulate a scenario and write what its [output] asks for into `out` (created if needed);
+    contact: every frame's skin with its self-contact resolved (`simulate`'s)."""
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     clock = {}
@@ -191,7 +219,7 @@ def run_scenario(scenario: Scenario, out: str | Path, progress: bool = False, bo
     start = time.perf_counter()
     motion = simulate(dynamics, scenario.timeline, scenario.duration, scenario.rate, scenario.substeps,
                       scenario.model.gravity, scenario.on_limit, progress=_bar("simulate", progress),
-                      root=scenario.root)
+                      root=scenario.root, contact=contact)
     clock["simulation"] = time.perf_counter() - start
     start = time.perf_counter()
     o = scenario.output

@@ -7,9 +7,9 @@ dynamics: a posture held), and carries the nodes' elastic displacement to the
 skin as a simulation frame does (`BodyDynamics.frame`). With `contact`, the
 skin's self-contact is then resolved as a barrier problem
 (`hitogata.geometry.barrier_contact`, IPC) along a path of postures: the rest
-skin, the skin skinned at `CONTACT_STEPS` even fractions of the joint angles
-(the same skinning), the elastic skin. `elastic_dynamics` builds and caches
-the whole-body model it needs, once per body and size.
+skin, the skin skinned at even fractions of the joint angles (the same
+skinning: `dynamics.contact.approach`), the elastic skin. `elastic_dynamics`
+builds and caches the whole-body model it needs, once per body and size.
 """
 
 from __future__ import annotations
@@ -20,7 +20,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from hitogata.body import Body
-from hitogata.dynamics.contact import GROUPS
+from hitogata.dynamics.contact import FOLDING, approach
 from hitogata.dynamics.motion import BodyDynamics
 from hitogata.dynamics.quality import STATIC_ITERATIONS, PoseQuality, pose_quality
 from hitogata.dynamics.quasistatic import rotate
@@ -30,10 +30,6 @@ from hitogata.options import OnLimit
 from hitogata.pose import PosedBody
 
 ELEMENT_SIZE = 40.0  # mm: the whole body's lattice for a held posture (as the large-motion tests)
-CONTACT_STEPS = 4  # skinned postures on the contact's path from rest to the posture
-# groups whose skin may fold onto itself (a crease: skin far apart at rest meets); a hand's, a foot's and
-# the head's small triangles lie close everywhere and stay held in shape by their bones
-FOLDING = tuple(g for g, name in enumerate(GROUPS) if not name.startswith(("hand", "foot", "head")))
 
 
 def elastic_dynamics(body: Body, element_size: float = ELEMENT_SIZE) -> BodyDynamics:
@@ -118,8 +114,7 @@ def elastic_pose(
 
 def _barrier(dynamics: BodyDynamics, posed: PosedBody, skin: np.ndarray) -> BarrierResult:
     """The elastic `skin` of `posed` with its self-contact resolved, reached from the rest skin through
-    the skin skinned at CONTACT_STEPS even fractions of the posture's joint angles."""
-    fractions = np.arange(1, CONTACT_STEPS + 1)[:, None] / CONTACT_STEPS
-    skinned = dynamics.poser.pose_many(fractions * posed.angles, dynamics.rig.method)
-    return barrier_resolve([dynamics.poser.body.vertices, *skinned, skin], dynamics.contact, folding=FOLDING)
+    skinned postures on the way (`dynamics.contact.approach`)."""
+    path = approach(dynamics.poser, posed.angles, dynamics.rig.method)
+    return barrier_resolve([*path, skin], dynamics.contact, folding=FOLDING)
 

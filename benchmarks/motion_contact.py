@@ -1,0 +1,75 @@
+"""Self-contact through a motion (`simulate(..., contact=True)`: `hitogata.dynamics.motion_contact`, the
+IPC barrier frame to frame) against the motion without it, and what it costs.
+
+A shipped scenario (default `elbow_flexion_body`: the left elbow to 150° and back) run on a default
+body's whole-body model (`single_pose.elastic_dynamics`: 40 mm, 2 modes) at a given rate, with and
+without contact, in one process. Per frame: new self-crossing triangle pairs beyond the rest body's
+(`geometry.self_intersections`) and skin vertices inside another part (`SelfContact.penetrations`)
+both ways; with contact the free skin, Newton iterations, the smallest gap left and the contact's
+seconds. Then each run's skin checks (`run.surface_problems`) and the whole motion's time both ways.
+
+    PYTHONPATH=src python benchmarks/motion_contact.py [female|male ...] [--rate 5] [--scenario NAME]
+"""
+
+from __future__ import annotations
+
+import argparse
+import time
+
+import numpy as np
+
+from hitogata.body import default_body
+from hitogata.dynamics.motion import simulate
+from hitogata.dynamics.run import surface_problems
+from hitogata.dynamics.scenario import load_scenario, shipped_scenarios
+from hitogata.dynamics.single_pose import elastic_dynamics
+from hitogata.geometry import self_intersections, surface_integrity
+
+
+def crossing_pairs(v: np.ndarray, faces: np.ndarray) -> set[tuple[int, int]]:
+    return set(map(tuple, self_intersections(v, faces).tolist()))
+
+
+def main(sexes: list[str], rate: float, name: str) -> None:
+    scenario = load_scenario(shipped_scenarios()[name])
+    for sex in sexes:
+        body = default_body(sex)
+        dynamics = elastic_dynamics(body)
+        test = dynamics.contact
+        rest = crossing_pairs(body.vertices, body.faces)
+        runs, seconds = {}, {}
+        for contact in (False, True):
+            start = time.perf_counter()
+            runs[contact] = simulate(dynamics, scenario.timeline, scenario.duration, rate, 1, scenario.model.gravity,
+                                     scenario.on_limit, contact=contact)
+            seconds[contact] = time.perf_counter() - start
+        plain, held = runs[False], runs[True]
+        took = held.contact
+        assert took is not None
+        print(f"\n{sex}, {name} at {rate:g} frames/s ({len(plain.times)} frames)\n")
+        print("| t s | new crossing pairs | inside | with contact: pairs | inside | free vertices | Newton its | "
+              "min gap mm | contact s |")
+        print("|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
+        for k, t in enumerate(plain.times):
+            row = [len(crossing_pairs(plain.skin[k], body.faces) - rest), len(test.penetrations(plain.skin[k])),
+                   len(crossing_pairs(held.skin[k], body.faces) - rest), len(test.penetrations(held.skin[k]))]
+            print(f"| {t:.2f} | " + " | ".join(map(str, row)) + f" | {took.free[k]} | {took.iterations[k]} | "
+                  f"{took.min_distance[k] * 1e3:.2f} | {took.seconds[k]:.2f} |")
+        for label, motion in (("without", plain), ("with", held)):
+            worst = surface_integrity(body.vertices, body.faces, motion.skin, motion.times, motion.skinned_skin).worst()
+            print(f"\n{label} contact: skin problems {surface_problems(worst) or 'none'}; "
+                  f"largest elastic jump {worst['largest_elastic_jump_speed_m_s']:.2f} m/s")
+        busy = took.free > 0
+        print(f"\nwhole motion: {seconds[False]:.1f} s without contact, {seconds[True]:.1f} s with "
+              f"(contact {took.seconds.sum():.1f} s: {took.seconds[busy].mean():.2f} s a frame where skin meets, "
+              f"{busy.sum()} of {len(busy)} frames, {took.seconds[~busy].mean() if (~busy).any() else 0:.3f} s "
+              f"elsewhere; restarts from rest after the first frame: {int(took.from_rest[1:].sum())})")
+
+
+if __name__ == "__main__":
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("sexes", nargs="*", default=["female", "male"])
+    parser.add_argument("--rate", type=float, default=5.0, help="frames per second")
+    parser.add_argument("--scenario", default="elbow_flexion_body", help="a shipped scenario's name")
+    args = parser.parse_args()
+    main(args.sexes, args.rate, args.scenario)
