@@ -6,7 +6,9 @@ is the target y_k of the barrier problem of `hitogata.geometry.barrier_contact`,
 started from the previous frame's resolved skin x_{k−1}. Consecutive frames
 are close, so each solve is short, and the continuous collision detection of
 every Newton step keeps each frame free of crossings among the skin the
-barrier sees. The first frame is reached from the rest skin through skinned
+barrier sees; where the last step crosses skin the barrier does not hold
+apart, it is held back towards that step's start (`dynamics.contact.
+hold_back_crossings`, as a held pose). The first frame is reached from the rest skin through skinned
 postures on the way (`dynamics.contact.approach`), as a held pose is.
 
 A vertex not free takes its target, so skin freed at one frame and not at the
@@ -27,7 +29,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from hitogata.dynamics.contact import FOLDING, approach
+from hitogata.dynamics.contact import FOLDING, approach, hold_back_crossings
 from hitogata.geometry.barrier_contact import DHAT, barrier_resolve, contact_region
 
 if TYPE_CHECKING:
@@ -71,7 +73,7 @@ def resolve_frames(dynamics: BodyDynamics, skins: np.ndarray, angles: np.ndarray
             except ValueError:  # the previous frame's skin crosses where this frame's free skin lies
                 path, from_rest[k] = _from_rest(dynamics, angles[k], None if roots is None else roots[k], y), True
                 result = barrier_resolve(path, dynamics.contact, folding=FOLDING)
-            previous = result.vertices
+            previous, _ = hold_back_crossings(dynamics, result)
             free[k], iterations[k], gap[k] = result.free.sum(), sum(result.iterations), result.min_distance
         else:
             previous = y

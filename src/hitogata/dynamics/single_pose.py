@@ -20,7 +20,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from hitogata.body import Body
-from hitogata.dynamics.contact import FOLDING, approach
+from hitogata.dynamics.contact import FOLDING, approach, hold_back_crossings
 from hitogata.dynamics.motion import BodyDynamics
 from hitogata.dynamics.quality import STATIC_ITERATIONS, PoseQuality, pose_quality
 from hitogata.dynamics.quasistatic import rotate
@@ -100,11 +100,7 @@ def elastic_pose(
         _, plain, offset = dynamics.skin_offset(posed.pose.rotations[0], posed.pose.translations[0], r[0], delta,
                                                 at_rest)
         resolved = _barrier(dynamics, posed, plain + offset)
-        # the barrier parts only skin that may meet (other groups, a crease's far sides); where its last step
-        # crosses other skin (a breast's fold as the arm rises) it is held back towards that step's start
-        start = resolved.before_last
-        skin, kept = dynamics.skin_limiter(start, resolved.vertices - start, folds=False)
-        held = (1.0 - kept) * np.linalg.norm(resolved.vertices - start, axis=1)
+        skin, held = hold_back_crossings(dynamics, resolved)
     else:
         _, skin, _, held = dynamics.frame(posed.pose.rotations[0], posed.pose.translations[0], r[0], delta, at_rest)
     nodes = g[0] + rotate(r[0], delta)
