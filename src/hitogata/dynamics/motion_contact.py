@@ -7,9 +7,9 @@ started from the previous frame's resolved skin x_{k−1}. Consecutive frames
 are close, so each solve is short, and the continuous collision detection of
 every Newton step keeps each frame free of crossings among the skin the
 barrier sees; where the last step crosses skin the barrier does not hold
-apart, it is held back towards that step's start (`dynamics.contact.
-hold_back_crossings`, as a held pose). The first frame is reached from the rest skin through skinned
-postures on the way (`dynamics.contact.approach`), as a held pose is.
+apart, it is held back towards that step's start, as in a held pose
+(`dynamics.contact.hold_back_crossings`). The first frame is reached from the
+rest skin through skinned postures on the way (`dynamics.contact.approach`).
 
 A vertex not free takes its target, so skin freed at one frame and not at the
 next would jump there unchecked: frame k's path is [x_{k−1}, y_{k−1}, y_k], and
