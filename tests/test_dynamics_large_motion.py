@@ -33,7 +33,9 @@ def clinical_pose(skeleton, clinical: dict[str, float]) -> np.ndarray:
 
 @pytest.fixture(scope="module")
 def body_dynamics(male):
-    return BodyDynamics.build(male, build_elastic_model(male, extent="body", element_size=40.0, n_modes=2))
+    from hitogata.dynamics.single_pose import elastic_dynamics
+
+    return elastic_dynamics(male)  # the whole body at 40 mm, 2 modes; built once per session for the male
 
 
 @pytest.fixture(scope="module")
