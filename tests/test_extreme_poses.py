@@ -5,7 +5,6 @@ its volume."""
 
 from __future__ import annotations
 
-import numpy as np
 import pytest
 
 from hitogata.dynamics.single_pose import elastic_dynamics, elastic_pose
@@ -13,6 +12,14 @@ from hitogata.geometry import enclosed_volume, self_intersections
 from hitogata.skeleton.extreme_poses import extreme_poses
 
 pytestmark = pytest.mark.slow
+VOLUME = {  # % against rest: the tissue a contact presses aside swells round it (docs/elastic.md)
+    "female": {"elbow 150°": -0.16, "knee 135°": -0.06, "hip flexion 120°": -0.25, "seated 90/90": -0.31,
+               "hip adduction 30°": 0.11, "shoulder flexion 180°": 0.52, "shoulder abduction 170°": 0.39,
+               "neck flexion 45°": -0.01, "trunk flexion 80°": -0.04, "trunk rotation 45°": -0.1},
+    "male": {"elbow 150°": -0.01, "knee 135°": -0.13, "hip flexion 120°": -0.25, "seated 90/90": -0.44,
+             "hip adduction 30°": 0.05, "shoulder flexion 180°": -0.28, "shoulder abduction 170°": -0.24,
+             "neck flexion 45°": -0.01, "trunk flexion 80°": -0.19, "trunk rotation 45°": -0.09},
+}
 
 
 @pytest.fixture(scope="module", params=["female", "male"])
@@ -35,6 +42,7 @@ def test_the_skin_stays_whole_and_the_body_keeps_its_volume(held):
         inside = pose.penetrations
         figures[name] = (len(crossing), len(inside), round(inside.deepest * 1e3, 1), pose.quality.inverted,
                          round((enclosed_volume(pose.vertices, body.faces) / rest_volume - 1) * 100, 2))
-    print(sex, figures)
-    for name, (crossing, inside, deepest, inverted, volume) in figures.items():
-        assert crossing == 0 and deepest <= 2.0 and inverted == 0 and abs(volume) < 1.0, (name, figures[name])
+    # (new crossing pairs beyond the rest body's, vertices inside another part, the deepest mm, inverted
+    # elements, enclosed volume against rest %): the issue asks 0, ≤ 2 mm, 0, within 1 %
+    assert {name: f[:4] for name, f in figures.items()} == dict.fromkeys(poses, (0, 0, 0.0, 0))
+    assert {name: f[4] for name, f in figures.items()} == VOLUME[sex]
