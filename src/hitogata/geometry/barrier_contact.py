@@ -86,19 +86,29 @@ def contact_region(path: Sequence[np.ndarray], test: SelfContact, reach: float =
     near = np.zeros(len(test.rest), dtype=bool)
     for target in path:
         moved = np.linalg.norm(target - test.rest, axis=1) > reach
-        if not moved.any():
+        stirred = np.array([moved[m].any() for m in members])
+        if not stirred.any():
             continue
         low = np.array([target[m].min(axis=0) for m in members]) - reach
         high = np.array([target[m].max(axis=0) for m in members])
         meet = (low[:, None] <= high[None]).all(axis=2) & (low[None] <= high[:, None]).all(axis=2)
-        trees = [cKDTree(target[m]) for m in members]
-        for g, h in zip(*np.nonzero(np.triu(meet, 1))):
+        meet = np.triu(meet & (stirred[:, None] | stirred[None]), 1)  # a pair only if one of them moved
+        trees: dict[int, cKDTree] = {}
+        for g, h in zip(*np.nonzero(meet)):
+            for k in (g, h):
+                if k not in trees:
+                    trees[k] = cKDTree(target[members[k]])
             found = trees[g].sparse_distance_matrix(trees[h], reach, output_type="ndarray")
             i, j = members[g][found["i"]], members[h][found["j"]]
             keep = (moved[i] | moved[j]) & (np.linalg.norm(test.rest[i] - test.rest[j], axis=1) > found["v"] + reach)
             near[i[keep]] = True
             near[j[keep]] = True
     return _grow(near, test, rings)
+
+
+def _factor(a: sp.spmatrix) -> spla.SuperLU:
+    """The sparse LU of a symmetric positive definite matrix: symmetric ordering, no pivoting."""
+    return spla.splu(a.tocsc(), permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0, options={"SymmetricMode": True})
 
 
 class _Problem:
@@ -206,11 +216,13 @@ class _Problem:
         taken = 0
         while taken < iterations:
             taken += 1
-            gradient = tracked + self.barrier.gradient(contacts, self.mesh, x) + lam * change * w
+            rest = tracked + self.barrier.gradient(contacts, self.mesh, x)  # the gradient but the volume's
+            gradient = rest + lam * change * w
             hessian = self.barrier.hessian(contacts, self.mesh, x, ipctk.PSDProjectionMethod.CLAMP)
-            h = spla.splu((self.tracking + hessian).tocsc())
-            u, v = h.solve(-gradient), h.solve(w)
-            step = (u - v * (lam * (w @ u) / (1.0 + lam * (w @ v)))).reshape(-1, 3)
+            h = _factor(self.tracking + hessian)
+            # H⁻¹(g + λ·ΔV·w) by Sherman–Morrison on H + λ w wᵀ, its large volume term kept out of the solves
+            u, v = h.solve(-rest), h.solve(w)
+            step = (u - v * (lam * (change + w @ u) / (1.0 + lam * (w @ v)))).reshape(-1, 3)
             longest = float(np.linalg.norm(step, axis=1).max())
             if longest < tolerance:
                 break
