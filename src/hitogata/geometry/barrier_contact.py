@@ -133,6 +133,7 @@ class _Problem:
         self.touching = test.faces[touching]
         self.local_corners = local[self.touching]
         self.inside = self.local_corners >= 0
+        self.corner_ids = [(keep, self.local_corners[keep, k]) for k, keep in enumerate(self.inside.T)]
         self.rest = test.rest[self.vertices]
         self.edges = np.asarray(ipctk.edges(self.faces), dtype=np.int32)
         self.mesh = ipctk.CollisionMesh(self.rest, self.edges, self.faces)
@@ -148,7 +149,7 @@ class _Problem:
         same = self.groups[close[:, 0]] == self.groups[close[:, 1]]
         close = close[same | (np.linalg.norm(self.rest[close[:, 0]] - self.rest[close[:, 1]], axis=1) <= APART)]
         self.mesh.can_collide = ipctk.make_vertex_patches_filter(patch) & ipctk.make_sparse_filter(
-            dict.fromkeys(map(tuple, close.tolist()), False), True)
+            dict.fromkeys(zip(close[:, 0].tolist(), close[:, 1].tolist()), False), True)
         self.dhat = dhat
         self.barrier = ipctk.BarrierPotential(dhat, stiffness)
         sub = (test.neighbour_average[self.vertices][:, self.vertices] > 0).astype(float)
@@ -177,13 +178,16 @@ class _Problem:
         gradient (n, 3) in x."""
         moved = target.copy()
         moved[self.inside] = x[self.local_corners[self.inside]]
-        change = (np.einsum("ij,ij->i", moved[:, 0], np.cross(moved[:, 1], moved[:, 2])) - at_target).sum() / 6.0
+        # b×c for each corner a (d(a·(b×c))/da, and so on round the corners)
+        b, c = moved[:, [1, 2, 0]], moved[:, [2, 0, 1]]
+        cross = np.stack([b[..., 1] * c[..., 2] - b[..., 2] * c[..., 1], b[..., 2] * c[..., 0] - b[..., 0] * c[..., 2],
+                          b[..., 0] * c[..., 1] - b[..., 1] * c[..., 0]], axis=-1)
+        change = (np.einsum("ij,ij->i", moved[:, 0], cross[:, 0]) - at_target).sum() / 6.0
         gradient = np.zeros_like(x)
-        for k in range(3):  # d(a·(b×c))/da = b×c, and so on round the corners
-            part = np.cross(moved[:, (k + 1) % 3], moved[:, (k + 2) % 3]) / 6.0
-            keep = self.inside[:, k]
+        for k, (keep, ids) in enumerate(self.corner_ids):
+            part = cross[keep, k] / 6.0
             for axis in range(3):
-                gradient[:, axis] += np.bincount(self.local_corners[keep, k], part[keep, axis], minlength=len(x))
+                gradient[:, axis] += np.bincount(ids, part[:, axis], minlength=len(x))
         return float(change), gradient
 
     def minimise(self, x: np.ndarray, target: np.ndarray, iterations: int, tolerance: float
