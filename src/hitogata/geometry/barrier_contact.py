@@ -220,12 +220,13 @@ class _Problem:
         taken = 0
         while taken < iterations:
             taken += 1
-            rest = tracked + self.barrier.gradient(contacts, self.mesh, x)  # the gradient but the volume's
-            gradient = rest + lam * change * w
+            others = tracked + self.barrier.gradient(contacts, self.mesh, x)  # the gradient but the volume's
+            gradient = others + lam * change * w
             hessian = self.barrier.hessian(contacts, self.mesh, x, ipctk.PSDProjectionMethod.CLAMP)
             h = _factor(self.tracking + hessian)
-            # H⁻¹(g + λ·ΔV·w) by Sherman–Morrison on H + λ w wᵀ, its large volume term kept out of the solves
-            u, v = h.solve(-rest), h.solve(w)
+            # (H + λ w wᵀ) step = −(others + λ·ΔV·w) by Sherman–Morrison, the volume's large terms kept out of
+            # the solves (solved with them, the step is a small difference of large vectors)
+            u, v = h.solve(-others), h.solve(w)
             step = (u - v * (lam * (change + w @ u) / (1.0 + lam * (w @ v)))).reshape(-1, 3)
             longest = float(np.linalg.norm(step, axis=1).max())
             if longest < tolerance:
@@ -236,16 +237,12 @@ class _Problem:
             slope = float(gradient @ step.ravel())
             while True:  # backtracking (Armijo) within the collision-free part of the step
                 trial = x + alpha * step
-                contacts = self.collisions(swept, trial)
-                if alpha <= 1e-6:
-                    e0, tracked, change, w = energy(trial, contacts)
-                    break
+                contacts = self.collisions(swept, trial)  # kept for the next iteration: they are its own
                 e, t, ch, wt = energy(trial, contacts)
-                if e <= e0 + 1e-4 * alpha * slope:
-                    e0, tracked, change, w = e, t, ch, wt
+                if alpha <= 1e-6 or e <= e0 + 1e-4 * alpha * slope:
                     break
                 alpha *= 0.5
-            x = trial
+            x, e0, tracked, change, w = trial, e, t, ch, wt
             if alpha * np.abs(step).max() < tolerance:
                 break
         return x, taken
