@@ -5,7 +5,8 @@ by the elastic body with its self-contact resolved (`elastic_pose(..., contact=T
 For each body and pose (`hitogata.skeleton.extreme_poses`), on the coarse skin: new self-crossing triangle pairs
 beyond the rest body's (`geometry.self_intersections`), skin vertices inside another part and the deepest
 in mm (`geometry.contact.SelfContact`, to 25 mm), the enclosed volume against rest; the elastic pose's time
-without and with contact and their ratio, measured in this run; for the contact: the free skin (vertices),
+without and with contact and their ratio, measured in this run (each the median of `REPEATS` runs, the
+two alternating, so a busy machine's load weighs on both alike); for the contact: the free skin (vertices),
 Newton iterations per step of the path, the smallest gap left between skin that may meet. Prints a
 Markdown table (docs/elastic.md).
 
@@ -23,6 +24,9 @@ from hitogata.body import default_body
 from hitogata.dynamics.single_pose import elastic_dynamics, elastic_pose
 from hitogata.geometry import enclosed_volume, self_intersections
 from hitogata.skeleton.extreme_poses import extreme_poses
+
+
+REPEATS = 3  # runs of each pose without and with contact, alternating; the median time of each
 
 
 def crossing_pairs(v: np.ndarray, faces: np.ndarray) -> set[tuple[int, int]]:
@@ -43,12 +47,15 @@ def main(sexes: list[str], names: list[str] | None) -> None:
         for pose, clinical in extreme_poses(dynamics.poser.skeleton).items():
             if names and pose not in names:
                 continue
-            start = time.perf_counter()
-            plain = elastic_pose(dynamics, clinical=clinical)
-            t_plain = time.perf_counter() - start
-            start = time.perf_counter()
-            held = elastic_pose(dynamics, clinical=clinical, contact=True)
-            t_held = time.perf_counter() - start
+            times: dict[bool, list[float]] = {False: [], True: []}
+            posed = {}
+            for _ in range(REPEATS):
+                for contact in (False, True):
+                    start = time.perf_counter()
+                    posed[contact] = elastic_pose(dynamics, clinical=clinical, contact=contact)
+                    times[contact].append(time.perf_counter() - start)
+            plain, held = posed[False], posed[True]
+            t_plain, t_held = (float(np.median(times[c])) for c in (False, True))
             ratios.append(t_held / t_plain)
             rows = {"DQS": (plain.skinned, ""), "elastic": (plain.vertices, f"{t_plain:.2f}"),
                     "elastic + contact": (held.vertices, f"{t_held:.2f}")}

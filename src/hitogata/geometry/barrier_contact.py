@@ -79,18 +79,38 @@ def contact_region(path: Sequence[np.ndarray], test: SelfContact, reach: float =
                    ) -> np.ndarray:
     """(V,) bool: skin that may meet another group along `path` (at some posture of it, a vertex
     within `reach` of another group's vertex that lay at least `reach` further away at rest: contacts
-    the posture brings, not the rest body's own; one of the two has moved), grown by `rings`."""
+    the posture brings, not the rest body's own; one of the two has moved by more than `reach`),
+    grown by `rings`. Searched group against group (a tree each, the pairs whose boxes come within
+    `reach`): the skin's own neighbours, most of the pairs this near, are never looked at."""
+    order = np.argsort(test.groups, kind="stable")
+    bounds = np.searchsorted(test.groups[order], np.arange(test.n_groups + 1))
+    members = [order[bounds[g]:bounds[g + 1]] for g in range(test.n_groups) if bounds[g + 1] > bounds[g]]
     near = np.zeros(len(test.rest), dtype=bool)
     for target in path:
-        moved = np.flatnonzero(np.linalg.norm(target - test.rest, axis=1) > reach)
-        if not len(moved):
+        moved = np.linalg.norm(target - test.rest, axis=1) > reach
+        stirred = np.array([moved[m].any() for m in members])
+        if not stirred.any():
             continue
-        found = cKDTree(target[moved]).sparse_distance_matrix(cKDTree(target), reach, output_type="ndarray")
-        i, j, now = moved[found["i"]], found["j"], found["v"]
-        keep = (test.groups[i] != test.groups[j]) & (np.linalg.norm(test.rest[i] - test.rest[j], axis=1) > now + reach)
-        near[i[keep]] = True
-        near[j[keep]] = True
+        low = np.array([target[m].min(axis=0) for m in members]) - reach
+        high = np.array([target[m].max(axis=0) for m in members])
+        meet = (low[:, None] <= high[None]).all(axis=2) & (low[None] <= high[:, None]).all(axis=2)
+        meet = np.triu(meet & (stirred[:, None] | stirred[None]), 1)  # a pair only if one of them moved
+        trees: dict[int, cKDTree] = {}
+        for g, h in zip(*np.nonzero(meet)):
+            for k in (g, h):
+                if k not in trees:
+                    trees[k] = cKDTree(target[members[k]])
+            found = trees[g].sparse_distance_matrix(trees[h], reach, output_type="ndarray")
+            i, j = members[g][found["i"]], members[h][found["j"]]
+            keep = (moved[i] | moved[j]) & (np.linalg.norm(test.rest[i] - test.rest[j], axis=1) > found["v"] + reach)
+            near[i[keep]] = True
+            near[j[keep]] = True
     return _grow(near, test, rings)
+
+
+def _factor(a: sp.spmatrix) -> spla.SuperLU:
+    """The sparse LU of a symmetric positive definite matrix: symmetric ordering, no pivoting."""
+    return spla.splu(a.tocsc(), permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0, options={"SymmetricMode": True})
 
 
 class _Problem:
@@ -109,9 +129,13 @@ class _Problem:
         local = np.full(len(test.rest), -1)
         local[self.vertices] = np.arange(len(self.vertices))
         self.faces = local[faces].astype(np.int32)
-        # the triangles whose volume the unknowns change: those with a corner in the sub-mesh
-        self.touching = test.faces[(local[test.faces] >= 0).any(axis=1)]
-        self.local = local
+        # the triangles whose volume the unknowns change: those with a corner in the sub-mesh (which
+        # corners, and their local ids)
+        touching = (local[test.faces] >= 0).any(axis=1)
+        self.touching = test.faces[touching]
+        self.local_corners = local[self.touching]
+        self.inside = self.local_corners >= 0
+        self.corner_ids = [(keep, self.local_corners[keep, k]) for k, keep in enumerate(self.inside.T)]
         self.rest = test.rest[self.vertices]
         self.edges = np.asarray(ipctk.edges(self.faces), dtype=np.int32)
         self.mesh = ipctk.CollisionMesh(self.rest, self.edges, self.faces)
@@ -127,7 +151,7 @@ class _Problem:
         same = self.groups[close[:, 0]] == self.groups[close[:, 1]]
         close = close[same | (np.linalg.norm(self.rest[close[:, 0]] - self.rest[close[:, 1]], axis=1) <= APART)]
         self.mesh.can_collide = ipctk.make_vertex_patches_filter(patch) & ipctk.make_sparse_filter(
-            {(int(i), int(j)): False for i, j in close}, True)
+            dict.fromkeys(zip(close[:, 0].tolist(), close[:, 1].tolist()), False), True)
         self.dhat = dhat
         self.barrier = ipctk.BarrierPotential(dhat, stiffness)
         sub = (test.neighbour_average[self.vertices][:, self.vertices] > 0).astype(float)
@@ -150,28 +174,23 @@ class _Problem:
         c.build(candidates, self.mesh, x, self.dhat)
         return c
 
-    def volume(self, x: np.ndarray, target: np.ndarray) -> tuple[float, np.ndarray]:
-        """The enclosed volume's change (m³) from `target` (the whole skin, V×3) with the sub-mesh at
-        x, and its gradient (n, 3) in x."""
-        full = target[self.touching]  # (T, 3, 3)
-        moved = full.copy()
-        inside = self.local[self.touching]
-        moved[inside >= 0] = x[inside[inside >= 0]]
-        change = (np.einsum("ij,ij->i", moved[:, 0], np.cross(moved[:, 1], moved[:, 2]))
-                  - np.einsum("ij,ij->i", full[:, 0], np.cross(full[:, 1], full[:, 2]))).sum() / 6.0
+    def volume(self, x: np.ndarray, target: np.ndarray, at_target: np.ndarray) -> tuple[float, np.ndarray]:
+        """The enclosed volume's change (m³) from the target's triangles (`target`: (T, 3, 3), the
+        touching triangles; `at_target`: their corners' triple products) with the sub-mesh at x, and its
+        gradient (n, 3) in x."""
+        moved = target.copy()
+        moved[self.inside] = x[self.local_corners[self.inside]]
+        # b×c for each corner a (d(a·(b×c))/da, and so on round the corners)
+        b, c = moved[:, [1, 2, 0]], moved[:, [2, 0, 1]]
+        cross = np.stack([b[..., 1] * c[..., 2] - b[..., 2] * c[..., 1], b[..., 2] * c[..., 0] - b[..., 0] * c[..., 2],
+                          b[..., 0] * c[..., 1] - b[..., 1] * c[..., 0]], axis=-1)
+        change = (np.einsum("ij,ij->i", moved[:, 0], cross[:, 0]) - at_target).sum() / 6.0
         gradient = np.zeros_like(x)
-        for k in range(3):
-            part = np.cross(moved[:, (k + 1) % 3], moved[:, (k + 2) % 3]) / 6.0
-            keep = inside[:, k] >= 0
+        for k, (keep, ids) in enumerate(self.corner_ids):
+            part = cross[keep, k] / 6.0
             for axis in range(3):
-                gradient[:, axis] += np.bincount(inside[keep, k], part[keep, axis], minlength=len(x))
+                gradient[:, axis] += np.bincount(ids, part[:, axis], minlength=len(x))
         return float(change), gradient
-
-    def energy(self, candidates: ipctk.Candidates, x: np.ndarray, y: np.ndarray, target: np.ndarray) -> float:
-        d = (x - y).ravel()
-        change, _ = self.volume(x, target)
-        return (0.5 * float(d @ (self.tracking @ d)) + 0.5 * self.incompressibility * change ** 2
-                + self.barrier(self.collisions(candidates, x), self.mesh, x))
 
     def minimise(self, x: np.ndarray, target: np.ndarray, iterations: int, tolerance: float
                  ) -> tuple[np.ndarray, int]:
@@ -181,35 +200,51 @@ class _Problem:
         import ipctk
 
         y = target[self.vertices]
-        near = self.candidates(x, y)
-        if near.compute_collision_free_stepsize(self.mesh, x, y, CCD_GAP) >= 1.0 and not len(self.collisions(near, y)):
-            return y.copy(), 0  # nothing on the way nor at the target: the target as it is
+        # nothing within reach at the target (a static query, the cheaper) nor on the way: the target as it is
+        if not len(self.collisions(self.candidates(y, y), y)):
+            if self.candidates(x, y).compute_collision_free_stepsize(self.mesh, x, y, CCD_GAP) >= 1.0:
+                return y.copy(), 0
+        full = target[self.touching]
+        at_target = np.einsum("ij,ij->i", full[:, 0], np.cross(full[:, 1], full[:, 2]))
+        lam = self.incompressibility
+
+        def energy(x: np.ndarray, contacts: ipctk.NormalCollisions) -> tuple[float, np.ndarray, float, np.ndarray]:
+            """E at x, with its tracking term's gradient, the volume's change and the volume's gradient."""
+            d = (x - y).ravel()
+            tracked = self.tracking @ d
+            change, w = self.volume(x, full, at_target)
+            e = 0.5 * float(d @ tracked) + 0.5 * lam * change ** 2 + self.barrier(contacts, self.mesh, x)
+            return e, tracked, change, w.ravel()
+
         x = x.copy()
-        near = self.candidates(x, x)
+        contacts = self.collisions(self.candidates(x, x), x)
+        e0, tracked, change, w = energy(x, contacts)
         taken = 0
         while taken < iterations:
             taken += 1
-            c = self.collisions(near, x)
-            d = (x - y).ravel()
-            change, w = self.volume(x, target)
-            w = w.ravel()
-            gradient = self.tracking @ d + self.barrier.gradient(c, self.mesh, x) + self.incompressibility * change * w
-            hessian = self.barrier.hessian(c, self.mesh, x, ipctk.PSDProjectionMethod.CLAMP)
-            h = spla.splu((self.tracking + hessian).tocsc())
-            u, v = h.solve(-gradient), h.solve(w)
-            step = (u - v * (self.incompressibility * (w @ u) / (1.0 + self.incompressibility * (w @ v)))).reshape(-1, 3)
+            others = tracked + self.barrier.gradient(contacts, self.mesh, x)  # the gradient but the volume's
+            gradient = others + lam * change * w
+            hessian = self.barrier.hessian(contacts, self.mesh, x, ipctk.PSDProjectionMethod.CLAMP)
+            h = _factor(self.tracking + hessian)
+            # (H + λ w wᵀ) step = −(others + λ·ΔV·w) by Sherman–Morrison, the volume's large terms kept out of
+            # the solves (solved with them, the step is a small difference of large vectors)
+            u, v = h.solve(-others), h.solve(w)
+            step = (u - v * (lam * (change + w @ u) / (1.0 + lam * (w @ v)))).reshape(-1, 3)
             longest = float(np.linalg.norm(step, axis=1).max())
             if longest < tolerance:
                 break
             step *= min(1.0, MAX_STEP / longest)
             swept = self.candidates(x, x + step)
             alpha = min(1.0, swept.compute_collision_free_stepsize(self.mesh, x, x + step, CCD_GAP))
-            e0 = self.energy(near, x, y, target)
             slope = float(gradient @ step.ravel())
-            while alpha > 1e-6 and self.energy(swept, x + alpha * step, y, target) > e0 + 1e-4 * alpha * slope:
+            while True:  # backtracking (Armijo) within the collision-free part of the step
+                trial = x + alpha * step
+                contacts = self.collisions(swept, trial)  # kept for the next iteration: they are its own
+                e, t, ch, wt = energy(trial, contacts)
+                if alpha <= 1e-6 or e <= e0 + 1e-4 * alpha * slope:
+                    break
                 alpha *= 0.5
-            x = x + alpha * step
-            near = swept
+            x, e0, tracked, change, w = trial, e, t, ch, wt
             if alpha * np.abs(step).max() < tolerance:
                 break
         return x, taken
@@ -228,6 +263,8 @@ def barrier_resolve(path: Sequence[np.ndarray], test: SelfContact, stiffness: fl
     turn is the target y of the barrier problem, started from the previous solution."""
     target = np.asarray(path[-1], dtype=float)
     free = contact_region(path[1:], test, reach, rings)
+    if not free.any():  # nothing comes near other skin on the way: the target as it is
+        return BarrierResult(target.copy(), free, [0] * (len(path) - 1), dhat, np.array(path[-2], dtype=float))
     problem = _Problem(test, free, stiffness, smoothing, dhat, incompressibility, folding)
     ids = problem.vertices
     x = np.array(path[0], dtype=float)[ids]
