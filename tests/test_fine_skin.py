@@ -11,7 +11,7 @@ from hitogata.measure.strain import skin_strain
 from hitogata.measure.zones import zone_strains
 from hitogata.pose import poser_for
 
-LINES_10CM = ("elbow_posterior", "knee_anterior", "knee_posterior")
+LINES_10CM = ("elbow_posterior", "elbow_anterior", "knee_anterior", "knee_posterior")
 
 
 @pytest.fixture(scope="module", params=["female", "male", "short thin", "tall heavy"])

@@ -2,7 +2,7 @@
 
 Each line is 10 cm long along its limb or across its zone, centred on a
 joint, placed from the MakeHuman rig at rest (left side):
-- `elbow_posterior`, `knee_anterior`, `knee_posterior`: along the limb over
+- `elbow_posterior`, `elbow_anterior`, `knee_anterior`, `knee_posterior`: along the limb over
   the joint's extensor or flexor side (the plane holding the limb's axis —
   shoulder→wrist, hip→ankle — and the side's direction);
 - `elbow_circumference`, `knee_circumference`: round the limb, in the plane
@@ -25,8 +25,8 @@ HALF = 0.05  # m: half of a 10 cm line
 FOLD_DROP = 0.045  # × stature: the posterior armpit folds below the shoulder joints
 FOLD_SPREAD = 0.8  # of the shoulder joints' half-spacing
 LINE_NAMES = (
-    "elbow_posterior", "elbow_circumference", "knee_anterior", "knee_posterior", "knee_circumference",
-    "back_width", "seat_vertical",
+    "elbow_posterior", "elbow_anterior", "elbow_circumference", "knee_anterior", "knee_posterior",
+    "knee_circumference", "back_width", "seat_vertical",
 )
 BACK = np.array([0.0, 0.0, -1.0])
 
@@ -64,6 +64,7 @@ def body_lines(body: Body, vertices: np.ndarray | None = None, faces: np.ndarray
     hip = head("upperleg01.L")
     return {
         "elbow_posterior": _along(v, f, elbow, arm, BACK),
+        "elbow_anterior": _along(v, f, elbow, arm, -BACK),
         "elbow_circumference": _round(v, f, elbow, arm),
         "knee_anterior": _along(v, f, knee, leg, -BACK),
         "knee_posterior": _along(v, f, knee, leg, BACK),
