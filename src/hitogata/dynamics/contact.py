@@ -21,7 +21,6 @@ from hitogata.geometry.contact import SelfContact
 
 if TYPE_CHECKING:
     from hitogata.dynamics.motion import BodyDynamics
-    from hitogata.geometry.barrier_contact import BarrierResult
     from hitogata.options import Skinning
     from hitogata.pose import Poser
 
@@ -93,12 +92,13 @@ def approach(poser: Poser, angles: np.ndarray, skinning: Skinning, root: np.ndar
     return [poser.body.vertices, *poser.pose_many(fractions * angles, skinning, root)]
 
 
-def hold_back_crossings(dynamics: BodyDynamics, result: BarrierResult) -> tuple[np.ndarray, np.ndarray]:
-    """The barrier's skin (V, 3) with its last step held back towards that step's start where it crosses
-    skin the barrier does not hold apart (skin of one group near at rest: a breast's fold as the arm rises,
-    the elbow crease's sides; skin not free), and how far (m) each vertex was held back (V,). Only
-    crossings: a fold held back towards a start that crosses nearby would bring that crossing back."""
-    start = result.before_last
-    step = result.vertices - start
-    skin, kept = dynamics.skin_limiter(start, step, folds=False)
-    return skin, (1.0 - kept) * np.linalg.norm(step, axis=1)
+def hold_back_crossings(dynamics: BodyDynamics, skin: np.ndarray, start: np.ndarray
+                        ) -> tuple[np.ndarray, np.ndarray]:
+    """The barrier's `skin` (V, 3) held back towards `start` (V, 3, a skin free of crossings beyond the rest
+    body's: the last step's start, or a motion's previous frame) where it crosses skin the barrier does not
+    hold apart (skin of one group near at rest: a breast's fold as the arm rises, the elbow crease's sides;
+    skin not free), and how far (m) each vertex was held back (V,). Only crossings: a fold held back towards
+    a start that crosses nearby would bring that crossing back."""
+    step = skin - start
+    held, kept = dynamics.skin_limiter(start, step, folds=False)
+    return held, (1.0 - kept) * np.linalg.norm(step, axis=1)

@@ -6,10 +6,11 @@ is the target y_k of the barrier problem of `hitogata.geometry.barrier_contact`,
 started from the previous frame's resolved skin x_{k−1}. Consecutive frames
 are close, so each solve is short, and the continuous collision detection of
 every Newton step keeps each frame free of crossings among the skin the
-barrier sees; where the last step crosses skin the barrier does not hold
-apart, it is held back towards that step's start, as in a held pose
-(`dynamics.contact.hold_back_crossings`). The first frame is reached from the
-rest skin through skinned postures on the way (`dynamics.contact.approach`).
+barrier sees; where the frame crosses skin the barrier does not hold
+apart, it is held back towards the previous frame, as a held pose is
+towards its last step's start (`dynamics.contact.hold_back_crossings`).
+The first frame is reached from the rest skin through skinned postures on
+the way (`dynamics.contact.approach`).
 
 A vertex not free takes its target, so skin freed at one frame and not at the
 next would jump there unchecked: frame k's path is [x_{k−1}, y_{k−1}, y_k], and
@@ -73,7 +74,9 @@ def resolve_frames(dynamics: BodyDynamics, skins: np.ndarray, angles: np.ndarray
             except ValueError:  # the previous frame's skin crosses where this frame's free skin lies
                 path, from_rest[k] = _from_rest(dynamics, angles[k], None if roots is None else roots[k], y), True
                 result = barrier_resolve(path, dynamics.contact, folding=FOLDING)
-            previous, _ = hold_back_crossings(dynamics, result)
+            # held back towards the previous frame (free of crossings), or from rest the last step's start
+            previous, _ = hold_back_crossings(dynamics, result.vertices,
+                                              result.before_last if from_rest[k] else path[0])
             free[k], iterations[k], gap[k] = result.free.sum(), sum(result.iterations), result.min_distance
         else:
             previous = y

@@ -100,7 +100,7 @@ def elastic_pose(
         _, plain, offset = dynamics.skin_offset(posed.pose.rotations[0], posed.pose.translations[0], r[0], delta,
                                                 at_rest)
         resolved = _barrier(dynamics, posed, plain + offset)
-        skin, held = hold_back_crossings(dynamics, resolved)
+        skin, held = hold_back_crossings(dynamics, resolved.vertices, resolved.before_last)
     else:
         _, skin, _, held = dynamics.frame(posed.pose.rotations[0], posed.pose.translations[0], r[0], delta, at_rest)
     nodes = g[0] + rotate(r[0], delta)
