@@ -41,10 +41,11 @@ def test_the_skin_stays_whole_and_the_body_keeps_its_volume(held):
         crossing = set(map(tuple, self_intersections(pose.vertices, body.faces).tolist())) - rest_pairs
         inside = pose.penetrations
         figures[name] = (len(crossing), len(inside), round(inside.deepest * 1e3, 1), pose.quality.inverted,
-                         round((enclosed_volume(pose.vertices, body.faces) / rest_volume - 1) * 100, 2))
+                         round((enclosed_volume(pose.vertices, body.faces) / rest_volume - 1) * 100, 3))
     # (new crossing pairs beyond the rest body's, vertices inside another part, the deepest mm, inverted
     # elements, enclosed volume against rest %): the issue asks 0, ≤ 2 mm, 0, within 1 %. (The male hip flexion's
     # 3 vertices tucked into the groin under the pelvis's open rim, 14-17 mm "inside" by the signed distance
     # alone, read a winding number of 0.62-0.98: between two sheets of skin, not inside.)
     assert {name: f[:4] for name, f in figures.items()} == dict.fromkeys(poses, (0, 0, 0.0, 0))
-    assert {name: f[4] for name, f in figures.items()} == VOLUME[sex]
+    # to 0.015 %: the last digit moves with round-off (the session's model, solved after other tests or not)
+    assert {name: f[4] for name, f in figures.items()} == pytest.approx(VOLUME[sex], abs=0.015)
