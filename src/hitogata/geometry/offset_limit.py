@@ -68,7 +68,7 @@ class OffsetLimiter:
             candidates = self.candidates(reference, offset)
         reference = np.asarray(reference, dtype=np.float64)
         offset = np.asarray(offset, dtype=np.float64)
-        folded_in_reference = _folded(reference, self.faces, self.pairs)
+        folded_in_reference = _folded(reference, self.faces, self.pairs) if folds else None
         hold = np.zeros(len(reference))
         top = np.ones(len(reference)) if ceiling is None else np.clip(ceiling, 0.0, 1.0)
         w = top
@@ -78,7 +78,8 @@ class OffsetLimiter:
             surface = (reference + w[:, None] * offset).astype(dtype)
             x = surface.astype(np.float64)
             crosses[retest] = _intersect(x, self.faces, candidates[retest])
-            folded = self.pairs[_folded(x, self.faces, self.pairs) & ~folded_in_reference] if folds else self.pairs[:0]
+            folded = (self.pairs[_folded(x, self.faces, self.pairs) & ~folded_in_reference]
+                      if folded_in_reference is not None else self.pairs[:0])
             offending = np.unique(self.faces[np.concatenate([candidates[crosses].ravel(), folded.ravel()])])
             offending = offending[hold[offending] < 1.0]
             if not len(offending):
