@@ -7,7 +7,8 @@ the change of length (%) of the lines of `hitogata.measure.body_lines`
 (left side), measured on the fine skin (`hitogata.measure.fine_skin`) posed
 by linear blend skinning, by dual-quaternion skinning, by the elastic
 body (DQS + the quasi-static correction, `hitogata.dynamics.single_pose`)
-and by the elastic body with its self-contact resolved (`contact=True`);
+by the elastic body with its self-contact resolved (`contact=True`) and
+with its skin then slid over the fascia (`slide=True`, `geometry.skin_slide`);
 with the fine skin's area stretched beyond +100 % (λ1 > 2, and area ratio
 > 2) and its 99.9th percentile (by area) of λ1 − 1, and the elastic body's
 inverted elements and largest tissue-region volume change. Prints a Markdown table
@@ -26,6 +27,7 @@ import numpy as np
 
 from hitogata.body import default_body
 from hitogata.dynamics.single_pose import elastic_dynamics, elastic_pose
+from hitogata.geometry.skin_slide import slide_posed_skin
 from hitogata.measure.body_lines import LINE_NAMES, body_lines
 from hitogata.measure.strain import skin_strain
 from hitogata.skeleton.extreme_poses import extreme_poses
@@ -67,12 +69,16 @@ def main(sexes: list[str]) -> None:
             start = time.perf_counter()
             touching = elastic_pose(dynamics, clinical=clinical, contact=True)
             with_contact = time.perf_counter() - start
+            start = time.perf_counter()  # the slide of the contact's skin, as elastic_pose(..., slide=True) does it
+            slid = slide_posed_skin(fine, touching.posed.pose, "dqs", body.vertices, touching.vertices, body.faces)
+            sliding = time.perf_counter() - start
             lbs = poser.pose(clinical=clinical, skinning="lbs")
             surfaces = {
                 "LBS": (fine.surface(lbs.pose, "lbs"), None),
                 "DQS": (fine.surface(held.posed.pose, "dqs"), None),
                 "elastic": (held.fine_vertices(), held.quality),
                 "elastic + contact": (touching.fine_vertices(), touching.quality),
+                "elastic + contact + slide": (fine.surface(touching.posed.pose, "dqs", slid.vertices), touching.quality),
             }
             for name, (v, quality) in surfaces.items():
                 cells = [f"{(lines[n].length(v) / rest[n] - 1) * 100:+.0f}" for n in LINE_NAMES]
@@ -80,7 +86,9 @@ def main(sexes: list[str]) -> None:
                 extra = f"{quality.inverted} | {worst * 100:+.2f}%" if quality else "|"
                 peaks = stretch_peaks(skin_strain(fine.fine.vertices, v, fine.fine.faces))
                 print(f"| {sex} | {pose} | {name} | " + " | ".join(cells) + f" | {peaks} | {extra} |", flush=True)
-            print(f"<!-- {sex} {pose}: elastic pose in {seconds:.1f} s, with contact {with_contact:.1f} s -->", flush=True)
+            print(f"<!-- {sex} {pose}: elastic pose in {seconds:.1f} s, with contact {with_contact:.1f} s, the slide "
+                  f"{sliding:.1f} s ({int(slid.free.sum())} vertices free, the longest slide "
+                  f"{slid.moved.max() * 1e3:.0f} mm) -->", flush=True)
 
 
 if __name__ == "__main__":

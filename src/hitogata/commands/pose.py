@@ -70,7 +70,8 @@ def run(args: argparse.Namespace) -> None:
     written = []
     if args.elastic:
         held = elastic_pose(elastic_dynamics(poser.body), clinical=request.clinical, contractions=request.contractions,
-                            lengths=request.lengths, on_limit=request.on_limit, contact=args.contact)
+                            lengths=request.lengths, on_limit=request.on_limit, contact=args.contact,
+                            slide=args.contact)
         mesh = Path(args.out) if Path(args.out).suffix.lower() != ".glb" else Path(args.out).with_name(
             Path(args.out).stem + "_elastic.ply")
         written.append(write_mesh(mesh, held.vertices, held.faces))
@@ -82,6 +83,9 @@ def run(args: argparse.Namespace) -> None:
         inside = held.penetrations
         print(f"skin inside another part: {len(inside)} vertices, deepest {inside.deepest * 1e3:.1f} mm"
               + ("" if args.contact else " (--contact resolves them)"))
+        if held.slide is not None:
+            print(f"skin slid over the fascia where stretched beyond +95 %: {int(held.slide.free.sum())} vertices "
+                  f"free, the longest slide {held.slide.moved.max() * 1e3:.0f} mm")
     if not (args.elastic and Path(args.out).suffix.lower() != ".glb"):
         written.insert(0, write_posed(args.out, poser, posed, extras))
         if Path(args.out).suffix.lower() != ".glb":
@@ -115,6 +119,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     parser.add_argument(
         "--contact", action="store_true",
         help="with --elastic: resolve the skin's self-contact (elbow, knee, hip creases) as a barrier problem "
-        "(IPC), so no part of the skin passes into another; see docs/elastic.md",
+        "(IPC), so no part of the skin passes into another, then slide the skin over the fascia where it is "
+        "stretched beyond +95 %% (armpit, groin); see docs/elastic.md",
     )
     parser.set_defaults(run=run)

@@ -8,8 +8,10 @@ skin as a simulation frame does (`BodyDynamics.frame`). With `contact`, the
 skin's self-contact is then resolved as a barrier problem
 (`hitogata.geometry.barrier_contact`, IPC) along a path of postures: the rest
 skin, the skin skinned at even fractions of the joint angles (the same
-skinning: `dynamics.contact.approach`), the elastic skin. `elastic_dynamics`
-builds and caches the whole-body model it needs, once per body and size.
+skinning: `dynamics.contact.approach`), the elastic skin. With `slide`, the
+skin then slides over the fascia where its fine skin is stretched beyond what
+skin takes (`hitogata.geometry.skin_slide`). `elastic_dynamics` builds and
+caches the whole-body model it needs, once per body and size.
 """
 
 from __future__ import annotations
@@ -26,6 +28,7 @@ from hitogata.dynamics.quality import STATIC_ITERATIONS, PoseQuality, pose_quali
 from hitogata.dynamics.quasistatic import rotate
 from hitogata.geometry.barrier_contact import BarrierResult, barrier_resolve
 from hitogata.geometry.contact import Penetrations
+from hitogata.geometry.skin_slide import SlideResult, slide_posed_skin
 from hitogata.options import OnLimit
 from hitogata.pose import PosedBody
 
@@ -55,6 +58,7 @@ class ElasticPose:
     dynamics: BodyDynamics
     held_back: np.ndarray  # (V,) m: elastic displacement held back to keep the skin whole (`geometry.offset_limit`)
     barrier: BarrierResult | None = None  # the barrier's figures (free skin, Newton steps) when contact was resolved
+    slide: SlideResult | None = None  # the skin's slide over the fascia (free skin, steps), when it slid
 
     @property
     def faces(self) -> np.ndarray:
@@ -85,11 +89,14 @@ def elastic_pose(
     on_limit: OnLimit = "raise",
     iterations: int = STATIC_ITERATIONS,
     contact: bool = False,
+    slide: bool = False,
 ) -> ElasticPose:
     """The elastic skin of one posture (names and units as `Poser.pose`), solved from rest;
     contact: no part of the skin passing into another (the barrier along the path of skinned
     postures, see the module's text and docs/elastic.md); without it, the elastic displacement is
-    held back where it would fold or cross the skin beyond skinning's (`BodyDynamics.frame`)."""
+    held back where it would fold or cross the skin beyond skinning's (`BodyDynamics.frame`); slide: the
+    skin then slides within the posed surface until no fine triangle is stretched beyond +95 % (or no
+    further without crossing other skin: `geometry.skin_slide`, docs/elastic.md)."""
     poser = dynamics.poser
     posed = poser.pose(contractions, lengths, angles, clinical, dynamics.rig.method, on_limit)
     g, r = dynamics.rig.pose(posed.pose.rotations, posed.pose.translations)
@@ -104,8 +111,11 @@ def elastic_pose(
     else:
         _, skin, _, held = dynamics.frame(posed.pose.rotations[0], posed.pose.translations[0], r[0], delta, at_rest)
     nodes = g[0] + rotate(r[0], delta)
+    slid = slide_posed_skin(poser.body.fine_skinning, posed.pose, dynamics.rig.method, poser.body.vertices, skin,
+                            posed.faces) if slide else None
+    skin = skin if slid is None else slid.vertices
     return ElasticPose(posed, skin.astype(float), nodes, pose_quality(dynamics.model, nodes, "elastic"), dynamics,
-                       held.astype(float), resolved)
+                       held.astype(float), resolved, slid)
 
 
 def _barrier(dynamics: BodyDynamics, posed: PosedBody, skin: np.ndarray) -> BarrierResult:
