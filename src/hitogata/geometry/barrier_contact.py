@@ -84,15 +84,17 @@ def contact_region(path: Sequence[np.ndarray], test: SelfContact, reach: float =
     `reach`): the skin's own neighbours, most of the pairs this near, are never looked at."""
     order = np.argsort(test.groups, kind="stable")
     bounds = np.searchsorted(test.groups[order], np.arange(test.n_groups + 1))
-    members = [order[bounds[g]:bounds[g + 1]] for g in range(test.n_groups) if bounds[g + 1] > bounds[g]]
+    starts = bounds[:-1][bounds[1:] > bounds[:-1]]  # the groups with skin, as runs of `order`
+    members = np.split(order, starts[1:])
     near = np.zeros(len(test.rest), dtype=bool)
     for target in path:
         moved = np.linalg.norm(target - test.rest, axis=1) > reach
-        stirred = np.array([moved[m].any() for m in members])
+        stirred = np.logical_or.reduceat(moved[order], starts)
         if not stirred.any():
             continue
-        low = np.array([target[m].min(axis=0) for m in members]) - reach
-        high = np.array([target[m].max(axis=0) for m in members])
+        ordered = target[order]
+        low = np.minimum.reduceat(ordered, starts) - reach
+        high = np.maximum.reduceat(ordered, starts)
         meet = (low[:, None] <= high[None]).all(axis=2) & (low[None] <= high[:, None]).all(axis=2)
         meet = np.triu(meet & (stirred[:, None] | stirred[None]), 1)  # a pair only if one of them moved
         trees: dict[int, cKDTree] = {}
@@ -143,11 +145,14 @@ class _Problem:
         # which vertex pairs may meet: a folding group's vertices are each a patch of their own, the
         # others one patch per group; never a pair near at rest. The toolkit lets two primitives meet
         # when any of their vertex pairs may: a triangle reaching past APART (SAME_APART) from a vertex
-        # meets it, which the rest skin's own spacing allows (nothing lies within the barrier at rest)
+        # meets it, which the rest skin's own spacing allows (nothing lies within the barrier at rest). The
+        # pair map holds only the pairs the patches let through (the broad phase looks every overlapping
+        # pair up in it: a hand's thousands of near pairs, one patch, made it slower by a third)
         n = len(self.vertices)
         folds = np.isin(self.groups, np.asarray(folding, dtype=np.int32))
         patch = np.where(folds, test.n_groups + np.arange(n), self.groups).astype(np.int32)
         close = cKDTree(self.rest).query_pairs(SAME_APART, output_type="ndarray")
+        close = close[patch[close[:, 0]] != patch[close[:, 1]]]
         same = self.groups[close[:, 0]] == self.groups[close[:, 1]]
         close = close[same | (np.linalg.norm(self.rest[close[:, 0]] - self.rest[close[:, 1]], axis=1) <= APART)]
         self.mesh.can_collide = ipctk.make_vertex_patches_filter(patch) & ipctk.make_sparse_filter(
@@ -192,18 +197,20 @@ class _Problem:
                 gradient[:, axis] += np.bincount(ids, part[:, axis], minlength=len(x))
         return float(change), gradient
 
-    def minimise(self, x: np.ndarray, target: np.ndarray, iterations: int, tolerance: float
-                 ) -> tuple[np.ndarray, int]:
-        """Newton from x (free of crossings) towards the minimum for the whole skin's `target`, every
-        step limited by CCD and backtracked to decrease the energy (the volume term Gauss–Newton, its
-        rank-one Hessian by Sherman–Morrison)."""
+    def minimise(self, x: np.ndarray, target: np.ndarray, iterations: int, tolerance: float,
+                 contacts: ipctk.NormalCollisions | None = None) -> tuple[np.ndarray, int, ipctk.NormalCollisions]:
+        """Newton from x (free of crossings; `contacts`: its pairs within dhat, if known) towards the
+        minimum for the whole skin's `target`, every step limited by CCD and backtracked to decrease the
+        energy (the volume term Gauss–Newton, its rank-one Hessian by Sherman–Morrison); the minimum,
+        the iterations taken and the minimum's pairs within dhat (the next step's start)."""
         import ipctk
 
         y = target[self.vertices]
         # nothing within reach at the target (a static query, the cheaper) nor on the way: the target as it is
-        if not len(self.collisions(self.candidates(y, y), y)):
+        at_target = self.collisions(self.candidates(y, y), y)
+        if not len(at_target):
             if self.candidates(x, y).compute_collision_free_stepsize(self.mesh, x, y, CCD_GAP) >= 1.0:
-                return y.copy(), 0
+                return y.copy(), 0, at_target
         full = target[self.touching]
         at_target = np.einsum("ij,ij->i", full[:, 0], np.cross(full[:, 1], full[:, 2]))
         lam = self.incompressibility
@@ -217,7 +224,8 @@ class _Problem:
             return e, tracked, change, w.ravel()
 
         x = x.copy()
-        contacts = self.collisions(self.candidates(x, x), x)
+        if contacts is None:
+            contacts = self.collisions(self.candidates(x, x), x)
         e0, tracked, change, w = energy(x, contacts)
         taken = 0
         while taken < iterations:
@@ -247,11 +255,11 @@ class _Problem:
             x, e0, tracked, change, w = trial, e, t, ch, wt
             if alpha * np.abs(step).max() < tolerance:
                 break
-        return x, taken
+        return x, taken, contacts
 
-    def min_distance(self, x: np.ndarray) -> float:
-        c = self.collisions(self.candidates(x, x), x)
-        return float(np.sqrt(c.compute_minimum_distance(self.mesh, x))) if len(c) else self.dhat
+    def min_distance(self, x: np.ndarray, contacts: ipctk.NormalCollisions) -> float:
+        """The smallest distance (m) between skin that may meet at x (`contacts`: x's pairs within dhat)."""
+        return float(np.sqrt(contacts.compute_minimum_distance(self.mesh, x))) if len(contacts) else self.dhat
 
 
 def barrier_resolve(path: Sequence[np.ndarray], test: SelfContact, stiffness: float = STIFFNESS,
@@ -273,11 +281,12 @@ def barrier_resolve(path: Sequence[np.ndarray], test: SelfContact, stiffness: fl
     if ipctk.has_intersections(problem.mesh, x):
         raise ValueError("the path's first skin passes through itself where skin may meet: no barrier can start there")
     taken = []
-    before = x
-    for y in path[1:]:
+    before, contacts = x, None
+    for y in path[1:]:  # each step starts where the last ended, with the contacts it ended with
         before = x
-        x, n = problem.minimise(x, np.asarray(y, dtype=float), iterations, tolerance)
+        x, n, contacts = problem.minimise(x, np.asarray(y, dtype=float), iterations, tolerance, contacts)
         taken.append(n)
     out, start = target.copy(), np.array(path[-2], dtype=float)
     out[ids], start[ids] = x, before
-    return BarrierResult(out, free, taken, problem.min_distance(x), start)
+    assert contacts is not None  # the path has a step
+    return BarrierResult(out, free, taken, problem.min_distance(x, contacts), start)
