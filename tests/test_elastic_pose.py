@@ -76,8 +76,11 @@ def test_pose_elastic_contact_writes_the_contact_resolved_skin(tmp_path, female_
                  "--out", str(out)]) == 0
     printed = capsys.readouterr().out
     extras = json.loads((tmp_path / "knee.json").read_text())
-    assert extras["surface"] == "elastic" and extras["contact"] is True
-    held = elastic_pose(elastic_dynamics(female_args), clinical={"shank_l.flexion": np.radians(135)}, contact=True)
+    assert extras["surface"] == "elastic" and extras["contact"] is True and extras["slide"] is True
+    held = elastic_pose(elastic_dynamics(female_args), clinical={"shank_l.flexion": np.radians(135)}, contact=True,
+                        slide=True)
     written = trimesh.load(out, process=False)
-    assert np.abs(written.vertices - held.vertices).max() < 1e-6  # the library's contact-resolved skin
+    assert np.abs(written.vertices - held.vertices).max() < 1e-6  # the library's contact-resolved, slid skin
     assert "skin inside another part: 0 vertices, deepest 0.0 mm\n" in printed
+    assert f"skin slid over the fascia where stretched beyond +95 %: {int(held.slide.free.sum())} vertices free" \
+        in printed

@@ -75,7 +75,8 @@ def run(args: argparse.Namespace) -> None:
         mesh = Path(args.out) if Path(args.out).suffix.lower() != ".glb" else Path(args.out).with_name(
             Path(args.out).stem + "_elastic.ply")
         written.append(write_mesh(mesh, held.vertices, held.faces))
-        written.append(write_sidecar(mesh, {**extras, "skinning": "dqs", "surface": "elastic", "contact": args.contact}))
+        written.append(write_sidecar(mesh, {**extras, "skinning": "dqs", "surface": "elastic", "contact": args.contact,
+                                                 "slide": args.contact}))
         print(f"elastic body: {held.quality.line()}")
         kept_back = held.held_back > HELD
         print(f"elastic displacement held back where it would fold or cross the skin: {int(kept_back.sum())} "

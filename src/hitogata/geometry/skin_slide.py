@@ -1,7 +1,7 @@
 """The skin sliding over the fascia: stretch beyond what skin takes spread to the skin around it.
 
 Skinning and the elastic body stretch the skin where a joint opens (the armpit overhead, the groin and
-the buttock at hip flexion, the back of the knee) into bands of triangles stretched two to four times,
+the buttock at hip flexion, the elbow's point) into bands of triangles stretched two to fifteen times,
 where real skin slides over the fascia and spreads the stretch over a wide area, tethered to the fascia
 by its fibrous septa (so the slide dies away from the opening joint). Here the posed coarse skin's
 vertices near such bands slide within the posed surface, the shape unchanged, until the fine skin
@@ -16,19 +16,21 @@ F_f a triangle's deformation gradient from rest (rest area A_f; the fine triangl
 carry and the coarse triangles themselves), T_f its nearest gradient with no principal stretch above 1
 (a tension-field membrane: skin resists stretch, not compression, which it takes in wrinkles; weight
 `TENSION`), L_f its nearest gradient with principal stretches and area ratio at most `LIMIT` (weight
-h_f = 1 while the triangle is beyond it, else 0); both keep the smaller principal stretch at least
+h_f = 1 once the triangle has been beyond it, else 0); both keep the smaller principal stretch at least
 `FLOOR` (or what it was, if less: a crease's skin stays as short) and the triangle's side up. The
 tether (the fascia) holds each vertex (rest area a_i) to where the contact left it, x⁰, with a stiffness
-τ = s / `FALLOFF`²: a slide dies away over about `FALLOFF` from where the skin is pulled. It is solved as
-a local/global iteration (as projective dynamics, Bouaziz et al. 2014, *Projective Dynamics*, ACM TOG
-33(4)): the local step projects every triangle (an SVD each), the global one solves the quadratic for
-the three coordinates with one sparse factorisation (scipy's SuperLU), then the free vertices go back to
-the posed surface near where they lay (never across a crease) and a step that would turn a coarse
-triangle over or shrink it away is left out there.
+τ = s / `FALLOFF`²: a slide dies away over about `FALLOFF` from where the skin is pulled. It is solved by
+local/global steps (the projections as in projective dynamics, Bouaziz et al. 2014, *Projective
+Dynamics*, ACM TOG 33(4)): the local step projects every triangle (an SVD each, in closed form), the
+global one solves the energy's quadratic model for the free vertices' moves along their tangent planes
+(two unknowns a vertex, a sparse solve), then the vertices go back to the posed surface near where they
+lay (never across a crease) and a move that would turn a coarse triangle over (`TILTS`) or shrink it
+away (`SHRINK`) is left out there.
 
 Free: the coarse skin within `REACH` (along the skin's edges) of the fine skin beyond `DONE`. If the
 slid skin crosses itself where it did not (a slide across the bottom of a tight crease carries the
-skin's chords through its other side), the skin there is held and the rest slides again.
+skin's chords through its other side), it slides again with less turning allowed, then with the skin
+there held, and what still crosses has its slide undone.
 """
 
 from __future__ import annotations
@@ -56,7 +58,7 @@ REACH = 0.15  # m: skin this far (along the edges) from skin beyond DONE is free
 FLOOR = 0.8  # smallest principal stretch the sliding may bring a triangle to
 ITERATIONS = 80  # local/global steps at most
 MAX_MOVE = 0.005  # m: the longest slide of a step (the surface's curvature and the flips stay in view)
-STALLED = 2e-5  # m: the sliding ends when no vertex moves further in a step (and none is beyond DONE)
+STALLED = 2e-5  # m: the sliding ends when no vertex moves further in a step
 NEAR = 2  # rings of faces around a vertex's face it may slide onto in one step
 HOLD_ROUNDS = 3  # times skin that would cross is held and the rest slid again
 # cosines: a slid coarse triangle turns at most this far from how it lay (154°: the armpit's hollow
