@@ -192,7 +192,7 @@ class _Problem:
                 gradient[:, axis] += np.bincount(ids, part[:, axis], minlength=len(x))
         return float(change), gradient
 
-    def minimise(self, x: np.ndarray, target: np.ndarray, iterations: int, tolerance: float
+    def minimise(self, x: np.ndarray, target: np.ndarray, iterations: int, tolerance: float, swell: float = 0.0
                  ) -> tuple[np.ndarray, int]:
         """Newton from x (free of crossings) towards the minimum for the whole skin's `target`, every
         step limited by CCD and backtracked to decrease the energy (the volume term Gauss–Newton, its
@@ -201,7 +201,7 @@ class _Problem:
 
         y = target[self.vertices]
         # nothing within reach at the target (a static query, the cheaper) nor on the way: the target as it is
-        if not len(self.collisions(self.candidates(y, y), y)):
+        if not swell and not len(self.collisions(self.candidates(y, y), y)):
             if self.candidates(x, y).compute_collision_free_stepsize(self.mesh, x, y, CCD_GAP) >= 1.0:
                 return y.copy(), 0
         full = target[self.touching]
@@ -213,6 +213,7 @@ class _Problem:
             d = (x - y).ravel()
             tracked = self.tracking @ d
             change, w = self.volume(x, full, at_target)
+            change -= swell
             e = 0.5 * float(d @ tracked) + 0.5 * lam * change ** 2 + self.barrier(contacts, self.mesh, x)
             return e, tracked, change, w.ravel()
 
@@ -257,12 +258,15 @@ class _Problem:
 def barrier_resolve(path: Sequence[np.ndarray], test: SelfContact, stiffness: float = STIFFNESS,
                     smoothing: float = SMOOTHING, dhat: float = DHAT, reach: float = REACH, rings: int = RINGS,
                     iterations: int = NEWTON, tolerance: float = TOLERANCE,
-                    incompressibility: float = INCOMPRESSIBILITY, folding: Sequence[int] = ()) -> BarrierResult:
+                    incompressibility: float = INCOMPRESSIBILITY, folding: Sequence[int] = (), swell: float = 0.0,
+                    free: np.ndarray | None = None) -> BarrierResult:
     """The skin at the last of `path`'s postures (each (V, 3); the first should be free of crossings,
     e.g. the rest skin), with no skin of one contact group passing into another's: each posture in
-    turn is the target y of the barrier problem, started from the previous solution."""
+    turn is the target y of the barrier problem, started from the previous solution. swell (m³): the
+    last step holds the enclosed volume at V(y) + swell (the volume a crease gives up, back round it);
+    free (V,) bool: the unknowns, if already found (default: `contact_region` of the path)."""
     target = np.asarray(path[-1], dtype=float)
-    free = contact_region(path[1:], test, reach, rings)
+    free = contact_region(path[1:], test, reach, rings) if free is None else free
     if not free.any():  # nothing comes near other skin on the way: the target as it is
         return BarrierResult(target.copy(), free, [0] * (len(path) - 1), dhat, np.array(path[-2], dtype=float))
     problem = _Problem(test, free, stiffness, smoothing, dhat, incompressibility, folding)
@@ -274,9 +278,9 @@ def barrier_resolve(path: Sequence[np.ndarray], test: SelfContact, stiffness: fl
         raise ValueError("the path's first skin passes through itself where skin may meet: no barrier can start there")
     taken = []
     before = x
-    for y in path[1:]:
+    for k, y in enumerate(path[1:], 2):
         before = x
-        x, n = problem.minimise(x, np.asarray(y, dtype=float), iterations, tolerance)
+        x, n = problem.minimise(x, np.asarray(y, dtype=float), iterations, tolerance, swell if k == len(path) else 0.0)
         taken.append(n)
     out, start = target.copy(), np.array(path[-2], dtype=float)
     out[ids], start[ids] = x, before
