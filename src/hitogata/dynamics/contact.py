@@ -55,6 +55,10 @@ APPROACH_STEPS = 4  # skinned postures on the barrier's path from rest to a post
 CREASE_STRETCH = (0.7, 0.4)
 CREASE_ANGLES = (np.radians(30.0), np.radians(60.0))
 FOLD_WEIGHT = 0.05  # a part holding less of a vertex's skinning weight does not fold it
+# the share of the tissue's elastic offset a crease's skin gives up: the skin is tied to the fascia, the fat
+# under it still bulges; all of it takes skinning's shear beside the fold too (male seated: 22 -> 123 cm² of
+# the fine skin beyond +100 %), half keeps that within 1.7x (docs/elastic.md, "Creases")
+CREASE_SHARE = 0.5
 
 
 def part_groups(names: tuple[str, ...]) -> np.ndarray:
@@ -134,7 +138,7 @@ def _smoothstep(u: np.ndarray) -> np.ndarray:
 
 def crease_tether(rest: np.ndarray, skinned: np.ndarray, faces: np.ndarray, folded: np.ndarray, free: np.ndarray
                   ) -> np.ndarray:
-    """(V,) 0…1: how far each skin vertex of a crease follows skinning rather than the tissue's elastic offset.
+    """(V,) 0…CREASE_SHARE: the share of the tissue's elastic offset each skin vertex of a crease gives up.
 
     A flexion crease (elbow, knee, groin, the seat's fold) is skin bound to the deep fascia by fibrous
     septa: it folds in with the joint while the tissue beside it bulges. The 40 mm tissue mesh has no
@@ -143,11 +147,11 @@ def crease_tether(rest: np.ndarray, skinned: np.ndarray, faces: np.ndarray, fold
     `fold_angles`: from CREASE_ANGLES[0] to [1]) and that skinning squeezes (its smallest principal
     stretch, the least over a vertex's triangles, from CREASE_STRETCH[0] to [1]), on the `free` skin (V,)
     bool of the contact barrier, where skin meets skin and the barrier gives the tissue's volume back
-    as a swelling round the fold; each factor rises smoothly from 0 to 1."""
+    as a swelling round the fold; each factor rises smoothly from 0 to 1, times CREASE_SHARE."""
     stretch = skin_strain(rest, skinned, faces).stretch_min
     least = np.full(len(rest), np.inf)
     np.fmin.at(least, np.asarray(faces).ravel(), np.repeat(stretch, 3))
     (s0, s1), (a0, a1) = CREASE_STRETCH, CREASE_ANGLES
     squeezed = _smoothstep((s0 - least) / (s0 - s1))
     bent = _smoothstep((folded - a0) / (a1 - a0))
-    return np.where(free, squeezed * bent, 0.0)
+    return np.where(free, CREASE_SHARE * squeezed * bent, 0.0)
