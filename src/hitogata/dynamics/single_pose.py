@@ -8,8 +8,8 @@ skin as a simulation frame does (`BodyDynamics.frame`). With `contact`, the
 skin's self-contact is then resolved as a barrier problem
 (`hitogata.geometry.barrier_contact`, IPC) along a path of postures: the rest
 skin, the skin skinned at even fractions of the joint angles (the same
-skinning: `dynamics.contact.approach`), the elastic skin, its creases folded as
-skinning folds them (`dynamics.contact.crease_tether`: the 40 mm tissue mesh
+skinning: `dynamics.contact.approach`), the elastic skin, its creases tied back
+towards skinning's fold (`dynamics.contact.crease_tether`: the 40 mm tissue mesh
 bows out where the skin of a flexed joint creases). `elastic_dynamics`
 builds and caches the whole-body model it needs, once per body and size.
 """
@@ -118,7 +118,7 @@ def _resolve(dynamics: BodyDynamics, posed: PosedBody, plain: np.ndarray, offset
              ) -> tuple[BarrierResult, np.ndarray, np.ndarray]:
     """The elastic skin of `posed` (`plain` skinned + the elastic `offset`, (V, 3)) with its self-contact
     resolved, reached from the rest skin through skinned postures on the way (`dynamics.contact.approach`),
-    its creases following skinning (`contact.crease_tether`, spread smoothly over the skin), the volume
+    its creases tied back towards skinning (`contact.crease_tether`, spread smoothly over the skin), the volume
     they give up swelling the free skin; then held back where it crosses skin the barrier does not hold
     apart (`contact.hold_back_crossings`). A crease whose skin still crosses is let go (its tether taken
     off, fading over the skin round it) and the barrier solved again, at most RELEASES times.
