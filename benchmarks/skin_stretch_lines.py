@@ -15,12 +15,12 @@ inverted elements and largest tissue-region volume change. Prints a Markdown tab
 (docs/measurements.md). Slow: the whole-body model per body, a quasi-static
 solve per pose.
 
-    PYTHONPATH=src python benchmarks/skin_stretch_lines.py [female|male ...]
+    PYTHONPATH=src python benchmarks/skin_stretch_lines.py [female|male ...] [--poses "elbow 150°,knee 135°"]
 """
 
 from __future__ import annotations
 
-import sys
+import argparse
 import time
 
 import numpy as np
@@ -49,7 +49,7 @@ def stretch_peaks(strain) -> str:
     return f"{area[lam > 2].sum() * 1e4:.0f} | {area[ratio > 2].sum() * 1e4:.0f} | {p999 - 1:+.0%}"
 
 
-def main(sexes: list[str]) -> None:
+def main(sexes: list[str], names: list[str] | None = None) -> None:
     print("| body | pose | surface | " + " | ".join(SHORT[n] for n in LINE_NAMES)
           + " | λ1 > 2 cm² | area > 2 cm² | λ1 p99.9 | inverted | volume |")
     print("|---|---|---|" + "---:|" * (len(LINE_NAMES) + 5))
@@ -63,6 +63,8 @@ def main(sexes: list[str]) -> None:
         lines = body_lines(body, fine.fine.vertices, fine.fine.faces)
         rest = {n: lines[n].length(fine.fine.vertices) for n in LINE_NAMES}
         for pose, clinical in extreme_poses(poser.skeleton).items():
+            if names and pose not in names:
+                continue
             start = time.perf_counter()
             held = elastic_pose(dynamics, clinical=clinical)
             seconds = time.perf_counter() - start
@@ -92,4 +94,8 @@ def main(sexes: list[str]) -> None:
 
 
 if __name__ == "__main__":
-    main(sys.argv[1:] or ["female", "male"])
+    parser = argparse.ArgumentParser()
+    parser.add_argument("sexes", nargs="*", default=["female", "male"])
+    parser.add_argument("--poses", default=None, help="comma-separated pose names; default all")
+    args = parser.parse_args()
+    main(args.sexes, args.poses.split(",") if args.poses else None)

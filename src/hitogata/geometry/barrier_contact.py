@@ -198,17 +198,19 @@ class _Problem:
         return float(change), gradient
 
     def minimise(self, x: np.ndarray, target: np.ndarray, iterations: int, tolerance: float,
-                 contacts: ipctk.NormalCollisions | None = None) -> tuple[np.ndarray, int, ipctk.NormalCollisions]:
+                 contacts: ipctk.NormalCollisions | None = None, swell: float = 0.0
+                 ) -> tuple[np.ndarray, int, ipctk.NormalCollisions]:
         """Newton from x (free of crossings; `contacts`: its pairs within dhat, if known) towards the
-        minimum for the whole skin's `target`, every step limited by CCD and backtracked to decrease the
-        energy (the volume term Gauss–Newton, its rank-one Hessian by Sherman–Morrison); the minimum,
-        the iterations taken and the minimum's pairs within dhat (the next step's start)."""
+        minimum for the whole skin's `target` (its enclosed volume plus `swell`), every step limited by
+        CCD and backtracked to decrease the energy (the volume term Gauss–Newton, its rank-one Hessian by
+        Sherman–Morrison); the minimum, the iterations taken and the minimum's pairs within dhat (the
+        next step's start)."""
         import ipctk
 
         y = target[self.vertices]
         # nothing within reach at the target (a static query, the cheaper) nor on the way: the target as it is
         at_target = self.collisions(self.candidates(y, y), y)
-        if not len(at_target):
+        if not swell and not len(at_target):
             if self.candidates(x, y).compute_collision_free_stepsize(self.mesh, x, y, CCD_GAP) >= 1.0:
                 return y.copy(), 0, at_target
         full = target[self.touching]
@@ -220,6 +222,7 @@ class _Problem:
             d = (x - y).ravel()
             tracked = self.tracking @ d
             change, w = self.volume(x, full, at_target)
+            change -= swell
             e = 0.5 * float(d @ tracked) + 0.5 * lam * change ** 2 + self.barrier(contacts, self.mesh, x)
             return e, tracked, change, w.ravel()
 
@@ -265,12 +268,15 @@ class _Problem:
 def barrier_resolve(path: Sequence[np.ndarray], test: SelfContact, stiffness: float = STIFFNESS,
                     smoothing: float = SMOOTHING, dhat: float = DHAT, reach: float = REACH, rings: int = RINGS,
                     iterations: int = NEWTON, tolerance: float = TOLERANCE,
-                    incompressibility: float = INCOMPRESSIBILITY, folding: Sequence[int] = ()) -> BarrierResult:
+                    incompressibility: float = INCOMPRESSIBILITY, folding: Sequence[int] = (), swell: float = 0.0,
+                    free: np.ndarray | None = None) -> BarrierResult:
     """The skin at the last of `path`'s postures (each (V, 3); the first should be free of crossings,
     e.g. the rest skin), with no skin of one contact group passing into another's: each posture in
-    turn is the target y of the barrier problem, started from the previous solution."""
+    turn is the target y of the barrier problem, started from the previous solution. swell (m³): the
+    last step holds the enclosed volume at V(y) + swell (the volume a crease gives up, back round it);
+    free (V,) bool: the unknowns, if already found (default: `contact_region` of the path)."""
     target = np.asarray(path[-1], dtype=float)
-    free = contact_region(path[1:], test, reach, rings)
+    free = contact_region(path[1:], test, reach, rings) if free is None else free
     if not free.any():  # nothing comes near other skin on the way: the target as it is
         return BarrierResult(target.copy(), free, [0] * (len(path) - 1), dhat, np.array(path[-2], dtype=float))
     problem = _Problem(test, free, stiffness, smoothing, dhat, incompressibility, folding)
@@ -282,9 +288,10 @@ def barrier_resolve(path: Sequence[np.ndarray], test: SelfContact, stiffness: fl
         raise ValueError("the path's first skin passes through itself where skin may meet: no barrier can start there")
     taken = []
     before, contacts = x, None
-    for y in path[1:]:  # each step starts where the last ended, with the contacts it ended with
+    for k, y in enumerate(path[1:], 2):  # each step starts where the last ended, with the contacts it ended with
         before = x
-        x, n, contacts = problem.minimise(x, np.asarray(y, dtype=float), iterations, tolerance, contacts)
+        x, n, contacts = problem.minimise(x, np.asarray(y, dtype=float), iterations, tolerance, contacts,
+                                          swell if k == len(path) else 0.0)
         taken.append(n)
     out, start = target.copy(), np.array(path[-2], dtype=float)
     out[ids], start[ids] = x, before

@@ -34,7 +34,7 @@ import scipy.sparse as sp
 from scipy.sparse.csgraph import dijkstra
 
 from hitogata.geometry.integrity import MOVED, _crossing_pairs, _folded, _intersect, _neighbour_pairs, _pair_keys, box_pairs
-from hitogata.geometry.mesh_checks import _apart, _faces, _undirected_edges
+from hitogata.geometry.mesh_checks import _apart, _faces, _undirected_edges, self_intersections
 
 ROUNDING = 1e-6  # m: boxes widened by this cover a float32 surface's rounding
 HELD = 1e-4  # m: a vertex whose offset is held back by more is reported as held back
@@ -85,7 +85,7 @@ class OffsetLimiter:
             if not len(offending):
                 break
             hold[offending] = np.minimum(hold[offending] + STEP, 1.0)
-            previous, w = w, np.minimum(top, 1.0 - self._spread(hold))
+            previous, w = w, np.minimum(top, 1.0 - self.spread(hold))
             changed = (w != previous)[self.faces].any(axis=1)
             retest = changed[candidates].any(axis=1)
         return surface, w
@@ -105,7 +105,12 @@ class OffsetLimiter:
         pairs = pairs[~np.isin(_pair_keys(pairs, len(self.faces)), self.crossing_at_rest)]
         return pairs[~_intersect(reference, self.faces, pairs)]
 
-    def _spread(self, hold: np.ndarray) -> np.ndarray:
+    def crossings(self, surface: np.ndarray) -> np.ndarray:
+        """(K, 2) the face pairs of `surface` that cross, less those crossing at rest."""
+        pairs = self_intersections(surface, self.faces)
+        return pairs[~np.isin(_pair_keys(pairs, len(self.faces)), self.crossing_at_rest)]
+
+    def spread(self, hold: np.ndarray) -> np.ndarray:
         """(V,) the holds spread over the surface: each held vertex's hold times a smooth fall to 0 at WIDTH."""
         out = np.zeros_like(hold)
         for level in np.unique(hold[hold > 0]):
