@@ -17,29 +17,30 @@ from hitogata.skeleton.extreme_poses import extreme_poses
 
 pytestmark = pytest.mark.slow
 # % against rest: the tissue a contact presses aside swells round it (docs/elastic.md); a crease folded
-# (`contact.crease_tether`) gives its volume back as a swelling of the free skin round it (male seated -0.44 before)
+# (`contact.crease_tether`) gives its volume back as a swelling of the free skin round it; the slide moves
+# skin within the surface, which changes the faceted surface's volume by up to 0.3 %
 VOLUME = {
-    "female": {"elbow 150°": -0.16, "knee 135°": -0.06, "hip flexion 120°": -0.25, "seated 90/90": -0.31,
-               "hip adduction 30°": 0.11, "shoulder flexion 180°": 0.52, "shoulder abduction 170°": 0.39,
-               "neck flexion 45°": -0.01, "trunk flexion 80°": -0.04, "trunk rotation 45°": -0.1},
-    "male": {"elbow 150°": -0.01, "knee 135°": -0.13, "hip flexion 120°": -0.25, "seated 90/90": -0.46,
-             "hip adduction 30°": 0.05, "shoulder flexion 180°": -0.28, "shoulder abduction 170°": -0.24,
-             "neck flexion 45°": -0.01, "trunk flexion 80°": -0.19, "trunk rotation 45°": -0.09},
+    "female": {"elbow 150°": -0.188, "knee 135°": -0.124, "hip flexion 120°": -0.524, "seated 90/90": -0.5,
+               "hip adduction 30°": 0.088, "shoulder flexion 180°": 0.395, "shoulder abduction 170°": 0.283,
+               "neck flexion 45°": -0.005, "trunk flexion 80°": -0.044, "trunk rotation 45°": -0.121},
+    "male": {"elbow 150°": -0.031, "knee 135°": -0.179, "hip flexion 120°": -0.422, "seated 90/90": -0.542,
+             "hip adduction 30°": 0.026, "shoulder flexion 180°": -0.382, "shoulder abduction 170°": -0.335,
+             "neck flexion 45°": -0.008, "trunk flexion 80°": -0.191, "trunk rotation 45°": -0.101},
 }
 STRETCHED = {  # cm² of fine skin beyond +100 % after the slide
-    "female": {"elbow 150°": 0.0, "knee 135°": 0.0, "hip flexion 120°": 0.0, "seated 90/90": 0.5,
-               "hip adduction 30°": 0.0, "shoulder flexion 180°": 3.4, "shoulder abduction 170°": 1.9,
+    "female": {"elbow 150°": 0.0, "knee 135°": 0.0, "hip flexion 120°": 0.0, "seated 90/90": 3.5,
+               "hip adduction 30°": 0.0, "shoulder flexion 180°": 3.3, "shoulder abduction 170°": 1.9,
                "neck flexion 45°": 0.0, "trunk flexion 80°": 0.0, "trunk rotation 45°": 0.0},
-    "male": {"elbow 150°": 0.0, "knee 135°": 0.0, "hip flexion 120°": 7.4, "seated 90/90": 5.2,
-             "hip adduction 30°": 0.9, "shoulder flexion 180°": 7.4, "shoulder abduction 170°": 2.4,
+    "male": {"elbow 150°": 0.0, "knee 135°": 0.5, "hip flexion 120°": 32.2, "seated 90/90": 8.4,
+             "hip adduction 30°": 0.9, "shoulder flexion 180°": 7.8, "shoulder abduction 170°": 2.5,
              "neck flexion 45°": 0.0, "trunk flexion 80°": 0.0, "trunk rotation 45°": 0.0},
 }
 # % change of length of the flexor side's line on the fine skin (docs/measurements.md, "Skin stretch on lines"):
 # without the creases' tether the back of the knee lengthened at 135° (+3 % on both bodies)
 FLEXOR = {
-    "female": {("elbow 150°", "elbow_anterior"): -21.6, ("knee 135°", "knee_posterior"): -31.4,
-               ("seated 90/90", "knee_posterior"): -41.5},
-    "male": {("elbow 150°", "elbow_anterior"): -24.8, ("knee 135°", "knee_posterior"): -19.5,
+    "female": {("elbow 150°", "elbow_anterior"): -23.4, ("knee 135°", "knee_posterior"): -30.8,
+               ("seated 90/90", "knee_posterior"): -43.1},
+    "male": {("elbow 150°", "elbow_anterior"): -26.3, ("knee 135°", "knee_posterior"): -23.5,
              ("seated 90/90", "knee_posterior"): -41.5},
 }
 
@@ -81,7 +82,7 @@ def test_the_fine_skin_is_stretched_like_skin(held):
         strain = skin_strain(rest.vertices, pose.fine_vertices(), rest.faces)
         over = (strain.stretch_max > 2) | (strain.area_ratio > 2)
         figures[name] = round(float(strain.rest_area[over].sum() * 1e4), 1)
-    # cm² of fine skin stretched beyond +100 % (length or area); without the slide 5-115 cm² at 8 of 10 poses
+    # cm² of fine skin stretched beyond +100 % (length or area); without the slide 5-131 cm² at 8 of 10 poses
     # (docs/measurements.md). Left where the slide is held up: the armpit's hollow overhead (coarse triangles it
     # may not turn over) and the male groin's midline (sheared skin next to skin in contact, which would cross)
     assert figures == pytest.approx(STRETCHED[sex], abs=0.2)
