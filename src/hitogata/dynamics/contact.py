@@ -122,7 +122,8 @@ def fold_angles(weights: sp.csr_matrix, rotations: np.ndarray, least: float = FO
     of it (`rotations`: the parts' (parts, 3, 3)). 0 within one part."""
     w = sp.csr_matrix(weights)
     rows = np.repeat(np.arange(w.shape[0]), np.diff(w.indptr))
-    main = np.asarray(w.argmax(axis=1)).ravel()
+    heaviest = np.lexsort((-w.data, rows))[w.indptr[:-1]]  # each row's largest entry (scipy's argmax: 10× slower)
+    main = w.indices[heaviest]
     keep = w.data >= least
     a, b = rotations[main[rows[keep]]], rotations[w.indices[keep]]
     cosine = np.clip(0.5 * (np.einsum("kij,kij->k", a, b) - 1.0), -1.0, 1.0)

@@ -146,7 +146,7 @@ def _resolve(dynamics: BodyDynamics, posed: PosedBody, plain: np.ndarray, offset
         skin, held = hold_back_crossings(dynamics, resolved.vertices, resolved.before_last)
         if release == RELEASES or not tether.any():
             break
-        let_go = _creases_at(limiter.graph, tether, np.unique(test.faces[limiter.crossings(skin)]))
+        let_go = _creases_at(limiter.graph, tether, np.unique(test.faces[limiter.crossings(skin, tether > 0)]))
         if not let_go.any():  # nothing crosses where a crease is tethered
             break
         tether = tether * (1.0 - limiter.spread(let_go.astype(float)))

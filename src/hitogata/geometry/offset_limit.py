@@ -105,9 +105,11 @@ class OffsetLimiter:
         pairs = pairs[~np.isin(_pair_keys(pairs, len(self.faces)), self.crossing_at_rest)]
         return pairs[~_intersect(reference, self.faces, pairs)]
 
-    def crossings(self, surface: np.ndarray) -> np.ndarray:
-        """(K, 2) the face pairs of `surface` that cross, less those crossing at rest."""
-        pairs = self_intersections(surface, self.faces)
+    def crossings(self, surface: np.ndarray, near: np.ndarray | None = None) -> np.ndarray:
+        """(K, 2) the face pairs of `surface` that cross, less those crossing at rest; with `near` (V,) bool,
+        only pairs of faces touching it (a whole skin's test takes ten times as long)."""
+        kept = np.arange(len(self.faces)) if near is None else np.flatnonzero(near[self.faces].any(axis=1))
+        pairs = kept[self_intersections(surface, self.faces[kept])]
         return pairs[~np.isin(_pair_keys(pairs, len(self.faces)), self.crossing_at_rest)]
 
     def spread(self, hold: np.ndarray) -> np.ndarray:
