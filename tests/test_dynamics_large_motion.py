@@ -67,7 +67,9 @@ def test_trunk_flexion_80(trunk_dynamics):
 @pytest.mark.parametrize("name", BODY_POSES)
 def test_whole_body_extreme_poses(body_dynamics, name):
     q = clinical_pose(body_dynamics.poser.skeleton, BODY_POSES[name])
-    figures = compare_pose(body_dynamics, q)
+    # from rest, 40 steps leave the hip flexion short of equilibrium: its skin distortion 0.198, or 0.193 with
+    # other round-off (LBS 0.193); 80 steps reach 0.182
+    figures = compare_pose(body_dynamics, q, iterations=80)
     check(figures)
 
 

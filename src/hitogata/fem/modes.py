@@ -78,18 +78,21 @@ def solve_modes(K: sp.spmatrix, M: sp.spmatrix, n_modes: int, fixed_nodes: np.nd
     Mf = M[free][:, free]
     if sigma is None:
         sigma = 0.0 if n_free < K.shape[0] else -1e-6 * Kf.diagonal().mean() / Mf.diagonal().mean()
+    # ARPACK's own start vector comes from a generator it keeps between calls, so the modes of one model
+    # differed in their last digits with the calls before them in the process (and a contact's yes/no with them)
+    start = np.random.default_rng(0).standard_normal(n_free)
     if solver == "dense":
         lam, vec = la.eigh(Kf.toarray(), Mf.toarray(), subset_by_index=[0, n_modes - 1])
     elif solver == "scipy":
         with _openblas_limit(blas_threads):
-            lam, vec = sla.eigsh(Kf, n_modes, Mf, sigma=sigma, which="LM", tol=tol)
+            lam, vec = sla.eigsh(Kf, n_modes, Mf, sigma=sigma, which="LM", tol=tol, v0=start)
     else:
         shifted = (Kf - sigma * Mf) if sigma else Kf
         solve = factorize(shifted, solver, node_of_dof=free // 3, positive_definite=sigma <= 0.0)
         op = sla.LinearOperator(Kf.shape, matvec=solve, matmat=solve, dtype=float)
         Mf.eliminate_zeros()  # consistent M shares K's pattern; its matvecs need only a third of it
         with _openblas_limit(blas_threads):
-            lam, vec = sla.eigsh(Kf, n_modes, Mf, sigma=sigma, which="LM", OPinv=op, tol=tol)
+            lam, vec = sla.eigsh(Kf, n_modes, Mf, sigma=sigma, which="LM", OPinv=op, tol=tol, v0=start)
 
     order = np.argsort(lam)
     lam, vec = lam[order], vec[:, order]
