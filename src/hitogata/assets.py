@@ -96,6 +96,11 @@ def load_assets() -> Assets:
         (offsets, rows, (3 * d["target_ptr"]).astype(np.int32)), shape=(3 * n_vertices, len(d["target_ptr"]) - 1)
     )
 
+    skin_weights = weights.tocsr()
+    # canonical once (sorted indices): scipy sorts a matrix in place on its first min/max and the like, so the
+    # shared weights' sums (every body's skinning) took the order of whatever had asked first (round-off, but
+    # enough to turn the contact's yes/no decisions in a test run after it)
+    skin_weights.sum_duplicates()
     return Assets(
         base_vertices=d["base_vertices"],
         n_surface=n_surface,
@@ -104,7 +109,7 @@ def load_assets() -> Assets:
         bone_names=bones,
         bone_parents=d["bone_parents"].astype(np.int64),
         joint_regressor=regressor,
-        skin_weights=weights.tocsr(),
+        skin_weights=skin_weights,
         target_names=tuple(str(n) for n in d["target_names"]),
         targets=targets,
     )
