@@ -209,10 +209,10 @@ class _Problem:
 
         y = target[self.vertices]
         # nothing within reach at the target (a static query, the cheaper) nor on the way: the target as it is
-        at_target = self.collisions(self.candidates(y, y), y)
-        if not swell and not len(at_target):
+        meeting = self.collisions(self.candidates(y, y), y)
+        if not swell and not len(meeting):
             if self.candidates(x, y).compute_collision_free_stepsize(self.mesh, x, y, CCD_GAP) >= 1.0:
-                return y.copy(), 0, at_target
+                return y.copy(), 0, meeting
         full = target[self.touching]
         at_target = np.einsum("ij,ij->i", full[:, 0], np.cross(full[:, 1], full[:, 2]))
         lam = self.incompressibility
