@@ -80,7 +80,7 @@ def main(sexes: list[str], names: list[str] | None = None) -> None:
                 "DQS": (fine.surface(held.posed.pose, "dqs"), None),
                 "elastic": (held.fine_vertices(), held.quality),
                 "elastic + contact": (touching.fine_vertices(), touching.quality),
-                "elastic + contact + slide": (fine.surface(touching.posed.pose, "dqs", slid.vertices), touching.quality),
+                "elastic + contact + slide": (slid.fine.vertices, touching.quality),
             }
             for name, (v, quality) in surfaces.items():
                 cells = [f"{(lines[n].length(v) / rest[n] - 1) * 100:+.0f}" for n in LINE_NAMES]
@@ -89,8 +89,9 @@ def main(sexes: list[str], names: list[str] | None = None) -> None:
                 peaks = stretch_peaks(skin_strain(fine.fine.vertices, v, fine.fine.faces))
                 print(f"| {sex} | {pose} | {name} | " + " | ".join(cells) + f" | {peaks} | {extra} |", flush=True)
             print(f"<!-- {sex} {pose}: elastic pose in {seconds:.1f} s, with contact {with_contact:.1f} s, the slide "
-                  f"{sliding:.1f} s ({int(slid.free.sum())} vertices free, the longest slide "
-                  f"{slid.moved.max() * 1e3:.0f} mm) -->", flush=True)
+                  f"{sliding:.1f} s (coarse: {int(slid.coarse.free.sum())} vertices free, the longest slide "
+                  f"{slid.coarse.moved.max() * 1e3:.0f} mm; fine: {int(slid.fine.free.sum())} free, the longest "
+                  f"{slid.fine.moved.max() * 1e3:.0f} mm) -->", flush=True)
 
 
 if __name__ == "__main__":

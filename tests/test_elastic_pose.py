@@ -82,5 +82,26 @@ def test_pose_elastic_contact_writes_the_contact_resolved_skin(tmp_path, female_
     written = trimesh.load(out, process=False)
     assert np.abs(written.vertices - held.vertices).max() < 1e-6  # the library's contact-resolved, slid skin
     assert "skin inside another part: 0 vertices, deepest 0.0 mm\n" in printed
-    assert f"skin slid over the fascia where stretched beyond +95 %: {int(held.slide.free.sum())} vertices free" \
+    coarse = held.slide.coarse
+    assert f"skin slid over the fascia where stretched beyond +95 %: {int(coarse.free.sum())} vertices free" \
         in printed
+    fine = tmp_path / "knee_fine.ply"  # the fine skin slid on its own: its own file, named in the .json
+    assert extras["fine_skin"] == "knee_fine.ply"
+    assert np.abs(trimesh.load(fine, process=False).vertices - held.fine_vertices()).max() < 1e-6
+    # `measure` strains that file: the same fine skin grown by 10 % stretches every zone by 1.1
+    def elbow_stretch(report: str) -> float:
+        assert main(["measure", str(out), "--out", str(tmp_path / report)]) == 0
+        return json.loads((tmp_path / report / "measurements.json").read_text())["zone_strain_percent"][
+            "elbow_left"]["stretch_mean"]
+
+    as_written = elbow_stretch("r0")
+    scaled = trimesh.load(fine, process=False)
+    scaled.vertices = scaled.vertices * 1.1
+    scaled.export(fine)
+    assert elbow_stretch("r") == pytest.approx(1.1 * (100 + as_written) - 100, abs=1e-3)  # the PLY: float32
+    fine.unlink()
+    capsys.readouterr()
+    assert main(["measure", str(out), "--out", str(tmp_path / "r2")]) == 2
+    assert capsys.readouterr().err.strip().endswith(
+        f"{tmp_path / 'knee.json'}: fine_skin = 'knee_fine.ply': no such file; allowed the name of the fine "
+        "skin's .ply beside knee.json, written with it by `hitogata pose`")

@@ -75,8 +75,12 @@ def run(args: argparse.Namespace) -> None:
         mesh = Path(args.out) if Path(args.out).suffix.lower() != ".glb" else Path(args.out).with_name(
             Path(args.out).stem + "_elastic.ply")
         written.append(write_mesh(mesh, held.vertices, held.faces))
-        written.append(write_sidecar(mesh, {**extras, "skinning": "dqs", "surface": "elastic", "contact": args.contact,
-                                                 "slide": args.contact}))
+        surface = {"skinning": "dqs", "surface": "elastic", "contact": args.contact, "slide": args.contact}
+        if held.slide is not None:  # its fine skin slid on its own: measured from its own file
+            fine = mesh.with_name(mesh.stem + "_fine.ply")
+            written.append(write_mesh(fine, held.fine_vertices(), poser.body.fine_skin.faces))
+            surface["fine_skin"] = fine.name
+        written.append(write_sidecar(mesh, {**extras, **surface}))
         print(f"elastic body: {held.quality.line()}")
         kept_back = held.held_back > HELD
         print(f"elastic displacement held back where it would fold or cross the skin: {int(kept_back.sum())} "
@@ -85,8 +89,10 @@ def run(args: argparse.Namespace) -> None:
         print(f"skin inside another part: {len(inside)} vertices, deepest {inside.deepest * 1e3:.1f} mm"
               + ("" if args.contact else " (--contact resolves them)"))
         if held.slide is not None:
-            print(f"skin slid over the fascia where stretched beyond +95 %: {int(held.slide.free.sum())} vertices "
-                  f"free, the longest slide {held.slide.moved.max() * 1e3:.0f} mm")
+            coarse, fine_slide = held.slide.coarse, held.slide.fine
+            print(f"skin slid over the fascia where stretched beyond +95 %: {int(coarse.free.sum())} vertices "
+                  f"free, the longest slide {coarse.moved.max() * 1e3:.0f} mm; the fine skin then: "
+                  f"{int(fine_slide.free.sum())} vertices free, the longest slide {fine_slide.moved.max() * 1e3:.0f} mm")
     if not (args.elastic and Path(args.out).suffix.lower() != ".glb"):
         written.insert(0, write_posed(args.out, poser, posed, extras))
         if Path(args.out).suffix.lower() != ".glb":
@@ -121,6 +127,7 @@ def register(sub: argparse._SubParsersAction) -> None:
         "--contact", action="store_true",
         help="with --elastic: resolve the skin's self-contact (elbow, knee, hip creases) as a barrier problem "
         "(IPC), so no part of the skin passes into another, then slide the skin over the fascia where it is "
-        "stretched beyond +95 %% (armpit, groin); see docs/elastic.md",
+        "stretched beyond +95 %% (armpit, groin), its fine skin too, written as NAME_fine.ply beside the skin "
+        "(`hitogata measure` reads it through the .json); see docs/elastic.md",
     )
     parser.set_defaults(run=run)

@@ -33,7 +33,7 @@ from hitogata.dynamics.quasistatic import rotate
 from hitogata.geometry.barrier_contact import BarrierResult, barrier_resolve, contact_region
 from hitogata.geometry.contact import Penetrations
 from hitogata.geometry.mesh_checks import enclosed_volume
-from hitogata.geometry.skin_slide import SlideResult, slide_posed_skin
+from hitogata.geometry.skin_slide import SkinSlide, slide_posed_skin
 from hitogata.options import OnLimit
 from hitogata.pose import PosedBody
 
@@ -65,7 +65,7 @@ class ElasticPose:
     dynamics: BodyDynamics
     held_back: np.ndarray  # (V,) m: elastic displacement held back to keep the skin whole (`geometry.offset_limit`)
     barrier: BarrierResult | None = None  # the barrier's figures (free skin, Newton steps) when contact was resolved
-    slide: SlideResult | None = None  # the skin's slide over the fascia (free skin, steps), when it slid
+    slide: SkinSlide | None = None  # the skin's slide over the fascia (coarse, then fine), when it slid
 
     @property
     def faces(self) -> np.ndarray:
@@ -82,7 +82,10 @@ class ElasticPose:
         return self.posed.vertices
 
     def fine_vertices(self) -> np.ndarray:
-        """(Vf, 3) the fine skin (`hitogata.measure.fine_skin`) carried by the same skinning and elastic field."""
+        """(Vf, 3) the fine skin (`hitogata.measure.fine_skin`) carried by the same skinning and elastic field,
+        or, when the skin slid, as it slid."""
+        if self.slide is not None:
+            return self.slide.fine.vertices
         poser = self.dynamics.poser
         return poser.body.fine_skinning.surface(self.posed.pose, self.dynamics.rig.method, self.vertices)
 
@@ -119,7 +122,7 @@ def elastic_pose(
     nodes = g[0] + rotate(r[0], delta)
     slid = slide_posed_skin(poser.body.fine_skinning, posed.pose, dynamics.rig.method, poser.body.vertices, skin,
                             posed.faces) if slide else None
-    skin = skin if slid is None else slid.vertices
+    skin = skin if slid is None else slid.coarse.vertices
     return ElasticPose(posed, skin.astype(float), nodes, pose_quality(dynamics.model, nodes, "elastic"), dynamics,
                        held.astype(float), resolved, slid)
 

@@ -7,7 +7,10 @@ pose's rest-relative angles, how the surface was made (`skinning`: lbs/dqs;
 the surface is its skin (vertex count), and gives the posture to measure: the
 file's vertices, the rig joints of the pose, and the fine skin
 (`hitogata.measure.fine_skin`) posed by the same skinning plus the file's
-difference from it (the elastic correction, carried to the fine skin).
+difference from it (the elastic correction, carried to the fine skin) — or,
+where the skin slid over the fascia and its fine skin slid on its own
+(`hitogata.geometry.skin_slide`), the fine skin's own PLY the sidecar names
+(`fine_skin`).
 """
 
 from __future__ import annotations
@@ -86,4 +89,26 @@ def read_posed_mesh(path: Path) -> tuple[Body, np.ndarray, np.ndarray, np.ndarra
             f"{path}: {len(vertices)} vertices, allowed {len(body.vertices)} finite ones (the hitogata skin)"
         )
     v, joints, fine = posture(body, np.asarray(angles, dtype=float), skinning, vertices)
+    if "fine_skin" in extras:
+        fine = _read_fine_skin(side, extras["fine_skin"], body)
     return body, v, joints, fine
+
+
+def _read_fine_skin(side: Path, name: Any, body: Body) -> np.ndarray:
+    """The fine skin's vertices from the PLY the sidecar `side` names (`fine_skin`), beside it."""
+    allowed = f"allowed the name of the fine skin's .ply beside {side.name}, written with it by `hitogata pose`"
+    if not isinstance(name, str) or Path(name).name != name or not name.lower().endswith(".ply"):
+        raise HitogataError(f"{side}: fine_skin = {name!r}: {allowed}")
+    path = side.with_name(name)
+    if not path.is_file():
+        raise HitogataError(f"{side}: fine_skin = {name!r}: no such file; {allowed}")
+    import trimesh
+
+    try:
+        vertices = np.asarray(trimesh.load(path, process=False, force="mesh").vertices, dtype=float)
+    except Exception as err:  # noqa: BLE001 -- trimesh raises many kinds on a broken file
+        raise HitogataError(f"{path}: not a readable mesh ({err})") from None
+    count = len(body.fine_skin.vertices)
+    if vertices.shape != (count, 3) or not np.isfinite(vertices).all():
+        raise HitogataError(f"{path}: {len(vertices)} vertices, allowed {count} finite ones (the hitogata fine skin)")
+    return vertices

@@ -48,7 +48,7 @@ from dataclasses import dataclass, fields
 import numpy as np
 import scipy.sparse as sp
 
-from hitogata.volume.surface import closest_points_on_triangles
+from hitogata.volume.surface import barycentric_on_triangles, closest_points_on_triangles
 
 # m: deepest penetration looked for; deeper, the closest surface is often the wrong one (a calf 6 cm
 # into the thigh at a 135° knee is closer to the thigh's side than to its back)
@@ -139,7 +139,7 @@ class SelfContact:
         normal = np.where(found[:, None], normal, 0.0)  # libigl leaves those unset
         face = faces[which]
         corners = self.faces[face]
-        bary = _barycentric(closest, x[corners])
+        bary = barycentric_on_triangles(closest, x[corners])
         rim = self._rim[group][corners]
         on_rim = (rim & (bary > 1.0 - _RIM)).any(axis=1)  # at a rim vertex
         edge_on_rim = rim & np.roll(rim, -1, axis=1)  # edge (a, a+1) has both ends on the rim
@@ -185,19 +185,6 @@ class SelfContact:
         import igl
 
         return np.abs(igl.fast_winding_number(x, self.faces, x[vertices])) > COVERED
-
-
-def _barycentric(points: np.ndarray, tri: np.ndarray) -> np.ndarray:
-    """(K, 3) barycentric weights of points lying on triangles (K, 3, 3), clipped to the triangle."""
-    a, b, c = tri[:, 0], tri[:, 1], tri[:, 2]
-    v0, v1, v2 = b - a, c - a, points - a
-    d00, d01, d11 = (v0 * v0).sum(1), (v0 * v1).sum(1), (v1 * v1).sum(1)
-    d20, d21 = (v2 * v0).sum(1), (v2 * v1).sum(1)
-    den = np.maximum(d00 * d11 - d01 * d01, 1e-300)
-    v = (d11 * d20 - d01 * d21) / den
-    w = (d00 * d21 - d01 * d20) / den
-    bary = np.clip(np.stack([1.0 - v - w, v, w], axis=1), 0.0, 1.0)
-    return bary / bary.sum(axis=1, keepdims=True)
 
 
 def _point_triangle_distance(points: np.ndarray, tri: np.ndarray) -> np.ndarray:

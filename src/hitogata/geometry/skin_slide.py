@@ -31,10 +31,18 @@ Free: the coarse skin within `REACH` (along the skin's edges) of the fine skin b
 slid skin crosses itself where it did not (a slide across the bottom of a tight crease carries the
 skin's chords through its other side), it slides again with less turning allowed, then with the skin
 there held, and what still crosses has its slide undone.
+
+Where the coarse triangles may turn no further (over the armpit's hollow overhead, the groin's sharp
+folds), fine skin stays beyond `DONE`. The fine skin then slides on its own (`slide_fine_skin`): the same
+energy and steps with its own vertices free on its own posed surface (`FINE`: a fine triangle turns at
+most 90° from the surface's smooth normal under it, and the slide dies away within 2 cm). The slid fine
+skin is what is measured; it no longer follows the coarse skin through the Loop stencils
+(`ElasticPose.fine_vertices`, and its own file beside `hitogata pose`'s).
 """
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -48,7 +56,7 @@ from hitogata.measure.fine_skin import FineSkinning
 from hitogata.measure.strain import skin_strain
 from hitogata.options import Skinning
 from hitogata.skeleton.kinematics import Pose
-from hitogata.volume.surface import closest_points_on_triangles
+from hitogata.volume.surface import barycentric_on_triangles, closest_points_on_triangles
 
 DONE = 1.95  # fine skin stretched beyond this (or its area) slides; the sliding ends when none is
 LIMIT = 1.6  # principal stretch and area ratio an overstretched triangle is drawn back to
@@ -69,6 +77,25 @@ SHRINK = 0.2  # nor shrinks below this share of its area as it lay or at rest, w
 
 
 @dataclass(frozen=True)
+class _Level:
+    """How a skin slides: the cosines of the turning allowed its triangles (the first, then, where that
+    crosses other skin, the next), the share of its area a triangle may shrink to, the tether's reach (m)."""
+
+    tilts: tuple[float, ...]
+    shrink: float
+    falloff: float
+
+
+COARSE = _Level(TILTS, SHRINK, FALLOFF)
+# the fine skin, after the coarse: its triangles turn at most 90° from the surface under them (more is skin
+# folded over itself), may shrink to 2 % of their area (skin takes compression in wrinkles), and its slide
+# dies away within 2 cm (it spreads what the coarse slide left over a few of its triangles). Measured on the
+# male groin at hip flexion 120°: shrinking to a fifth at most, or a 4 cm tether, the slide folds the skin
+# there (crossings) and stops 1–2.5 cm² short
+FINE = _Level((0.0,), 0.02, 0.02)
+
+
+@dataclass(frozen=True)
 class SlideResult:
     """The slid coarse skin (V, 3), how far each vertex slid (V,) m, the free vertices (V,) bool, and the
     local/global steps taken."""
@@ -77,6 +104,25 @@ class SlideResult:
     moved: np.ndarray
     free: np.ndarray
     iterations: int
+
+
+@dataclass(frozen=True)
+class SkinSlide:
+    """A posed skin's slide: the coarse skin's within its surface, then the fine skin's own (its
+    vertices: the slid fine skin, what is measured)."""
+
+    coarse: SlideResult
+    fine: SlideResult
+
+
+@dataclass(frozen=True)
+class _Carried:
+    """The fine skin a sliding coarse skin carries: posed (Vf, 3), at rest, its faces, its stencils."""
+
+    vertices: np.ndarray
+    rest: np.ndarray
+    faces: np.ndarray
+    interpolation: sp.csr_matrix
 
 
 def _over(strain, limit: float) -> np.ndarray:
@@ -164,45 +210,85 @@ def slide_skin(rest: np.ndarray, coarse: np.ndarray, faces: np.ndarray, fine_res
                interpolation: sp.csr_matrix, fine_base: np.ndarray) -> SlideResult:
     """The coarse skin `coarse` (V, 3; `rest` at rest) slid within its surface until its fine skin
     (`fine_base + interpolation @ coarse`, rest `fine_rest`, `fine_faces`) is stretched at most `DONE`
-    (principal stretch and area ratio); unchanged where none is beyond. Skin whose sliding would cross
-    other skin (new self-crossing pairs, `self_intersections`; where the input crossed itself already,
-    more pairs than it had) is held where it is, a ring around it too, and the rest slides again
-    (`HOLD_ROUNDS` times at most; then the slide is undone around what still crosses)."""
+    (principal stretch and area ratio); unchanged where none is beyond (crossings: `_slide`)."""
     coarse = np.asarray(coarse, dtype=float)
-    fine = fine_base + interpolation @ coarse
-    over = _over(skin_strain(fine_rest, fine, fine_faces), DONE)
-    n = len(coarse)
-    if not over.any():
-        return SlideResult(coarse, np.zeros(n), np.zeros(n, dtype=bool), 0)
-    graph = _edge_graph(rest, faces)
+    carried = _Carried(fine_base + interpolation @ coarse, fine_rest, fine_faces, interpolation)
+    over = _over(skin_strain(fine_rest, carried.vertices, fine_faces), DONE)
     seeds = np.unique(np.asarray(interpolation[np.unique(fine_faces[over])].indices))
+    return _slide(rest, coarse, faces, seeds, carried, COARSE)
+
+
+def slide_fine_skin(rest: np.ndarray, fine: np.ndarray, faces: np.ndarray) -> SlideResult:
+    """The fine skin `fine` (Vf, 3; `rest` at rest) slid within its own surface, its vertices free, until
+    none of its triangles is stretched beyond `DONE`: the stretch the coarse skin's slide left where its
+    own triangles may turn no further (the armpit's hollow overhead) spread over the fine triangles."""
+    fine = np.asarray(fine, dtype=float)
+    over = _over(skin_strain(rest, fine, faces), DONE)
+    return _slide(rest, fine, faces, np.unique(faces[over]), None, FINE)
+
+
+def _slide(rest: np.ndarray, start: np.ndarray, faces: np.ndarray, seeds: np.ndarray, carried: _Carried | None,
+           level: _Level) -> SlideResult:
+    """The skin `start` slid (`_relax`) as `level` says, its vertices within `REACH` of `seeds` free. Skin whose
+    sliding would cross other skin (new self-crossing pairs, `self_intersections`; where the input crossed
+    itself already, more pairs than it had) is held where it is, a ring around it too, and the rest slides again
+    (`HOLD_ROUNDS` times at most; then the slide is undone around what still crosses)."""
+    n = len(start)
+    if not len(seeds):
+        return SlideResult(start, np.zeros(n), np.zeros(n, dtype=bool), 0)
+    graph = _edge_graph(rest, faces)
     free = np.isfinite(dijkstra(graph, directed=False, indices=seeds, limit=REACH, min_only=True))
-    before = _pairs(coarse, faces)
+    ring = graph + graph.T
 
     def crossing(x: np.ndarray) -> np.ndarray:
         """(V,) bool: the vertices of pairs crossing in x and not in the input, and a ring around them; none
         where the input crossed itself already and x crosses no more (the slide moved which pairs cross)."""
-        after = _pairs(x, faces)
+        before, after = _crossings_near(start, x, faces)
         new = np.array(sorted(after - before), dtype=np.int64).reshape(-1, 2)
         near = np.zeros(n, dtype=bool)
         if len(new) and not (before and len(after) <= len(before)):
             near[faces[new.ravel()].ravel()] = True
-            near |= (graph + graph.T) @ near.astype(float) > 0
+            near |= ring @ near.astype(float) > 0
         return near
 
-    tilts = (*TILTS, *[TILTS[-1]] * HOLD_ROUNDS)
-    for rounds, tilt in enumerate(tilts):
-        x, steps = _relax(rest, coarse, faces, free, fine, fine_rest, fine_faces, interpolation, tilt)
+    for rounds, tilt in enumerate((*level.tilts, *[level.tilts[-1]] * HOLD_ROUNDS)):
+        x, steps = _relax(rest, start, faces, free, tilt, level, carried)
         held = crossing(x)
         if not held.any():
-            return SlideResult(x, np.linalg.norm(x - coarse, axis=1), free, steps)
-        if rounds >= len(TILTS) - 1:  # a gentler slide first, then the skin that crosses held
+            return SlideResult(x, np.linalg.norm(x - start, axis=1), free, steps)
+        if rounds >= len(level.tilts) - 1:  # a gentler slide first, then the skin that crosses held
             free &= ~held
     while held.any():  # still crossing: the slide is undone around the crossings until none is left
         free &= ~held
-        x[held] = coarse[held]
+        x[held] = start[held]
         held = crossing(x)
-    return SlideResult(x, np.linalg.norm(x - coarse, axis=1), free, steps)
+    return SlideResult(x, np.linalg.norm(x - start, axis=1), free, steps)
+
+
+def _crossings_near(start: np.ndarray, x: np.ndarray, faces: np.ndarray
+                    ) -> tuple[set[tuple[int, int]], set[tuple[int, int]]]:
+    """The self-crossing face pairs of `start` and of `x` (both (V, 3)) that may differ between them: those
+    among the faces that moved and the faces near them, where they were or are; every other pair is the
+    same in both. Near: in the cells of a grid as wide as two longest edges next to a moved face's (two
+    triangles that cross have centroids closer than their longest edges together)."""
+    moved = (x != start).any(axis=1)[faces].any(axis=1)
+    if not moved.any():
+        return set(), set()
+    both = np.concatenate([start[faces], x[faces]])  # (2F, 3, 3): the faces where they were, then are
+    width = 2.0 * float(np.linalg.norm(both - np.roll(both, 1, axis=1), axis=2).max())
+    cell = np.floor(both.mean(axis=1) / width).astype(np.int64)
+    cell -= cell.min(axis=0) - 1
+    shape = tuple(int(k) for k in cell.max(axis=0) + 2)
+    key = np.ravel_multi_index(tuple(cell.T), shape)
+    around = np.stack(np.meshgrid(*[[-1, 0, 1]] * 3, indexing="ij"), axis=-1).reshape(-1, 3)
+    hot = np.unique(cell[np.concatenate([moved, moved])], axis=0)
+    hot = np.unique(np.ravel_multi_index(tuple((hot[:, None, :] + around).reshape(-1, 3).T), shape))
+    near = np.flatnonzero(np.isin(key, hot).reshape(2, -1).any(axis=0))
+
+    def pairs(v: np.ndarray) -> set[tuple[int, int]]:
+        return set(map(tuple, near[self_intersections(v, faces[near])].tolist()))
+
+    return pairs(start), pairs(x)
 
 
 class _Surface:
@@ -214,11 +300,7 @@ class _Surface:
         by_vertex = sp.csr_matrix((np.ones(faces.size), (faces.ravel(), np.repeat(np.arange(len(faces)), 3))),
                                   shape=(len(vertices), len(faces)))
         self.by_vertex = by_vertex
-        touching = (by_vertex.T @ by_vertex).tocsr()  # faces sharing a vertex
-        near = touching
-        for _ in range(NEAR - 1):
-            near = near @ touching
-        self.near = near.tocsr()
+        self.touching = (by_vertex.T @ by_vertex).tocsr()  # faces sharing a vertex
 
     def start(self, idx: np.ndarray) -> np.ndarray:
         """(n,) a face each vertex `idx` lies on."""
@@ -226,7 +308,10 @@ class _Surface:
 
     def project(self, points: np.ndarray, on: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """The closest points of the surface near faces `on` to `points` (n, 3), and the faces they lie on."""
-        rows = self.near[on]
+        rows = self.touching[on]
+        for _ in range(NEAR - 1):
+            rows = rows @ self.touching
+        rows = rows.tocsr()
         owner = np.repeat(np.arange(len(on)), np.diff(rows.indptr))
         tri = self.vertices[self.faces[rows.indices]]
         closest = closest_points_on_triangles(points[owner], tri[:, 0], tri[:, 1], tri[:, 2])
@@ -236,40 +321,39 @@ class _Surface:
         return closest[first], rows.indices[first]
 
 
-def _pairs(x: np.ndarray, faces: np.ndarray) -> set[tuple[int, int]]:
-    return set(map(tuple, self_intersections(x, faces).tolist()))
-
-
-def _relax(rest: np.ndarray, coarse: np.ndarray, faces: np.ndarray, free: np.ndarray, fine: np.ndarray,
-           fine_rest: np.ndarray, fine_faces: np.ndarray, interpolation: sp.csr_matrix, tilt: float
-           ) -> tuple[np.ndarray, int]:
-    """The local/global iteration with the `free` coarse vertices sliding: the slid skin and the steps
-    taken. The fine triangles they carry are limited, and the coarse triangles too (the coarse skin is
-    the contact's and the crossings' surface: none may fold while the fine skin spreads)."""
+def _relax(rest: np.ndarray, start: np.ndarray, faces: np.ndarray, free: np.ndarray, tilt: float, level: _Level,
+           carried: _Carried | None) -> tuple[np.ndarray, int]:
+    """The local/global iteration with the `free` vertices of the skin `start` sliding: the slid skin and
+    the steps taken. Its own triangles are limited, and so are the fine ones it carries, if any, which are
+    the ones measured (the coarse skin is the contact's and the crossings' surface: none of its triangles
+    may fold while the fine skin spreads)."""
     idx = np.flatnonzero(free)
-    w_free = interpolation[:, idx].tocsc()
-    touched = np.zeros(len(fine), dtype=bool)
-    touched[np.unique(w_free.indices)] = True
-    fine_moving = touched[fine_faces].any(axis=1)
-    g_fine, area_fine = _gradient_operator(fine_rest, fine_faces[fine_moving])
     moving = faces[free[faces].any(axis=1)]
-    g_coarse, area_coarse = _gradient_operator(rest, moving)
-    # (2Fa, nfree): the gradients' columns from the free coarse vertices; (2Fa, 3): from all else
-    b = sp.vstack([g_fine @ w_free, g_coarse[:, idx]]).tocsr()
-    fixed_part = np.concatenate([g_fine @ (fine - w_free @ coarse[idx]),
-                                 g_coarse @ coarse - g_coarse[:, idx] @ coarse[idx]])
-    area = np.concatenate([area_fine, area_coarse])
-    tether = TENSION / FALLOFF**2 * _vertex_areas(rest, faces)[idx]
-    start = (fixed_part + b @ coarse[idx]).reshape(-1, 2, 3).transpose(0, 2, 1)
+    g_own, area_own = _gradient_operator(rest, moving)
+    own_free, own_fixed = g_own[:, idx], g_own @ start - g_own[:, idx] @ start[idx]
+    if carried is None:  # the skin measured slides itself
+        b, fixed_part, area = own_free.tocsr(), own_fixed, area_own
+    else:  # (2Fa, nfree): the gradients' columns from the free vertices; (2Fa, 3): from all else
+        w_free = carried.interpolation[:, idx].tocsc()
+        touched = np.zeros(len(carried.vertices), dtype=bool)
+        touched[np.unique(w_free.indices)] = True
+        fine_moving = touched[carried.faces].any(axis=1)
+        g_fine, area_fine = _gradient_operator(carried.rest, carried.faces[fine_moving])
+        b = sp.vstack([g_fine @ w_free, own_free]).tocsr()
+        fixed_part = np.concatenate([g_fine @ (carried.vertices - w_free @ start[idx]), own_fixed])
+        area = np.concatenate([area_fine, area_own])
+    measured = len(area) - (len(area_own) if carried is not None else 0)  # the first rows: the measured skin's
+    tether = TENSION / level.falloff**2 * _vertex_areas(rest, faces)[idx]
+    first = (fixed_part + b @ start[idx]).reshape(-1, 2, 3).transpose(0, 2, 1)
     # no triangle compressed below FLOOR by the sliding, nor more than it is (a crease's skin stays as short)
-    floor = np.minimum(_svd(start)[1][:, 1], FLOOR)
-    up = np.cross(start[:, :, 0], start[:, :, 1])  # each triangle's outward side as it lay
-    sheet = _normals(coarse, moving)  # as they lay (length: twice the area)
-    smallest = SHRINK * np.minimum(np.linalg.norm(sheet, axis=1), np.linalg.norm(_normals(rest, moving), axis=1))
-    n_fine = len(area_fine)
-    surface = _Surface(coarse, faces)
+    floor = np.minimum(_svd(first)[1][:, 1], FLOOR)
+    up = np.cross(first[:, :, 0], first[:, :, 1])  # each triangle's outward side as it lay
+    sheet = _normals(start, moving)  # as they lay (length: twice the area)
+    smallest = level.shrink * np.minimum(np.linalg.norm(sheet, axis=1), np.linalg.norm(_normals(rest, moving), axis=1))
+    surface = _Surface(start, faces)
     on = surface.start(idx)
-    x = coarse.copy()
+    facing = (lambda *_: sheet) if carried is not None else _surface_facing(surface, moving, idx)
+    x = start.copy()
     over = np.zeros(len(area), dtype=bool)
     step, least, since = 0, np.inf, 0
     while step < ITERATIONS and since < STALL:
@@ -278,16 +362,16 @@ def _relax(rest: np.ndarray, coarse: np.ndarray, faces: np.ndarray, free: np.nda
         f = cols.reshape(-1, 2, 3).transpose(0, 2, 1)  # (Fa, 3, 2)
         u, stretch, vt = _svd(f)
         over |= (stretch[:, 0] > LIMIT) | (stretch.prod(axis=1) > LIMIT)  # the limit's active set only grows
-        beyond = float(area_fine[(stretch[:n_fine, 0] > DONE) | (stretch[:n_fine].prod(axis=1) > DONE)].sum())
+        beyond = float(area[:measured][(stretch[:measured, 0] > DONE) | (stretch[:measured].prod(axis=1) > DONE)].sum())
         if beyond == 0.0:
             break
         least, since = (beyond, 0) if beyond < least else (least, since + 1)
         target = _targets(f, u, stretch, vt, floor, up, over)
         weight = sp.diags(np.repeat(area * (TENSION + over), 2))
         force = b.T @ (weight @ (target.transpose(0, 2, 1).reshape(-1, 3) - cols)) \
-            - tether[:, None] * (x[idx] - coarse[idx])  # (nfree, 3): −∂E/∂x
+            - tether[:, None] * (x[idx] - start[idx])  # (nfree, 3): −∂E/∂x
         stiffness = (b.T @ weight @ b + sp.diags(tether)).tocsr()  # (nfree, nfree): E's Hessian per coordinate
-        tangents = _tangents(vertex_normals(x, faces)[idx])  # (nfree, 3, 2): x_i moves by T_i t_i
+        tangents = _tangents(vertex_normals(x, moving)[idx])  # (nfree, 3, 2): x_i moves by T_i t_i
         scale = [[sp.diags(tangents[:, c, k]) for k in range(2)] for c in range(3)]
         normal = sp.bmat([[sum(scale[c][k] @ stiffness @ scale[c][m] for c in range(3)) for m in range(2)]
                           for k in range(2)]).tocsc()
@@ -296,10 +380,29 @@ def _relax(rest: np.ndarray, coarse: np.ndarray, faces: np.ndarray, free: np.nda
         move = np.einsum("ick,ik->ic", tangents, t)
         move *= np.minimum(1.0, MAX_MOVE / max(float(np.linalg.norm(move, axis=1).max()), 1e-300))
         trial, trial_on = surface.project(x[idx] + move, on)
-        x[idx], on = _unfolded(x, idx, trial, on, trial_on, moving, sheet, smallest, tilt)
+        x[idx], on = _unfolded(x, idx, trial, on, trial_on, moving, facing, smallest, tilt)
         if np.linalg.norm(move, axis=1).max() < STALLED:
             break
     return x, step
+
+
+def _surface_facing(surface: _Surface, moving: np.ndarray, idx: np.ndarray
+                    ) -> Callable[[np.ndarray, np.ndarray], np.ndarray]:
+    """The way the skin's triangles `moving` should face when its vertices `idx` lie at points on the
+    surface's faces `on` (the others where they are, on the surface's vertices): the surface's smooth normal
+    (its vertex normals, interpolated: no choice among the faces round a vertex or an edge decides) under
+    their corners, summed. The fine skin is what is measured: a fine triangle turned from the surface under
+    it is skin folded over itself (its crossings); the coarse skin's triangles are held to how they lay
+    instead (the armpit's hollow overhead has them turn)."""
+    smooth = vertex_normals(surface.vertices, surface.faces)
+
+    def facing(points: np.ndarray, on: np.ndarray) -> np.ndarray:
+        under = smooth.copy()
+        under[idx] = np.einsum("ij,ijk->ik", barycentric_on_triangles(points, surface.vertices[surface.faces[on]]),
+                               smooth[surface.faces[on]])
+        return under[moving].sum(axis=1)
+
+    return facing
 
 
 def _normals(x: np.ndarray, faces: np.ndarray) -> np.ndarray:
@@ -308,20 +411,23 @@ def _normals(x: np.ndarray, faces: np.ndarray) -> np.ndarray:
 
 
 def _unfolded(x: np.ndarray, idx: np.ndarray, trial: np.ndarray, on: np.ndarray, trial_on: np.ndarray,
-              faces: np.ndarray, sheet: np.ndarray, smallest: np.ndarray, tilt: float) -> tuple[np.ndarray, np.ndarray]:
-    """The step to `trial` (the vertices `idx` of x), less the vertices of coarse triangles (`faces`) it
-    would turn beyond the cosine `tilt` from how they lay (`sheet`: their normals, length twice the area) or shrink
-    below `smallest` (twice the area): those stay."""
+              faces: np.ndarray, facing: Callable[[np.ndarray, np.ndarray], np.ndarray], smallest: np.ndarray,
+              tilt: float
+              ) -> tuple[np.ndarray, np.ndarray]:
+    """The step to `trial` (the vertices `idx` of x, on the surface's faces `trial_on`), less the vertices
+    of triangles (`faces`) it would turn beyond the cosine `tilt` from the way they should face (`facing`
+    of where the vertices lie: (F, 3), any length) or shrink below `smallest` (twice the area): those stay."""
     out, out_on = trial.copy(), trial_on.copy()
     where = np.full(len(x), -1)
     where[idx] = np.arange(len(idx))
-    size = np.linalg.norm(sheet, axis=1)
     for _ in range(HOLD_ROUNDS):
         y = x.copy()
         y[idx] = out
         normals = _normals(y, faces)
         area = np.linalg.norm(normals, axis=1)
-        bad = (np.einsum("fi,fi->f", normals, sheet) < tilt * area * size) | (area < smallest)
+        sheet = facing(out, out_on)
+        bad = (np.einsum("fi,fi->f", normals, sheet) < tilt * area * np.linalg.norm(sheet, axis=1)) \
+            | (area < smallest)
         back = where[faces[bad].ravel()]
         back = back[back >= 0]
         if not len(back):
@@ -331,8 +437,12 @@ def _unfolded(x: np.ndarray, idx: np.ndarray, trial: np.ndarray, on: np.ndarray,
 
 
 def slide_posed_skin(fine: FineSkinning, pose: Pose, method: Skinning, rest: np.ndarray, coarse: np.ndarray,
-                     faces: np.ndarray) -> SlideResult:
-    """`slide_skin` for the coarse skin `coarse` of `pose` (posed by `method` plus an elastic
-    displacement; `rest` at rest): its fine skin is `fine`'s, carried as `FineSkinning.surface` carries it."""
+                     faces: np.ndarray) -> SkinSlide:
+    """The coarse skin `coarse` of `pose` (posed by `method` plus an elastic displacement; `rest` at rest)
+    slid (`slide_skin`; its fine skin is `fine`'s, carried as `FineSkinning.surface` carries it), then the
+    fine skin it carries slid on its own (`slide_fine_skin`)."""
     base = fine.surface(pose, method, np.zeros_like(coarse))  # the fine skin less the carried coarse skin
-    return slide_skin(rest, coarse, faces, fine.fine.vertices, fine.fine.faces, fine.fine.interpolation, base)
+    layout = fine.fine
+    slid = slide_skin(rest, coarse, faces, layout.vertices, layout.faces, layout.interpolation, base)
+    carried = fine.surface(pose, method, slid.vertices)  # as `ElasticPose.fine_vertices` carries it unslid
+    return SkinSlide(slid, slide_fine_skin(layout.vertices, carried, layout.faces))

@@ -226,6 +226,19 @@ class SurfaceIndex:
         return self.closest(points, k)[0]
 
 
+def barycentric_on_triangles(points: np.ndarray, tri: np.ndarray) -> np.ndarray:
+    """(K, 3) barycentric weights of points lying on triangles (K, 3, 3), clipped to the triangle."""
+    a, b, c = tri[:, 0], tri[:, 1], tri[:, 2]
+    v0, v1, v2 = b - a, c - a, points - a
+    d00, d01, d11 = (v0 * v0).sum(1), (v0 * v1).sum(1), (v1 * v1).sum(1)
+    d20, d21 = (v2 * v0).sum(1), (v2 * v1).sum(1)
+    den = np.maximum(d00 * d11 - d01 * d01, 1e-300)
+    v = (d11 * d20 - d01 * d21) / den
+    w = (d00 * d21 - d01 * d20) / den
+    bary = np.clip(np.stack([1.0 - v - w, v, w], axis=1), 0.0, 1.0)
+    return bary / bary.sum(axis=1, keepdims=True)
+
+
 def _cross2(u: np.ndarray, v: np.ndarray) -> np.ndarray:
     return u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0]
 
