@@ -149,9 +149,10 @@ def crease_tether(rest: np.ndarray, skinned: np.ndarray, faces: np.ndarray, fold
     stretch, the least over a vertex's triangles, from CREASE_STRETCH[0] to [1]), on the `free` skin (V,)
     bool of the contact barrier, where skin meets skin and the barrier gives the tissue's volume back
     as a swelling round the fold; each factor rises smoothly from 0 to 1, times CREASE_SHARE."""
-    stretch = skin_strain(rest, skinned, faces).stretch_min
+    near = np.asarray(faces)[free[faces].any(axis=1)]  # every triangle of the free skin's vertices
+    stretch = skin_strain(rest, skinned, near).stretch_min
     least = np.full(len(rest), np.inf)
-    np.fmin.at(least, np.asarray(faces).ravel(), np.repeat(stretch, 3))
+    np.fmin.at(least, near.ravel(), np.repeat(stretch, 3))
     (s0, s1), (a0, a1) = CREASE_STRETCH, CREASE_ANGLES
     squeezed = _smoothstep((s0 - least) / (s0 - s1))
     bent = _smoothstep((folded - a0) / (a1 - a0))

@@ -140,7 +140,8 @@ def _resolve(dynamics: BodyDynamics, posed: PosedBody, plain: np.ndarray, offset
     elastic = np.asarray(plain + offset, dtype=float)
     test, limiter = dynamics.contact, dynamics.skin_limiter
     free = contact_region([*path[1:], elastic], test)
-    folded = fold_angles(dynamics.poser.skin.weights, posed.pose.rotations[0])
+    folded = np.zeros(len(free))  # the creases lie on the free skin: the joints' folds there only
+    folded[free] = fold_angles(dynamics.poser.skin.weights[free], posed.pose.rotations[0])
     tether = limiter.spread(np.round(crease_tether(test.rest, plain, test.faces, folded, free) * LEVELS) / LEVELS)
     for release in range(RELEASES + 1):
         target = elastic - tether[:, None] * offset

@@ -137,7 +137,11 @@ class _Problem:
         self.touching = test.faces[touching]
         self.local_corners = local[self.touching]
         self.inside = self.local_corners >= 0
-        self.corner_ids = [(keep, self.local_corners[keep, k]) for k, keep in enumerate(self.inside.T)]
+        # each unknown's share of the volume's gradient: the sum of b×c over the corners it is (T·3 → n)
+        self.corner_rows = self.local_corners[self.inside]
+        self.corner_sum = sp.csr_matrix((np.full(len(self.corner_rows), 1.0 / 6.0),
+                                         (self.corner_rows, np.flatnonzero(self.inside.ravel()))),
+                                        shape=(len(self.vertices), self.inside.size))
         self.rest = test.rest[self.vertices]
         self.edges = np.asarray(ipctk.edges(self.faces), dtype=np.int32)
         self.mesh = ipctk.CollisionMesh(self.rest, self.edges, self.faces)
@@ -164,12 +168,13 @@ class _Problem:
         a = (sp.identity(n) + smoothing * laplacian).tocsr()
         self.tracking = sp.kron(a, sp.identity(3)).tocsr()  # dofs vertex-major (x0, y0, z0, x1, …), as ipctk's
 
-    def candidates(self, x0: np.ndarray, x1: np.ndarray) -> ipctk.Candidates:
-        """The primitive pairs that may meet and may come within dhat of each other on the way x0 → x1."""
+    def candidates(self, x0: np.ndarray, x1: np.ndarray, within: float | None = None) -> ipctk.Candidates:
+        """The primitive pairs that may meet and may come within `within` (default dhat) of each other on
+        the way x0 → x1."""
         import ipctk
 
         c = ipctk.Candidates()
-        c.build(self.mesh, x0, x1, self.dhat)
+        c.build(self.mesh, x0, x1, self.dhat if within is None else within)
         return c
 
     def collisions(self, candidates: ipctk.Candidates, x: np.ndarray) -> ipctk.NormalCollisions:
@@ -184,18 +189,13 @@ class _Problem:
         touching triangles; `at_target`: their corners' triple products) with the sub-mesh at x, and its
         gradient (n, 3) in x."""
         moved = target.copy()
-        moved[self.inside] = x[self.local_corners[self.inside]]
+        moved[self.inside] = x[self.corner_rows]
         # b×c for each corner a (d(a·(b×c))/da, and so on round the corners)
         b, c = moved[:, [1, 2, 0]], moved[:, [2, 0, 1]]
         cross = np.stack([b[..., 1] * c[..., 2] - b[..., 2] * c[..., 1], b[..., 2] * c[..., 0] - b[..., 0] * c[..., 2],
                           b[..., 0] * c[..., 1] - b[..., 1] * c[..., 0]], axis=-1)
         change = (np.einsum("ij,ij->i", moved[:, 0], cross[:, 0]) - at_target).sum() / 6.0
-        gradient = np.zeros_like(x)
-        for k, (keep, ids) in enumerate(self.corner_ids):
-            part = cross[keep, k] / 6.0
-            for axis in range(3):
-                gradient[:, axis] += np.bincount(ids, part[:, axis], minlength=len(x))
-        return float(change), gradient
+        return float(change), self.corner_sum @ cross.reshape(-1, 3)
 
     def minimise(self, x: np.ndarray, target: np.ndarray, iterations: int, tolerance: float,
                  contacts: ipctk.NormalCollisions | None = None, swell: float = 0.0
@@ -245,12 +245,15 @@ class _Problem:
             if longest < tolerance:
                 break
             step *= min(1.0, MAX_STEP / longest)
-            swept = self.candidates(x, x + step)
+            # the sweep's pairs within the CCD's gap only (within dhat, the crease's skin lying a few mm apart
+            # over wide areas, they were 2-3x as many on a short step, half again on a long one); the
+            # contacts of a trial then from a static query of its own
+            swept = self.candidates(x, x + step, CCD_GAP)
             alpha = min(1.0, swept.compute_collision_free_stepsize(self.mesh, x, x + step, CCD_GAP))
             slope = float(gradient @ step.ravel())
             while True:  # backtracking (Armijo) within the collision-free part of the step
                 trial = x + alpha * step
-                contacts = self.collisions(swept, trial)  # kept for the next iteration: they are its own
+                contacts = self.collisions(self.candidates(trial, trial), trial)  # kept for the next iteration
                 e, t, ch, wt = energy(trial, contacts)
                 if alpha <= 1e-6 or e <= e0 + 1e-4 * alpha * slope:
                     break
