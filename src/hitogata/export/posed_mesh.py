@@ -77,6 +77,15 @@ def read_posed_mesh(path: Path) -> tuple[Body, np.ndarray, np.ndarray, np.ndarra
     skinning = extras.get("skinning", "lbs")
     if skinning not in METHODS:
         raise HitogataError(f"{side}: skinning = {skinning!r}: allowed {', '.join(METHODS)}")
+    vertices = _mesh_vertices(path, len(body.vertices), "the hitogata skin")
+    v, joints, fine = posture(body, np.asarray(angles, dtype=float), skinning, vertices)
+    if "fine_skin" in extras:
+        fine = _read_fine_skin(side, extras["fine_skin"], body)
+    return body, v, joints, fine
+
+
+def _mesh_vertices(path: Path, count: int, what: str) -> np.ndarray:
+    """The (count, 3) finite vertices of the mesh file `path` (`what` it must be, for the error)."""
     import trimesh  # here: writing a sidecar or posing needs no mesh reader
 
     try:
@@ -84,14 +93,9 @@ def read_posed_mesh(path: Path) -> tuple[Body, np.ndarray, np.ndarray, np.ndarra
     except Exception as err:  # noqa: BLE001 -- trimesh raises many kinds on a broken file
         raise HitogataError(f"{path}: not a readable mesh ({err})") from None
     vertices = np.asarray(mesh.vertices, dtype=float)
-    if vertices.shape != body.vertices.shape or not np.isfinite(vertices).all():
-        raise HitogataError(
-            f"{path}: {len(vertices)} vertices, allowed {len(body.vertices)} finite ones (the hitogata skin)"
-        )
-    v, joints, fine = posture(body, np.asarray(angles, dtype=float), skinning, vertices)
-    if "fine_skin" in extras:
-        fine = _read_fine_skin(side, extras["fine_skin"], body)
-    return body, v, joints, fine
+    if vertices.shape != (count, 3) or not np.isfinite(vertices).all():
+        raise HitogataError(f"{path}: {len(vertices)} vertices, allowed {count} finite ones ({what})")
+    return vertices
 
 
 def _read_fine_skin(side: Path, name: Any, body: Body) -> np.ndarray:
@@ -102,13 +106,4 @@ def _read_fine_skin(side: Path, name: Any, body: Body) -> np.ndarray:
     path = side.with_name(name)
     if not path.is_file():
         raise HitogataError(f"{side}: fine_skin = {name!r}: no such file; {allowed}")
-    import trimesh
-
-    try:
-        vertices = np.asarray(trimesh.load(path, process=False, force="mesh").vertices, dtype=float)
-    except Exception as err:  # noqa: BLE001 -- trimesh raises many kinds on a broken file
-        raise HitogataError(f"{path}: not a readable mesh ({err})") from None
-    count = len(body.fine_skin.vertices)
-    if vertices.shape != (count, 3) or not np.isfinite(vertices).all():
-        raise HitogataError(f"{path}: {len(vertices)} vertices, allowed {count} finite ones (the hitogata fine skin)")
-    return vertices
+    return _mesh_vertices(path, len(body.fine_skin.vertices), "the hitogata fine skin")

@@ -97,8 +97,8 @@ FINE = _Level((0.0,), 0.02, 0.02)
 
 @dataclass(frozen=True)
 class SlideResult:
-    """The slid coarse skin (V, 3), how far each vertex slid (V,) m, the free vertices (V,) bool, and the
-    local/global steps taken."""
+    """A slid skin (the coarse or the fine one) (V, 3), how far each vertex slid (V,) m, the free vertices
+    (V,) bool, and the local/global steps taken."""
 
     vertices: np.ndarray
     moved: np.ndarray
@@ -332,7 +332,7 @@ def _relax(rest: np.ndarray, start: np.ndarray, faces: np.ndarray, free: np.ndar
     g_own, area_own = _gradient_operator(rest, moving)
     own_free, own_fixed = g_own[:, idx], g_own @ start - g_own[:, idx] @ start[idx]
     if carried is None:  # the skin measured slides itself
-        b, fixed_part, area = own_free.tocsr(), own_fixed, area_own
+        b, fixed_part, area, measured = own_free.tocsr(), own_fixed, area_own, len(area_own)
     else:  # (2Fa, nfree): the gradients' columns from the free vertices; (2Fa, 3): from all else
         w_free = carried.interpolation[:, idx].tocsc()
         touched = np.zeros(len(carried.vertices), dtype=bool)
@@ -341,8 +341,7 @@ def _relax(rest: np.ndarray, start: np.ndarray, faces: np.ndarray, free: np.ndar
         g_fine, area_fine = _gradient_operator(carried.rest, carried.faces[fine_moving])
         b = sp.vstack([g_fine @ w_free, own_free]).tocsr()
         fixed_part = np.concatenate([g_fine @ (carried.vertices - w_free @ start[idx]), own_fixed])
-        area = np.concatenate([area_fine, area_own])
-    measured = len(area) - (len(area_own) if carried is not None else 0)  # the first rows: the measured skin's
+        area, measured = np.concatenate([area_fine, area_own]), len(area_fine)  # the first rows: the measured skin's
     tether = TENSION / level.falloff**2 * _vertex_areas(rest, faces)[idx]
     first = (fixed_part + b @ start[idx]).reshape(-1, 2, 3).transpose(0, 2, 1)
     # no triangle compressed below FLOOR by the sliding, nor more than it is (a crease's skin stays as short)
