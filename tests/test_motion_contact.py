@@ -8,11 +8,13 @@ import numpy as np
 import pytest
 
 from hitogata import cli
-from hitogata.dynamics.motion import simulate
+from hitogata.dynamics.motion import Motion, simulate
 from hitogata.dynamics.run import JUMP_SPEED, contact_figures
 from hitogata.dynamics.single_pose import elastic_dynamics
 from hitogata.dynamics.scenario import load_scenario, shipped_scenarios
 from hitogata.geometry import self_intersections, surface_integrity
+from hitogata.measure.body_lines import body_lines
+from hitogata.skeleton.kinematics import Pose
 
 RATE = 10.0  # frames/s: the shipped scenario's flexion, 40° at 0 s → 150° at 0.9 s, in frames up to 19° apart
 
@@ -57,10 +59,36 @@ def test_contact_holds_through_an_elbow_flexion(female, flexion):
     worst = surface_integrity(female.vertices, faces, held.skin, held.times, held.skinned_skin).worst()
     assert worst["self_intersections_beyond_skinning"] == 0 and worst["below_floor_beyond_skinning"] == 0
     # no jump, no tear: the elastic displacement changes at most 10 mm a frame
-    assert round(worst["largest_elastic_jump_speed_m_s"], 2) == 0.10 < JUMP_SPEED
-    # left: the crease's forearm skin pressed against the upper arm folds 4 neighbouring triangle pairs over
+    assert round(worst["largest_elastic_jump_speed_m_s"], 2) == 0.09 < JUMP_SPEED
+    # left: the crease's forearm skin pressed against the upper arm folds 3 neighbouring triangle pairs over
     # at 150° (skin of one group nearer than barrier_contact.SAME_APART at rest, which the barrier lets meet)
-    assert (worst["folds_beyond_skinning"], worst["new_folds_time_s"]) == (4, 0.9)
+    assert (worst["folds_beyond_skinning"], worst["new_folds_time_s"]) == (3, 0.9)
+
+
+@pytest.mark.slow
+def test_the_elbow_crease_folds_through_the_motion(female, flexion):
+    """The crease's skin is tied back towards skinning's fold frame by frame as a held pose's is
+    (`dynamics.creases`): the line across the front of the elbow shortens as skinning shortens it, where the
+    40 mm tissue mesh alone bows it out (the motion without contact)."""
+    runs, _ = flexion
+    fine = female.fine_skinning
+    line = body_lines(female, fine.fine.vertices, fine.fine.faces)["elbow_anterior"]
+    rest = line.length(fine.fine.vertices)
+
+    def change(motion: Motion, skins: np.ndarray) -> list[float]:
+        """% change of the line's length on the fine skin, per frame."""
+        return [round((line.length(fine.surface(Pose(motion.dynamics.poser.skeleton, motion.rotations[k:k + 1],
+                                                     motion.translations[k:k + 1]), "dqs", skins[k].astype(float)))
+                       / rest - 1) * 100, 1) for k in range(len(skins))]
+
+    plain, held = runs[False], runs[True]
+    elastic, resolved = change(plain, plain.skin), change(held, held.skin)
+    # 40° → 150° at 0.9 s: from 0.5 s on, the crease closed, the line is shorter than the elastic body's
+    assert all(r < e for r, e in list(zip(resolved, elastic))[5:])
+    # to 0.3 %: the barrier's Newton steps end within its tolerance (1 mm), where round-off can move them. At
+    # 150° -17.7 % (the elastic body -2.0 %, skinning -6.2 %; the contact without the creases' tether -12.8 %;
+    # the held pose -21.6 %, reached from rest rather than frame by frame)
+    assert resolved == pytest.approx([0.0, -1.9, -7.1, -14.4, -16.0, -22.2, -22.1, -17.0, -17.7, -17.7], abs=0.3)
 
 
 def test_simulate_takes_contact(capsys):

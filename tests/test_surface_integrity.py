@@ -106,7 +106,7 @@ def test_a_torn_run_warns_in_one_line_before_its_figures():
 def test_the_offset_limiter_holds_back_only_what_crosses_or_folds():
     """Two sheets 30 mm apart; an offset pushes a patch of the upper one 50 mm down (through the lower
     sheet) and drags one vertex far across its neighbours (a fold): the limiter keeps the surface whole,
-    holding back near the offending skin only; with folds=False it holds back no more than that."""
+    holding back near the offending skin only; holding back crossings alone, no more than that."""
     from hitogata.geometry.offset_limit import OffsetLimiter
 
     v, f = grid(n=11, size=0.2)
@@ -127,6 +127,6 @@ def test_the_offset_limiter_holds_back_only_what_crosses_or_folds():
     far = (np.linalg.norm(vertices - vertices[centre], axis=1) > 0.11) & (
         np.linalg.norm(vertices - vertices[dragged], axis=1) > 0.11)
     assert far.sum() == 41 and np.all(kept[far] == 1.0)
-    crossing_only, kept_more = limiter(vertices, offset, folds=False)  # crossings only: holds no more
+    crossing_only, kept_more = limiter.hold_crossings(vertices, offset)  # crossings only: holds no more
     assert len(self_intersections(crossing_only, faces)) == 0
     assert np.all(kept_more >= kept) and kept_more[centre] < 0.7

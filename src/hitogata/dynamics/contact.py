@@ -112,7 +112,7 @@ def hold_back_crossings(dynamics: BodyDynamics, skin: np.ndarray, start: np.ndar
     skin not free), and how far (m) each vertex was held back (V,). Only crossings: a fold held back towards
     a start that crosses nearby would bring that crossing back."""
     step = skin - start
-    held, kept = dynamics.skin_limiter(start, step, folds=False)
+    held, kept = dynamics.skin_limiter.hold_crossings(start, step)
     return held, (1.0 - kept) * np.linalg.norm(step, axis=1)
 
 

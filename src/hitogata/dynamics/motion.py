@@ -335,7 +335,8 @@ def simulate(dynamics: BodyDynamics, timeline: Timeline, duration: float, rate: 
                      g_out, r_out, dqs_out, q[frames], s_all[frames], qd[frames])
     if not contact:
         return motion
-    skin, took = resolve_frames(dynamics, motion.skin, motion.angles, None if roots is None else roots[frames],
+    skin, took = resolve_frames(dynamics, motion.skin, motion.skinned_skin, motion.rotations, motion.angles,
+                                None if roots is None else roots[frames],
                                 None if progress is None else lambda k: progress(n_steps + k, total))
     return replace(motion, skin=skin, contact=took)
 

@@ -1,14 +1,15 @@
 """Self-contact through a motion (IPC in time): no frame's skin passing into another part of the body.
 
 Each frame's skin as the motion computes it (its elastic offset already held
-back where it would fold or cross beyond skinning's: `geometry.offset_limit`)
-is the target y_k of the barrier problem of `hitogata.geometry.barrier_contact`,
-started from the previous frame's resolved skin x_{k−1}. Consecutive frames
-are close, so each solve is short, and the continuous collision detection of
-every Newton step keeps each frame free of crossings among the skin the
-barrier sees; where the frame crosses skin the barrier does not hold
-apart, it is held back towards the previous frame, as a held pose is
-towards its last step's start (`dynamics.contact.hold_back_crossings`).
+back where it would fold or cross beyond skinning's: `geometry.offset_limit`),
+its creases tied back towards skinning's fold as a held pose's are
+(`dynamics.creases`), is the target y_k of the barrier problem of
+`hitogata.geometry.barrier_contact`, started from the previous frame's resolved
+skin x_{k−1}. Consecutive frames are close, so each solve is short, and the
+continuous collision detection of every Newton step keeps each frame free of
+crossings among the skin the barrier sees; where the frame crosses skin the
+barrier does not hold apart, it is held back towards the previous frame, as a
+held pose is towards its last step's start (`dynamics.contact.hold_back_crossings`).
 The first frame is reached from the rest skin through skinned postures on
 the way (`dynamics.contact.approach`).
 
@@ -30,8 +31,9 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from hitogata.dynamics.contact import FOLDING, approach, hold_back_crossings
-from hitogata.geometry.barrier_contact import DHAT, barrier_resolve, contact_region
+from hitogata.dynamics.contact import approach
+from hitogata.dynamics.creases import crease_tethers, solve_creased
+from hitogata.geometry.barrier_contact import DHAT, contact_region
 
 if TYPE_CHECKING:
     from hitogata.dynamics.motion import BodyDynamics
@@ -48,38 +50,44 @@ class MotionContact:
     min_distance: np.ndarray  # m: the smallest gap left between skin that may meet (DHAT where none is near)
 
 
-def resolve_frames(dynamics: BodyDynamics, skins: np.ndarray, angles: np.ndarray,
-                   roots: np.ndarray | None = None, progress: Callable[[int], None] | None = None
+def resolve_frames(dynamics: BodyDynamics, skins: np.ndarray, skinned: np.ndarray, rotations: np.ndarray,
+                   angles: np.ndarray, roots: np.ndarray | None = None, progress: Callable[[int], None] | None = None
                    ) -> tuple[np.ndarray, MotionContact]:
-    """The frames' skins (F, V, 3) with their self-contact resolved (float32), and what it took.
+    """The frames' skins (F, V, 3) with their self-contact resolved and their creases folded (float32), and
+    what it took.
 
-    angles: (F, D) the frames' joint angles; roots: (F, 4, 4) the whole body's transform per frame
-    (None: it stands where it is); progress(frames done) after each frame."""
+    skinned: (F, V, 3) the frames' skins by skinning alone; rotations: (F, parts, 3, 3) the parts' rotations;
+    angles: (F, D) the frames' joint angles; roots: (F, 4, 4) the whole body's transform per frame (None: it
+    stands where it is); progress(frames done) after each frame."""
     n = len(skins)
     out = np.empty_like(skins, dtype=np.float32)
     free, iterations, from_rest = np.zeros(n, dtype=int), np.zeros(n, dtype=int), np.zeros(n, dtype=bool)
     seconds, gap = np.zeros(n), np.full(n, DHAT)
-    previous = None
+    previous = target = np.zeros(0)
     for k in range(n):
         start = time.perf_counter()
-        y = skins[k].astype(float)
-        if previous is None:
-            path, from_rest[k] = _from_rest(dynamics, angles[k], None if roots is None else roots[k], y), True
+        y, plain = skins[k].astype(float), skinned[k].astype(float)
+        root = None if roots is None else roots[k]
+        if k == 0:
+            before, from_rest[k] = _from_rest(dynamics, angles[k], root), True
         else:
-            path = [previous, skins[k - 1].astype(float), y]
-        region = contact_region(path[1:], dynamics.contact)
+            before = [previous, target]  # the last frame's skin and the target it was given
+        region = contact_region([*before[1:], y], dynamics.contact)
         if region.any():
-            try:
-                result = barrier_resolve(path, dynamics.contact, folding=FOLDING)
-            except ValueError:  # the previous frame's skin crosses where this frame's free skin lies
-                path, from_rest[k] = _from_rest(dynamics, angles[k], None if roots is None else roots[k], y), True
-                result = barrier_resolve(path, dynamics.contact, folding=FOLDING)
-            # held back towards the previous frame (free of crossings), or from rest the last step's start
-            previous, _ = hold_back_crossings(dynamics, result.vertices,
-                                              result.before_last if from_rest[k] else path[0])
+            tether = crease_tethers(dynamics, plain, rotations[k], region)
+            try:  # held back towards the last frame's skin (free of crossings), or from rest the last step's start
+                solved = solve_creased(dynamics, before, plain, y - plain, tether, region,
+                                       None if from_rest[k] else previous)
+            except ValueError:  # the last frame's skin crosses where this frame's free skin lies
+                before, from_rest[k] = _from_rest(dynamics, angles[k], root), True
+                region = contact_region([*before[1:], y], dynamics.contact)
+                tether = crease_tethers(dynamics, plain, rotations[k], region)
+                solved = solve_creased(dynamics, before, plain, y - plain, tether, region)
+            previous, target = solved.skin, solved.target
+            result = solved.barrier
             free[k], iterations[k], gap[k] = result.free.sum(), sum(result.iterations), result.min_distance
         else:
-            previous = y
+            previous = target = y
         out[k] = previous
         seconds[k] = time.perf_counter() - start
         if progress is not None:
@@ -87,10 +95,9 @@ def resolve_frames(dynamics: BodyDynamics, skins: np.ndarray, angles: np.ndarray
     return out, MotionContact(free, iterations, seconds, from_rest, gap)
 
 
-def _from_rest(dynamics: BodyDynamics, angles: np.ndarray, root: np.ndarray | None, skin: np.ndarray
-               ) -> list[np.ndarray]:
-    """The barrier's path to a frame's skin from the rest skin: straight there at rest, else through
-    the frame's posture skinned on the way."""
+def _from_rest(dynamics: BodyDynamics, angles: np.ndarray, root: np.ndarray | None) -> list[np.ndarray]:
+    """The barrier's path from the rest skin to a frame's posture, but the frame's own skin: the rest skin, and
+    unless the frame stands at rest the frame's posture skinned on the way."""
     if not angles.any() and root is None:
-        return [dynamics.poser.body.vertices, skin]
-    return [*approach(dynamics.poser, angles, dynamics.rig.method, root), skin]
+        return [dynamics.poser.body.vertices]
+    return approach(dynamics.poser, angles, dynamics.rig.method, root)

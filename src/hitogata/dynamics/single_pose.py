@@ -9,7 +9,7 @@ skin's self-contact is then resolved as a barrier problem
 (`hitogata.geometry.barrier_contact`, IPC) along a path of postures: the rest
 skin, the skin skinned at even fractions of the joint angles (the same
 skinning: `dynamics.contact.approach`), the elastic skin, its creases tied back
-towards skinning's fold (`dynamics.contact.crease_tether`: the 40 mm tissue mesh
+towards skinning's fold (`dynamics.creases`: the 40 mm tissue mesh
 bows out where the skin of a flexed joint creases). With `slide`, the skin then
 slides over the fascia where its fine skin is stretched beyond what skin takes
 (`hitogata.geometry.skin_slide`). `elastic_dynamics` builds and caches the
@@ -22,24 +22,20 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 
 import numpy as np
-import scipy.sparse as sp
-from scipy.sparse.csgraph import connected_components
 
 from hitogata.body import Body
-from hitogata.dynamics.contact import FOLDING, approach, crease_tether, fold_angles, hold_back_crossings
+from hitogata.dynamics.contact import approach
+from hitogata.dynamics.creases import crease_tethers, solve_creased
 from hitogata.dynamics.motion import BodyDynamics
 from hitogata.dynamics.quality import STATIC_ITERATIONS, PoseQuality, pose_quality
 from hitogata.dynamics.quasistatic import rotate
-from hitogata.geometry.barrier_contact import BarrierResult, barrier_resolve, contact_region
+from hitogata.geometry.barrier_contact import BarrierResult, contact_region
 from hitogata.geometry.contact import Penetrations
-from hitogata.geometry.mesh_checks import enclosed_volume
 from hitogata.geometry.skin_slide import SkinSlide, slide_posed_skin
 from hitogata.options import OnLimit
 from hitogata.pose import PosedBody
 
 ELEMENT_SIZE = 40.0  # mm: the whole body's lattice for a held posture (as the large-motion tests)
-LEVELS = 8  # a crease's tether spread over the skin in steps of 1/LEVELS (one surface distance search each)
-RELEASES = 2  # most times a crease is let go where its skin crosses and the barrier solved again
 
 
 def elastic_dynamics(body: Body, element_size: float = ELEMENT_SIZE) -> BodyDynamics:
@@ -131,37 +127,10 @@ def _resolve(dynamics: BodyDynamics, posed: PosedBody, plain: np.ndarray, offset
              ) -> tuple[BarrierResult, np.ndarray, np.ndarray]:
     """The elastic skin of `posed` (`plain` skinned + the elastic `offset`, (V, 3)) with its self-contact
     resolved, reached from the rest skin through skinned postures on the way (`dynamics.contact.approach`),
-    its creases tied back towards skinning (`contact.crease_tether`, spread smoothly over the skin), the volume
-    they give up swelling the free skin; then held back where it crosses skin the barrier does not hold
-    apart (`contact.hold_back_crossings`). A crease whose skin still crosses is let go (its tether taken
-    off, fading over the skin round it) and the barrier solved again, at most RELEASES times.
-    Returns the barrier's result, the skin (V, 3) and how far each vertex was held back (V,)."""
+    its creases tied back towards skinning (`dynamics.creases`). Returns the barrier's result, the skin
+    (V, 3) and how far each vertex was held back (V,)."""
     path = approach(dynamics.poser, posed.angles, dynamics.rig.method)
-    elastic = np.asarray(plain + offset, dtype=float)
-    test, limiter = dynamics.contact, dynamics.skin_limiter
-    free = contact_region([*path[1:], elastic], test)
-    folded = np.zeros(len(free))  # the creases lie on the free skin: the joints' folds there only
-    folded[free] = fold_angles(dynamics.poser.skin.weights[free], posed.pose.rotations[0])
-    tether = limiter.spread(np.round(crease_tether(test.rest, plain, test.faces, folded, free) * LEVELS) / LEVELS)
-    for release in range(RELEASES + 1):
-        target = elastic - tether[:, None] * offset
-        swell = enclosed_volume(elastic, test.faces) - enclosed_volume(target, test.faces) if tether.any() else 0.0
-        resolved = barrier_resolve([*path, target], test, folding=FOLDING, swell=swell, free=free)
-        skin, held = hold_back_crossings(dynamics, resolved.vertices, resolved.before_last)
-        if release == RELEASES or not tether.any():
-            break
-        let_go = _creases_at(limiter.graph, tether, np.unique(test.faces[limiter.crossings(skin, tether > 0)]))
-        if not let_go.any():  # nothing crosses where a crease is tethered
-            break
-        tether = tether * (1.0 - limiter.spread(let_go.astype(float)))
-    return resolved, skin, held
-
-
-def _creases_at(graph: sp.csr_matrix, tether: np.ndarray, vertices: np.ndarray) -> np.ndarray:
-    """(V,) bool: the creases (pieces of the skin's edge `graph` where `tether` > 0) holding any of `vertices`."""
-    inside = np.flatnonzero(tether > 0.0)
-    _, piece = connected_components(graph[inside][:, inside], directed=False)
-    hit = np.isin(inside, vertices)
-    out = np.zeros(len(tether), dtype=bool)
-    out[inside[np.isin(piece, piece[hit])]] = True
-    return out
+    free = contact_region([*path[1:], np.asarray(plain + offset, dtype=float)], dynamics.contact)
+    tether = crease_tethers(dynamics, plain, posed.pose.rotations[0], free)
+    solved = solve_creased(dynamics, path, plain, offset, tether, free)
+    return solved.barrier, solved.skin, solved.held

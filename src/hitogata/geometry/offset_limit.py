@@ -25,9 +25,17 @@ triangle pair that the reference (and the rest surface) has not:
 At hold 1 on all its corners a triangle is where the reference puts it, so
 every offending pair has a corner whose hold can still rise: the rounds end.
 The weights (V,) say how much of the offset each vertex kept.
+
+`OffsetLimiter.hold_crossings` holds back crossings alone, looked for at each
+round's surface among the faces whose weights changed rather than by the swept
+boxes: for an offset that is a motion (the contact's hold-back towards a
+motion's previous frame), whose swept boxes overlap every box of the part
+they move with.
 """
 
 from __future__ import annotations
+
+from collections.abc import Callable
 
 import numpy as np
 import scipy.sparse as sp
@@ -57,37 +65,65 @@ class OffsetLimiter:
         self.graph = sp.coo_matrix((length, (edges[:, 0], edges[:, 1])), shape=(n, n)).tocsr()
 
     def __call__(self, reference: np.ndarray, offset: np.ndarray, ceiling: np.ndarray | None = None,
-                 candidates: np.ndarray | None = None, folds: bool = True) -> tuple[np.ndarray, np.ndarray]:
+                 candidates: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
         """The surface reference + w·offset (V, 3), in the reference's dtype (checked as rounded to it: a
-        float32 surface is judged as it will be stored), and w (V,), 1 where nothing offends;
+        float32 surface is judged as it will be stored), and w (V,), 1 where nothing folds or crosses;
         ceiling (V,): w never above it (a motion holds and gives back gradually); candidates: this
-        reference and offset's `candidates`, if already found; folds: False holds back crossings only
-        (a fold held back towards a reference that crosses nearby would bring that crossing back)."""
+        reference and offset's `candidates`, if already found."""
         dtype = np.asarray(reference).dtype
         if candidates is None:
             candidates = self.candidates(reference, offset)
         reference = np.asarray(reference, dtype=np.float64)
+        folded_in_reference = _folded(reference, self.faces, self.pairs)
+        crosses = np.zeros(len(candidates), dtype=bool)
+
+        def offending(x: np.ndarray, changed: np.ndarray) -> np.ndarray:
+            retest = changed[candidates].any(axis=1)  # pairs with a face whose weights changed
+            crosses[retest] = _intersect(x, self.faces, candidates[retest])
+            folded = self.pairs[_folded(x, self.faces, self.pairs) & ~folded_in_reference]
+            return np.concatenate([candidates[crosses].ravel(), folded.ravel()])
+
+        return self._hold(reference, offset, ceiling, dtype, offending)
+
+    def hold_crossings(self, reference: np.ndarray, offset: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """As calling the limiter, crossings only (a fold held back towards a reference that crosses nearby
+        would bring that crossing back), the crossing pairs found at each round's surface among the faces
+        whose weights changed: for an offset that is a motion (a motion's frame to the next, a hand moving
+        40 mm), whose swept boxes (`candidates`) overlap every box of the rigid part they move with."""
+        dtype = np.asarray(reference).dtype
+        reference = np.asarray(reference, dtype=np.float64)
         offset = np.asarray(offset, dtype=np.float64)
-        folded_in_reference = _folded(reference, self.faces, self.pairs) if folds else None
+        moving = (np.abs(offset).max(axis=1) > MOVED)[self.faces].any(axis=1)
+        crossing = np.zeros((0, 2), dtype=np.intp)
+
+        def offending(x: np.ndarray, changed: np.ndarray) -> np.ndarray:
+            nonlocal crossing
+            found = _crossing_pairs(x, self.faces, changed & moving)
+            found = found[~np.isin(_pair_keys(found, len(self.faces)), self.crossing_at_rest)]
+            found = found[~_intersect(reference, self.faces, found)]  # the reference's own crossings stay
+            crossing = np.concatenate([crossing[~changed[crossing].any(axis=1)], found])  # the unchanged still cross
+            return crossing.ravel()
+
+        return self._hold(reference, offset, None, dtype, offending)
+
+    def _hold(self, reference: np.ndarray, offset: np.ndarray, ceiling: np.ndarray | None, dtype: np.dtype,
+              offending: Callable[[np.ndarray, np.ndarray], np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
+        """The rounds: the corners of the faces `offending(x, changed)` names at the surface x (given the faces
+        whose weights changed since the last round, all at first) have their hold raised, until none is left."""
+        offset = np.asarray(offset, dtype=np.float64)
         hold = np.zeros(len(reference))
         top = np.ones(len(reference)) if ceiling is None else np.clip(ceiling, 0.0, 1.0)
         w = top
-        crosses = np.zeros(len(candidates), dtype=bool)
-        retest = np.ones(len(candidates), dtype=bool)  # pairs with a corner whose weight changed
+        changed = np.ones(len(self.faces), dtype=bool)
         for _ in range(MAX_ROUNDS):
             surface = (reference + w[:, None] * offset).astype(dtype)
-            x = surface.astype(np.float64)
-            crosses[retest] = _intersect(x, self.faces, candidates[retest])
-            folded = (self.pairs[_folded(x, self.faces, self.pairs) & ~folded_in_reference]
-                      if folded_in_reference is not None else self.pairs[:0])
-            offending = np.unique(self.faces[np.concatenate([candidates[crosses].ravel(), folded.ravel()])])
-            offending = offending[hold[offending] < 1.0]
-            if not len(offending):
+            corners = np.unique(self.faces[offending(surface.astype(np.float64), changed)])
+            corners = corners[hold[corners] < 1.0]
+            if not len(corners):
                 break
-            hold[offending] = np.minimum(hold[offending] + STEP, 1.0)
+            hold[corners] = np.minimum(hold[corners] + STEP, 1.0)
             previous, w = w, np.minimum(top, 1.0 - self.spread(hold))
             changed = (w != previous)[self.faces].any(axis=1)
-            retest = changed[candidates].any(axis=1)
         return surface, w
 
     def candidates(self, reference: np.ndarray, offset: np.ndarray) -> np.ndarray:

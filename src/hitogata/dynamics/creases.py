@@ -1,0 +1,85 @@
+"""The elastic skin's self-contact with its creases folded: one solve for a held pose and for a motion's frame.
+
+The 40 mm tissue mesh bows out where the skin of a flexed joint should crease; the barrier's target is
+therefore the elastic skin with its creases tied back towards skinning's fold (`contact.crease_tether`,
+spread smoothly over the skin), the volume they give up swelling the free skin round them. The barrier
+(`geometry.barrier_contact`) then takes the skin along a path of postures to that target; where the
+result crosses skin the barrier does not hold apart it is held back (`contact.hold_back_crossings`),
+and a crease whose skin still crosses is let go (its tether taken off, fading over the skin round it)
+and the barrier solved again, at most RELEASES times. `single_pose.elastic_pose` reaches its pose from
+rest; `motion_contact.resolve_frames` reaches each frame from the last one's skin.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+import numpy as np
+import scipy.sparse as sp
+from scipy.sparse.csgraph import connected_components
+
+from hitogata.dynamics.contact import FOLDING, crease_tether, fold_angles, hold_back_crossings
+from hitogata.geometry.barrier_contact import BarrierResult, barrier_resolve
+from hitogata.geometry.mesh_checks import enclosed_volume
+
+if TYPE_CHECKING:
+    from hitogata.dynamics.motion import BodyDynamics
+
+LEVELS = 8  # a crease's tether spread over the skin in steps of 1/LEVELS (one surface distance search each)
+RELEASES = 2  # most times a crease is let go where its skin crosses and the barrier solved again
+
+
+@dataclass(frozen=True)
+class CreaseSolve:
+    """The barrier's result, the skin (V, 3), how far (m) each vertex was held back (V,), and the target
+    the barrier was last given (V, 3: the elastic skin with its creases tied back)."""
+
+    barrier: BarrierResult
+    skin: np.ndarray
+    held: np.ndarray
+    target: np.ndarray
+
+
+def crease_tethers(dynamics: BodyDynamics, plain: np.ndarray, rotations: np.ndarray, free: np.ndarray) -> np.ndarray:
+    """(V,) the share of the elastic offset each vertex gives up (`contact.crease_tether` on the `free` skin of
+    a posture skinned as `plain` (V, 3) by the parts' `rotations` (parts, 3, 3)), spread over the skin."""
+    folded = np.zeros(len(free))  # the creases lie on the free skin: the joints' folds there only
+    folded[free] = fold_angles(dynamics.poser.skin.weights[free], rotations)
+    test = dynamics.contact
+    tether = crease_tether(test.rest, plain, test.faces, folded, free)
+    return dynamics.skin_limiter.spread(np.round(tether * LEVELS) / LEVELS)
+
+
+def solve_creased(dynamics: BodyDynamics, before: Sequence[np.ndarray], plain: np.ndarray, offset: np.ndarray,
+                  tether: np.ndarray, free: np.ndarray, hold_towards: np.ndarray | None = None) -> CreaseSolve:
+    """The skin `plain + offset` ((V, 3) skinned and its elastic offset) with its self-contact resolved, reached
+    along `before` (the path's postures before the target, the first free of crossings), its creases tied back
+    by `tether` (V,) (`crease_tethers`) on the barrier's `free` skin (V,) bool; held back towards `hold_towards`
+    (a skin free of crossings; None: the last step's start) where it crosses skin the barrier does not hold apart."""
+    test, limiter = dynamics.contact, dynamics.skin_limiter
+    elastic = np.asarray(plain + offset, dtype=float)
+    for release in range(RELEASES + 1):
+        target = elastic - tether[:, None] * offset
+        swell = enclosed_volume(elastic, test.faces) - enclosed_volume(target, test.faces) if tether.any() else 0.0
+        resolved = barrier_resolve([*before, target], test, folding=FOLDING, swell=swell, free=free)
+        start = resolved.before_last if hold_towards is None else hold_towards
+        skin, held = hold_back_crossings(dynamics, resolved.vertices, start)
+        if release == RELEASES or not tether.any():
+            break
+        let_go = _creases_at(limiter.graph, tether, np.unique(test.faces[limiter.crossings(skin, tether > 0)]))
+        if not let_go.any():  # nothing crosses where a crease is tethered
+            break
+        tether = tether * (1.0 - limiter.spread(let_go.astype(float)))
+    return CreaseSolve(resolved, skin, held, target)
+
+
+def _creases_at(graph: sp.csr_matrix, tether: np.ndarray, vertices: np.ndarray) -> np.ndarray:
+    """(V,) bool: the creases (pieces of the skin's edge `graph` where `tether` > 0) holding any of `vertices`."""
+    inside = np.flatnonzero(tether > 0.0)
+    _, piece = connected_components(graph[inside][:, inside], directed=False)
+    hit = np.isin(inside, vertices)
+    out = np.zeros(len(tether), dtype=bool)
+    out[inside[np.isin(piece, piece[hit])]] = True
+    return out
