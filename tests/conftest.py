@@ -38,6 +38,46 @@ def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:
             item.add_marker(getattr(pytest.mark, name))
 
 
+# `make test` runs the tests on two processes (pytest-xdist, `-n 2 --dist loadscope`): each module on one
+# worker, so that a module's fixtures are built once. These modules share more: a default body's whole-body
+# elastic model (`elastic_dynamics`, 15-20 s per body, kept on the session's body), so they run on one worker
+# together, where it is built once for the female and once for the male.
+SHARED_MODEL = ("test_elastic_pose", "test_extreme_poses", "test_self_contact", "test_skin_slide",
+                "test_motion_contact", "test_dynamics_large_motion")
+# The longest scopes start first, so that no worker is left alone with one at the end (seconds in one process,
+# measured: the shared model's modules 220 s, test_body_mesh_grid 190 s, test_skin_follows_tissue 160 s,
+# test_fit_scan 80 s, test_made_to_measure 50 s, then 40 s or less each); the others as pytest-xdist orders them.
+LONGEST = ("shared whole-body model", "test_body_mesh_grid", "test_skin_follows_tissue", "test_fit_scan",
+           "test_made_to_measure", "test_study_cluster", "test_viewer_browser", "test_dynamics_coupling",
+           "test_readme_examples", "test_elastic_model")
+
+
+def _scope(nodeid: str) -> str:
+    """The work unit a test belongs to: its module, or the modules sharing a whole-body model."""
+    path = nodeid.split("::", 1)[0]
+    module = path.rsplit("/", 1)[-1].removesuffix(".py")
+    return LONGEST[0] if module in SHARED_MODEL else module
+
+
+@pytest.hookimpl(optionalhook=True)
+def pytest_xdist_make_scheduler(config: pytest.Config, log):
+    """`--dist loadscope` with the scopes above; any other `--dist` as pytest-xdist has it."""
+    if config.getoption("dist") != "loadscope":
+        return None
+    from xdist.scheduler import LoadScopeScheduling
+
+    class SharedScopes(LoadScopeScheduling):
+        def _split_scope(self, nodeid: str) -> str:
+            return _scope(nodeid)
+
+        def _assign_work_unit(self, node) -> None:
+            first = min(self.workqueue, key=lambda s: LONGEST.index(s) if s in LONGEST else len(LONGEST))
+            self.workqueue.move_to_end(first, last=False)
+            super()._assign_work_unit(node)
+
+    return SharedScopes(config, log)
+
+
 @pytest.fixture(scope="session")
 def female() -> Body:
     return default_body("female")
