@@ -263,8 +263,8 @@ def simulate(dynamics: BodyDynamics, timeline: Timeline, duration: float, rate: 
     """Run a timeline for `duration` seconds; outputs at `rate` frames per second, `substeps` steps per frame;
     progress(done, total) is called after each step (and each frame's contact); root: the whole body's
     rigid motion (None: it stands where it is); contact: every frame's skin with
-    no part of it passing into another (`dynamics.motion_contact`, a few tenths of a second a frame
-    where skin meets)."""
+    no part of it passing into another and its creases folded as a held pose's (`dynamics.motion_contact`,
+    0.1-0.4 s a frame where skin meets)."""
     if not (np.isfinite(duration) and duration > 0 and np.isfinite(rate) and rate > 0):
         raise HitogataError(f"duration {duration!r} s and rate {rate!r}/s: allowed positive numbers")
     if int(substeps) != substeps or substeps < 1:
