@@ -1,0 +1,47 @@
+"""The skin's slides on a body at the supported range's extreme (male 195 cm, BMI 35, 133 kg): in the groin at
+hip flexion 120° the coarse skin's slide leaves fine skin beyond +100 % (its triangles may turn no further),
+which the fine skin's own slide takes out, its skin that would cross other skin tied harder to where it lay
+rather than held whole (`geometry.skin_slide.FINE`; docs/elastic.md, "Beyond the default bodies")."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from scipy.spatial import cKDTree
+
+from hitogata.body import Body
+from hitogata.dynamics.single_pose import elastic_dynamics, elastic_pose
+from hitogata.geometry import self_intersections
+from hitogata.measure.strain import skin_strain
+from hitogata.skeleton.extreme_poses import extreme_poses
+
+pytestmark = pytest.mark.slow
+
+
+def beyond(rest: np.ndarray, posed: np.ndarray, faces: np.ndarray) -> float:
+    """cm² of skin stretched beyond +100 % (length or area)."""
+    strain = skin_strain(rest, posed, faces)
+    return round(float(strain.rest_area[(strain.stretch_max > 2) | (strain.area_ratio > 2)].sum() * 1e4), 1)
+
+
+def test_the_groin_of_a_large_body_slides_at_hip_flexion():
+    body = Body.from_measurements("male", stature=1.95, mass=35.0 * 1.95**2)
+    dynamics = elastic_dynamics(body)
+    pose = elastic_pose(dynamics, clinical=extreme_poses(dynamics.poser.skeleton)["hip flexion 120°"], contact=True,
+                        slide=True)
+    rest_pairs = set(map(tuple, self_intersections(body.vertices, body.faces).tolist()))
+    assert len(set(map(tuple, self_intersections(pose.vertices, body.faces).tolist())) - rest_pairs) == 0
+    assert (len(pose.penetrations), pose.quality.inverted) == (0, 0)
+    fs = body.fine_skinning
+    carried = fs.surface(pose.posed.pose, "dqs", pose.vertices)  # the fine skin the coarse slide left
+    fine = pose.slide.fine
+    # cm² beyond +100 % after the coarse slide, after the fine one (held whole where it crossed: 25.7), the fine
+    # vertices free and slid, the longest slide mm
+    assert (beyond(fs.fine.vertices, carried, fs.fine.faces), beyond(fs.fine.vertices, fine.vertices, fs.fine.faces),
+            int(fine.free.sum()), int((fine.moved > 0).sum()), round(float(fine.moved.max()) * 1e3)) == (
+        69.9, 1.0, 5945, 5945, 29)
+    # the slid fine skin crosses itself nowhere the carried one does not (the faces that moved and those near)
+    centroids = carried[fs.fine.faces].mean(axis=1)
+    near = np.flatnonzero(cKDTree(carried[fine.moved > 0]).query(centroids, distance_upper_bound=0.05)[0] < np.inf)
+    pairs = [set(map(tuple, self_intersections(x, fs.fine.faces[near]).tolist())) for x in (carried, fine.vertices)]
+    assert pairs[1] <= pairs[0]
