@@ -46,9 +46,11 @@ SHARED_MODEL = ("test_elastic_pose", "test_extreme_poses", "test_self_contact", 
                 "test_motion_contact", "test_dynamics_large_motion")
 # The longest scopes start first, so that no worker is left alone with one at the end (seconds in one process,
 # measured: the shared model's modules 220 s, test_body_mesh_grid 190 s, test_skin_follows_tissue 160 s,
-# test_fit_scan 80 s, test_made_to_measure 50 s, then 40 s or less each); the others as pytest-xdist orders them.
+# test_fit_scan 80 s, test_extreme_bodies 65 s, test_made_to_measure 50 s, then 40 s or less each); the others
+# as pytest-xdist orders them.
 LONGEST = ("shared whole-body model", "test_body_mesh_grid", "test_skin_follows_tissue", "test_fit_scan",
-           "test_made_to_measure", "test_study_cluster", "test_viewer_browser", "test_dynamics_coupling",
+           "test_extreme_bodies", "test_made_to_measure", "test_study_cluster", "test_viewer_browser",
+           "test_dynamics_coupling",
            "test_readme_examples", "test_elastic_model")
 
 
