@@ -210,3 +210,17 @@ def test_broad_phase_finds_exactly_the_overlapping_boxes():
     expected = set(zip(*np.nonzero(np.triu(overlap, 1))))
     assert set(zip(i.tolist(), j.tolist())) == expected
     assert len(i) == len(expected)  # each pair once
+
+
+def test_edge_graph_measures_along_the_surface():
+    """A unit cube's surface: each edge once, at its length; the way from one corner to the opposite one over
+    the faces runs along a face's diagonal and an edge (√2 + 1), not through the cube (√3)."""
+    from scipy.sparse.csgraph import dijkstra
+
+    cube = trimesh.creation.box(extents=(1.0, 1.0, 1.0))
+    graph = mc.edge_graph(cube.vertices, cube.faces)
+    assert graph.nnz == len(cube.edges_unique) == 18
+    assert sorted(set(np.round(graph.data, 12).tolist())) == [1.0, round(np.sqrt(2.0), 12)]
+    start = int(np.argmin(cube.vertices.sum(axis=1)))
+    far = int(np.argmax(cube.vertices.sum(axis=1)))
+    assert dijkstra(graph, directed=False, indices=start)[far] == pytest.approx(np.sqrt(2.0) + 1.0)

@@ -58,6 +58,16 @@ def _undirected_edges(faces: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return np.stack([keys // n, keys % n], axis=1), counts
 
 
+def edge_graph(vertices: np.ndarray, faces: np.ndarray) -> sparse.csr_matrix:
+    """(V, V) the surface's edges, each once (smaller index first), weighted by their lengths: distances
+    along the surface (`scipy.sparse.csgraph.dijkstra(..., directed=False)`)."""
+    edges, _ = _undirected_edges(_faces(faces))
+    vertices = np.asarray(vertices, dtype=np.float64)
+    length = np.linalg.norm(vertices[edges[:, 0]] - vertices[edges[:, 1]], axis=1)
+    n = len(vertices)
+    return sparse.coo_matrix((length, (edges[:, 0], edges[:, 1])), shape=(n, n)).tocsr()
+
+
 def boundary_edges(faces: np.ndarray) -> np.ndarray:
     """Edges (B, 2) used by exactly one face, smaller vertex index first; empty if closed."""
     edges, counts = _undirected_edges(_faces(faces))

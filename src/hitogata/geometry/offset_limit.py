@@ -38,11 +38,10 @@ from __future__ import annotations
 from collections.abc import Callable
 
 import numpy as np
-import scipy.sparse as sp
 from scipy.sparse.csgraph import dijkstra
 
 from hitogata.geometry.integrity import MOVED, _crossing_pairs, _folded, _intersect, _neighbour_pairs, _pair_keys, box_pairs
-from hitogata.geometry.mesh_checks import _apart, _faces, _undirected_edges, self_intersections
+from hitogata.geometry.mesh_checks import _apart, _faces, edge_graph, self_intersections
 
 ROUNDING = 1e-6  # m: boxes widened by this cover a float32 surface's rounding
 HELD = 1e-4  # m: a vertex whose offset is held back by more is reported as held back
@@ -59,10 +58,7 @@ class OffsetLimiter:
         rest = np.asarray(rest, dtype=np.float64)
         self.pairs = _neighbour_pairs(self.faces)
         self.crossing_at_rest = _pair_keys(_crossing_pairs(rest, self.faces), len(self.faces))
-        edges, _ = _undirected_edges(self.faces)
-        length = np.linalg.norm(rest[edges[:, 0]] - rest[edges[:, 1]], axis=1)
-        n = len(rest)
-        self.graph = sp.coo_matrix((length, (edges[:, 0], edges[:, 1])), shape=(n, n)).tocsr()
+        self.graph = edge_graph(rest, self.faces)
 
     def __call__(self, reference: np.ndarray, offset: np.ndarray, ceiling: np.ndarray | None = None,
                  candidates: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:

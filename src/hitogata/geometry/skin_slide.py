@@ -50,7 +50,7 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 from scipy.sparse.csgraph import dijkstra
 
-from hitogata.geometry.mesh_checks import self_intersections
+from hitogata.geometry.mesh_checks import edge_graph, self_intersections
 from hitogata.geometry.normals import vertex_normals
 from hitogata.measure.fine_skin import FineSkinning
 from hitogata.measure.strain import skin_strain
@@ -202,13 +202,6 @@ def _vertex_areas(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
     return np.bincount(faces.ravel(), np.repeat(area / 3.0, 3), minlength=len(vertices))
 
 
-def _edge_graph(vertices: np.ndarray, faces: np.ndarray) -> sp.csr_matrix:
-    edges = np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]])
-    length = np.linalg.norm(vertices[edges[:, 0]] - vertices[edges[:, 1]], axis=1)
-    n = len(vertices)
-    return sp.csr_matrix((length, (edges[:, 0], edges[:, 1])), shape=(n, n))
-
-
 def slide_skin(rest: np.ndarray, coarse: np.ndarray, faces: np.ndarray, fine_rest: np.ndarray, fine_faces: np.ndarray,
                interpolation: sp.csr_matrix, fine_base: np.ndarray) -> SlideResult:
     """The coarse skin `coarse` (V, 3; `rest` at rest) slid within its surface until its fine skin
@@ -240,7 +233,7 @@ def _slide(rest: np.ndarray, start: np.ndarray, faces: np.ndarray, seeds: np.nda
     n = len(start)
     if not len(seeds):
         return SlideResult(start, np.zeros(n), np.zeros(n, dtype=bool), 0)
-    graph = _edge_graph(rest, faces)
+    graph = edge_graph(rest, faces)
     free = np.isfinite(dijkstra(graph, directed=False, indices=seeds, limit=REACH, min_only=True))
     ring = graph + graph.T
 
