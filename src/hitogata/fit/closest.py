@@ -68,6 +68,13 @@ class SurfaceQuery:
         return Closest(dist, face, barycentric(near_point, t[:, 0], t[:, 1], t[:, 2]), near_point)
 
 
+def signed_closest(vertices: np.ndarray, faces: np.ndarray, points: np.ndarray) -> tuple[Closest, np.ndarray]:
+    """The closest point of the surface (V, 3), (F, 3) to each of `points` (P, 3), and each point's signed
+    distance (P,) along the normal of the face it is nearest (positive: outside an outward surface)."""
+    near = SurfaceQuery(vertices, faces).closest(points)
+    return near, np.einsum("ij,ij->i", face_normals(vertices, faces)[near.face], points - near.point)
+
+
 def face_normals(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
     """(F, 3) unit face normals (outward on an outward-oriented surface)."""
     tri = vertices[faces]

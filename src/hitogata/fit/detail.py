@@ -20,7 +20,7 @@ import scipy.sparse as sp
 from hitogata.assets import load_assets
 from hitogata.body import WHOLE_BODY_DENSITY, Body
 from hitogata.errors import HitogataError
-from hitogata.fit.closest import SurfaceQuery, face_normals
+from hitogata.fit.closest import signed_closest
 from hitogata.geometry.normals import vertex_normals
 from hitogata.geometry.shells import smoothing_operator
 from hitogata.shape import ShapeParameters
@@ -37,8 +37,7 @@ def solve_detail(posed: np.ndarray, faces: np.ndarray, points: np.ndarray) -> np
     from scipy.sparse.linalg import spsolve  # here: rebuilding a fitted body's detail needs no solver
 
     n_surface = load_assets().n_surface
-    near = SurfaceQuery(posed, faces).closest(points)
-    signed = np.einsum("ij,ij->i", face_normals(posed, faces)[near.face], points - near.point)
+    near, signed = signed_closest(posed, faces, points)
     used = np.abs(signed) < REACH
     corners = faces[near.face[used]]
     n = len(posed)

@@ -17,7 +17,7 @@ import numpy as np
 
 from hitogata.body import WHOLE_BODY_DENSITY, Body, sex_value
 from hitogata.fit.align import initial_alignments
-from hitogata.fit.closest import SurfaceQuery, face_normals
+from hitogata.fit.closest import signed_closest
 from hitogata.fit.detail import detailed_body, solve_detail
 from hitogata.fit.girths import scan_girths
 from hitogata.fit.model import POSE_NAMES, SHAPE_NAMES, BodyModel
@@ -70,8 +70,7 @@ class ScanFit:
 
 def _distances(posed: np.ndarray, faces: np.ndarray, points: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Distance, signed distance (positive: point outside) and nearest corner of each point."""
-    near = SurfaceQuery(posed, faces).closest(points)
-    signed = np.einsum("ij,ij->i", face_normals(posed, faces)[near.face], points - near.point)
+    near, signed = signed_closest(posed, faces, points)
     corner = faces[near.face, near.bary.argmax(axis=1)]
     return near.distance, signed, corner
 
