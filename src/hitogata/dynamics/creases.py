@@ -42,7 +42,7 @@ class CreaseSolve:
     target: np.ndarray
 
 
-def crease_tethers(dynamics: BodyDynamics, plain: np.ndarray, rotations: np.ndarray, free: np.ndarray) -> np.ndarray:
+def _tethers(dynamics: BodyDynamics, plain: np.ndarray, rotations: np.ndarray, free: np.ndarray) -> np.ndarray:
     """(V,) the share of the elastic offset each vertex gives up (`contact.crease_tether` on the `free` skin of
     a posture skinned as `plain` (V, 3) by the parts' `rotations` (parts, 3, 3)), spread over the skin."""
     folded = np.zeros(len(free))  # the creases lie on the free skin: the joints' folds there only
@@ -53,13 +53,15 @@ def crease_tethers(dynamics: BodyDynamics, plain: np.ndarray, rotations: np.ndar
 
 
 def solve_creased(dynamics: BodyDynamics, before: Sequence[np.ndarray], plain: np.ndarray, offset: np.ndarray,
-                  tether: np.ndarray, free: np.ndarray, hold_towards: np.ndarray | None = None) -> CreaseSolve:
-    """The skin `plain + offset` ((V, 3) skinned and its elastic offset) with its self-contact resolved, reached
-    along `before` (the path's postures before the target, the first free of crossings), its creases tied back
-    by `tether` (V,) (`crease_tethers`) on the barrier's `free` skin (V,) bool; held back towards `hold_towards`
-    (a skin free of crossings; None: the last step's start) where it crosses skin the barrier does not hold apart."""
+                  rotations: np.ndarray, free: np.ndarray, hold_towards: np.ndarray | None = None) -> CreaseSolve:
+    """The skin `plain + offset` ((V, 3) skinned by the parts' `rotations` (parts, 3, 3), and its elastic offset)
+    with its self-contact resolved, reached along `before` (the path's postures before the target, the first
+    free of crossings), its creases on the barrier's `free` skin (V,) bool tied back; held back towards
+    `hold_towards` (a skin free of crossings; None: the last step's start) where it crosses skin the barrier
+    does not hold apart."""
     test, limiter = dynamics.contact, dynamics.skin_limiter
     elastic = np.asarray(plain + offset, dtype=float)
+    tether = _tethers(dynamics, plain, rotations, free)
     for release in range(RELEASES + 1):
         target = elastic - tether[:, None] * offset
         swell = enclosed_volume(elastic, test.faces) - enclosed_volume(target, test.faces) if tether.any() else 0.0

@@ -32,7 +32,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from hitogata.dynamics.contact import approach
-from hitogata.dynamics.creases import crease_tethers, solve_creased
+from hitogata.dynamics.creases import solve_creased
 from hitogata.geometry.barrier_contact import DHAT, contact_region
 
 if TYPE_CHECKING:
@@ -74,15 +74,13 @@ def resolve_frames(dynamics: BodyDynamics, skins: np.ndarray, skinned: np.ndarra
             before = [previous, target]  # the last frame's skin and the target it was given
         region = contact_region([*before[1:], y], dynamics.contact)
         if region.any():
-            tether = crease_tethers(dynamics, plain, rotations[k], region)
             try:  # held back towards the last frame's skin (free of crossings), or from rest the last step's start
-                solved = solve_creased(dynamics, before, plain, y - plain, tether, region,
+                solved = solve_creased(dynamics, before, plain, y - plain, rotations[k], region,
                                        None if from_rest[k] else previous)
             except ValueError:  # the last frame's skin crosses where this frame's free skin lies
                 before, from_rest[k] = _from_rest(dynamics, angles[k], root), True
                 region = contact_region([*before[1:], y], dynamics.contact)
-                tether = crease_tethers(dynamics, plain, rotations[k], region)
-                solved = solve_creased(dynamics, before, plain, y - plain, tether, region)
+                solved = solve_creased(dynamics, before, plain, y - plain, rotations[k], region)
             previous, target = solved.skin, solved.target
             result = solved.barrier
             free[k], iterations[k], gap[k] = result.free.sum(), sum(result.iterations), result.min_distance

@@ -25,7 +25,7 @@ import numpy as np
 
 from hitogata.body import Body
 from hitogata.dynamics.contact import approach
-from hitogata.dynamics.creases import crease_tethers, solve_creased
+from hitogata.dynamics.creases import solve_creased
 from hitogata.dynamics.motion import BodyDynamics
 from hitogata.dynamics.quality import STATIC_ITERATIONS, PoseQuality, pose_quality
 from hitogata.dynamics.quasistatic import rotate
@@ -131,6 +131,5 @@ def _resolve(dynamics: BodyDynamics, posed: PosedBody, plain: np.ndarray, offset
     (V, 3) and how far each vertex was held back (V,)."""
     path = approach(dynamics.poser, posed.angles, dynamics.rig.method)
     free = contact_region([*path[1:], np.asarray(plain + offset, dtype=float)], dynamics.contact)
-    tether = crease_tethers(dynamics, plain, posed.pose.rotations[0], free)
-    solved = solve_creased(dynamics, path, plain, offset, tether, free)
+    solved = solve_creased(dynamics, path, plain, offset, posed.pose.rotations[0], free)
     return solved.barrier, solved.skin, solved.held

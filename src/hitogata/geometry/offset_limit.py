@@ -88,8 +88,7 @@ class OffsetLimiter:
         40 mm), whose swept boxes (`candidates`) overlap every box of the rigid part they move with."""
         dtype = np.asarray(reference).dtype
         reference = np.asarray(reference, dtype=np.float64)
-        offset = np.asarray(offset, dtype=np.float64)
-        moving = (np.abs(offset).max(axis=1) > MOVED)[self.faces].any(axis=1)
+        moving = (np.abs(np.asarray(offset)).max(axis=1) > MOVED)[self.faces].any(axis=1)
         crossing = np.zeros((0, 2), dtype=np.intp)
 
         def offending(x: np.ndarray, changed: np.ndarray) -> np.ndarray:

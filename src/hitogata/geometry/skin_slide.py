@@ -326,9 +326,10 @@ class _Surface:
 def _relax(rest: np.ndarray, start: np.ndarray, faces: np.ndarray, free: np.ndarray, tilt: float, level: _Level,
            carried: _Carried | None, tied: np.ndarray) -> tuple[np.ndarray, int]:
     """The local/global iteration with the `free` vertices of the skin `start` sliding, each tethered to where
-    it lay `tied` (V,) times as hard as the level's tether: the slid skin and the steps taken. Its own triangles are limited, and so are the fine ones it carries, if any, which are
-    the ones measured (the coarse skin is the contact's and the crossings' surface: none of its triangles
-    may fold while the fine skin spreads)."""
+    it lay `tied` (V,) times as hard as the level's tether: the slid skin and the steps taken. Its own
+    triangles are limited, and so are the fine ones it carries, if any, which are the ones measured (the
+    coarse skin is the contact's and the crossings' surface: none of its triangles may fold while the fine
+    skin spreads)."""
     idx = np.flatnonzero(free)
     moving = faces[free[faces].any(axis=1)]
     g_own, area_own = _gradient_operator(rest, moving)
