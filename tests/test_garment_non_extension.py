@@ -19,7 +19,7 @@ from scipy.spatial import cKDTree
 from hitogata.dynamics.scenario import load_scenario, shipped_scenarios
 from hitogata.garment.ease import skinned_surface
 from hitogata.garment.non_extension import (
-    Line, body_lines, lines_csv, lines_json, non_extension_directions, streamlines,
+    Line, lines_csv, lines_json, non_extension_directions, non_extension_lines, streamlines,
 )
 from hitogata.motion.clip import scenario_clip
 from hitogata.pose import poser_for
@@ -113,7 +113,7 @@ def test_the_deep_squat_draws_lines_over_the_knee(female):
     clip = scenario_clip(load_scenario(shipped_scenarios()["mobility_deep_squat"]), poser_for(female))
     frame = int(np.argmin(np.abs(clip.times - 1.5)))
     posed = skinned_surface(female)(clip.angles[[frame]], clip.root[[frame]])[0]
-    lines = body_lines(female, posed)
+    lines = non_extension_lines(female, posed)
     fine = female.fine_skin
     knee = np.zeros(len(female.faces), bool)
     knee[female.garment_zones[0]["knee"]] = True

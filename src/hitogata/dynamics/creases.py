@@ -13,7 +13,7 @@ rest; `motion_contact.resolve_frames` reaches each frame from the last one's ski
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -62,10 +62,17 @@ def solve_creased(dynamics: BodyDynamics, before: Sequence[np.ndarray], plain: n
     test, limiter = dynamics.contact, dynamics.skin_limiter
     elastic = np.asarray(plain + offset, dtype=float)
     tether = _tethers(dynamics, plain, rotations, free)
+    path = list(before)
+    earlier: list[int] = []  # the iterations of the path's steps that a solve again resumes after
     for release in range(RELEASES + 1):
         target = elastic - tether[:, None] * offset
         swell = enclosed_volume(elastic, test.faces) - enclosed_volume(target, test.faces) if tether.any() else 0.0
-        resolved = barrier_resolve([*before, target], test, folding=FOLDING, swell=swell, free=free)
+        resolved = barrier_resolve([*path, target], test, folding=FOLDING, swell=swell, free=free,
+                                   resumed=release > 0)
+        # the steps before the last hang on the path alone, not on the target: a solve again starts where the
+        # last step started (the same skin, so the same result), and reports the path's iterations as one solve
+        resolved = replace(resolved, iterations=earlier + resolved.iterations)
+        path, earlier = [resolved.before_last], resolved.iterations[:-1]
         start = resolved.before_last if hold_towards is None else hold_towards
         skin, held = hold_back_crossings(dynamics, resolved.vertices, start)
         if release == RELEASES or not tether.any():

@@ -226,7 +226,7 @@ def streamlines(vertices: np.ndarray, faces: np.ndarray, field: NonExtension, sp
     return kept
 
 
-def body_lines(body: Body, posed: np.ndarray) -> list[Line]:
+def non_extension_lines(body: Body, posed: np.ndarray) -> list[Line]:
     """The lines of non-extension on `body`'s rest fine skin for one posed skin (V, 3) of the body."""
     fine = body.fine_skin
     field = non_extension_directions(fine.vertices, fine.carry(posed), fine.faces)

@@ -272,12 +272,15 @@ def barrier_resolve(path: Sequence[np.ndarray], test: SelfContact, stiffness: fl
                     smoothing: float = SMOOTHING, dhat: float = DHAT, reach: float = REACH, rings: int = RINGS,
                     iterations: int = NEWTON, tolerance: float = TOLERANCE,
                     incompressibility: float = INCOMPRESSIBILITY, folding: Sequence[int] = (), swell: float = 0.0,
-                    free: np.ndarray | None = None) -> BarrierResult:
+                    free: np.ndarray | None = None, resumed: bool = False) -> BarrierResult:
     """The skin at the last of `path`'s postures (each (V, 3); the first should be free of crossings,
     e.g. the rest skin), with no skin of one contact group passing into another's: each posture in
     turn is the target y of the barrier problem, started from the previous solution. swell (m³): the
     last step holds the enclosed volume at V(y) + swell (the volume a crease gives up, back round it);
-    free (V,) bool: the unknowns, if already found (default: `contact_region` of the path)."""
+    free (V,) bool: the unknowns, if already found (default: `contact_region` of the path); resumed: the
+    first posture is a `before_last` of a barrier on the same free skin, not checked again (the toolkit's
+    intersection test finds crossings in it where skin that the barrier does not hold apart, one group's
+    skin near at rest, crosses: the female hip flexion 120°)."""
     target = np.asarray(path[-1], dtype=float)
     free = contact_region(path[1:], test, reach, rings) if free is None else free
     if not free.any():  # nothing comes near other skin on the way: the target as it is
@@ -287,7 +290,7 @@ def barrier_resolve(path: Sequence[np.ndarray], test: SelfContact, stiffness: fl
     x = np.array(path[0], dtype=float)[ids]
     import ipctk
 
-    if ipctk.has_intersections(problem.mesh, x):
+    if not resumed and ipctk.has_intersections(problem.mesh, x):
         raise ValueError("the path's first skin passes through itself where skin may meet: no barrier can start there")
     taken = []
     before, contacts = x, None

@@ -17,7 +17,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from hitogata.volume.surface import closest_points_on_triangles
+from hitogata.volume.surface import barycentric_on_triangles, closest_points_on_triangles
 
 # Barycentric weights are kept at least this far inside a face when the point becomes a
 # vertex, so no new triangle is degenerate (moves the point by at most 1e-6 of an edge).
@@ -55,12 +55,8 @@ class SurfacePoint:
 def barycentric(triangle: np.ndarray, point: np.ndarray) -> np.ndarray:
     """Weights (3,) >= 0, summing to 1, of the triangle's (3, 3) point nearest `point`."""
     a, b, c = triangle
-    q = closest_points_on_triangles(point[None], a[None], b[None], c[None])[0]
-    e1, e2, d = b - a, c - a, q - a
-    gram = np.array([[e1 @ e1, e1 @ e2], [e1 @ e2, e2 @ e2]])
-    u, v = np.linalg.solve(gram, np.array([d @ e1, d @ e2]))
-    weights = np.clip(np.array([1.0 - u - v, u, v]), 0.0, None)
-    return weights / weights.sum()
+    q = closest_points_on_triangles(point[None], a[None], b[None], c[None])
+    return barycentric_on_triangles(q, triangle[None])[0]
 
 
 class FaceSearch:

@@ -33,7 +33,7 @@ from hitogata.export.body_files import body_figures
 from hitogata.garment.ease import HEIGHTS, NAMES, MotionEase, overall
 from hitogata.garment.ease_plot import ease_over_time, ease_plot
 from hitogata.garment.fit import FitAnswers, peak_frames, posture, risks
-from hitogata.garment.non_extension import Line, body_lines, lines_csv, lines_json
+from hitogata.garment.non_extension import Line, lines_csv, lines_json, non_extension_lines
 from hitogata.garment.pressure import MMHG
 from hitogata.garment.stretch import ZoneStretch
 from hitogata.report import html_page as h
@@ -144,7 +144,7 @@ def motion_section(answers: FitAnswers, ease: MotionEase, stretch: ZoneStretch,
     """One motion's part of the page, and its lines of non-extension (at the frame of most stretch)."""
     motion = ease.motion
     peaks = peak_frames(answers, motion)
-    lines = body_lines(answers.body, posture(answers, motion, peaks.stretch)[0])
+    lines = non_extension_lines(answers.body, posture(answers, motion, peaks.stretch)[0])
     parts = [h.image(pictures.snapshots(motion, sorted({peaks.stretch // 2, peaks.stretch})),
                      f"{label(motion)}: snapshots"),
              h.table(EASE_COLUMNS, ease_rows(ease), id=f"ease-{motion}", caption="dynamic ease (over standing)"),

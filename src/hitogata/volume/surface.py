@@ -90,6 +90,33 @@ def closest_points_on_triangles(p: np.ndarray, a: np.ndarray, b: np.ndarray, c: 
     return q
 
 
+def nearest_on_triangles(tree: cKDTree, tri: np.ndarray, points: np.ndarray, k: int
+                         ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """For each of `points` (P, 3): the distance (P,) to the nearest of the triangles `tri` (T, 3, 3) among the
+    k whose centroids (`tree`) are nearest, that triangle's index (P,) and the closest point on it (P, 3).
+
+    >>> tri = np.array([[[0.0, 0, 0], [1, 0, 0], [0, 1, 0]], [[5.0, 0, 0], [6, 0, 0], [5, 1, 0]]])
+    >>> d, t, q = nearest_on_triangles(cKDTree(tri.mean(axis=1)), tri, np.array([[0.2, 0.2, 0.5]]), 2)
+    >>> float(d[0]), int(t[0]), np.round(q[0], 9).tolist()
+    (0.5, 0, [0.2, 0.2, 0.0])
+    """
+    points = np.asarray(points, dtype=np.float64).reshape(-1, 3)
+    k = min(k, len(tri))
+    dist, face, closest = np.empty(len(points)), np.empty(len(points), dtype=np.int64), np.empty_like(points)
+    step = max(1, _BLOCK // k)
+    for s in range(0, len(points), step):
+        p = points[s:s + step]
+        _, near = tree.query(p, k=k)
+        near = near.reshape(len(p), k)
+        t = tri[near.ravel()]
+        q = closest_points_on_triangles(np.repeat(p, k, axis=0), t[:, 0], t[:, 1], t[:, 2]).reshape(len(p), k, 3)
+        d = np.linalg.norm(q - p[:, None, :], axis=2)
+        best = d.argmin(axis=1)
+        rows = np.arange(len(p))
+        dist[s:s + step], face[s:s + step], closest[s:s + step] = d[rows, best], near[rows, best], q[rows, best]
+    return dist, face, closest
+
+
 class SurfaceIndex:
     """A closed, consistently oriented triangle surface binned for fast queries.
 
@@ -203,22 +230,9 @@ class SurfaceIndex:
 
         Exact when the nearest triangle is among the k whose centroids are nearest (see module note).
         """
-        points = np.asarray(points, dtype=np.float64).reshape(-1, 3)
         if self._tree is None:
             self._tree = cKDTree(self.tri.mean(axis=1))
-        k = min(k, len(self.tri))
-        dist = np.empty(len(points))
-        closest = np.empty_like(points)
-        step = max(1, _BLOCK // k)
-        for s in range(0, len(points), step):
-            p = points[s:s + step]
-            _, near = self._tree.query(p, k=k)
-            t = self.tri[near.reshape(len(p), k).ravel()]
-            q = closest_points_on_triangles(np.repeat(p, k, axis=0), t[:, 0], t[:, 1], t[:, 2]).reshape(len(p), k, 3)
-            d = np.linalg.norm(q - p[:, None, :], axis=2)
-            best = d.argmin(axis=1)
-            dist[s:s + step] = d[np.arange(len(p)), best]
-            closest[s:s + step] = q[np.arange(len(p)), best]
+        dist, _, closest = nearest_on_triangles(self._tree, self.tri, points, k)
         return dist, closest
 
     def distance(self, points: np.ndarray, k: int = 16) -> np.ndarray:
