@@ -43,7 +43,7 @@ def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:
 # elastic model (`elastic_dynamics`, 15-20 s per body, kept on the session's body), so they run on one worker
 # together, where it is built once for the female and once for the male.
 SHARED_MODEL = ("test_elastic_pose", "test_extreme_poses", "test_self_contact", "test_skin_slide",
-                "test_motion_contact", "test_dynamics_large_motion")
+                "test_motion_contact", "test_dynamics_large_motion", "test_elastic_ease")
 # The longest scopes start first, so that no worker is left alone with one at the end (seconds in one process,
 # measured: the shared model's modules 220 s, test_body_mesh_grid 190 s, test_skin_follows_tissue 160 s,
 # test_fit_scan 80 s, test_extreme_bodies 65 s, test_made_to_measure 50 s, then 40 s or less each); the others

@@ -83,3 +83,13 @@ def test_ease_command_checks_the_garment_before_work(tmp_path, capsys):
     assert main(["ease", "--garment-ease=-15%", "--fabric", "400N/mm", "--out", str(tmp_path / "e")]) == 2
     assert "--fabric modulus '400N/mm'" in capsys.readouterr().err
     assert not (tmp_path / "e").exists()
+
+
+def test_ease_command_checks_the_surface_before_work(tmp_path, capsys):
+    assert main(["ease", "--surface", "elastic", "--skinning", "lbs", "--out", str(tmp_path / "e")]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert err == ["hitogata: error: --surface elastic: the elastic body stands on dual-quaternion skinning; "
+                   "drop --skinning lbs"]
+    assert main(["fit-report", "--surface", "elastic", "--skinning", "lbs", "--out", str(tmp_path / "r")]) == 2
+    assert "--surface elastic: the elastic body stands on dual-quaternion skinning" in capsys.readouterr().err
+    assert not (tmp_path / "e").exists() and not (tmp_path / "r").exists()

@@ -17,6 +17,8 @@ Race = Literal["african", "asian", "caucasian"]
 OnLimit = Literal["raise", "clamp"]
 Limits = Literal["ignore", "clamp", "raise"]  # forward kinematics also accepts angles as given
 Skinning = Literal["lbs", "dqs"]
+# the surface the apparel answers measure: skinned, or the elastic whole body held at each frame
+SurfaceSource = Literal["skinned", "elastic"]
 DriveMode = Literal["contraction", "length"]
 # skeleton and muscle specs
 Axis = Literal["x", "-x", "y", "-y", "z", "-z", "X", "-X", "Y", "-Y", "Z", "-Z", "long", "-long", "hinge", "-hinge"]
@@ -48,6 +50,7 @@ RACES: tuple[Race, ...] = get_args(Race)
 ON_LIMIT: tuple[OnLimit, ...] = get_args(OnLimit)
 LIMIT_MODES: tuple[Limits, ...] = get_args(Limits)
 SKINNING: tuple[Skinning, ...] = get_args(Skinning)
+SURFACE_SOURCES: tuple[SurfaceSource, ...] = get_args(SurfaceSource)
 DRIVE_MODES: tuple[DriveMode, ...] = get_args(DriveMode)
 AXES: tuple[Axis, ...] = get_args(Axis)
 FRAMES: tuple[Frame, ...] = get_args(Frame)

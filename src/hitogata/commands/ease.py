@@ -13,13 +13,14 @@ from hitogata.commands.paths import add_output
 from hitogata.dynamics.scenario import Scenario, load_scenario, shipped_scenarios
 from hitogata.errors import HitogataError
 from hitogata.export.atomic import write_bytes_atomically
-from hitogata.garment.ease import ease_csv, ease_json, overall, skinned_surface
+from hitogata.garment.ease import ease_csv, ease_json, elastic_surface, overall, sampled_frames, skinned_surface
 from hitogata.garment.fabric import Fabric, read_fabric_csv
 from hitogata.garment.fit import FitAnswers, fit_answers
 from hitogata.garment.pressure import Garment
 from hitogata.garment.pressure_motion import pressure_csv
 from hitogata.garment.stretch import stretch_csv
 from hitogata.motion.clip import scenario_clip
+from hitogata.options import SKINNING, SURFACE_SOURCES
 from hitogata.pose import poser_for
 
 if TYPE_CHECKING:
@@ -77,6 +78,9 @@ def checked_inputs(args: argparse.Namespace) -> tuple[dict[str, Scenario], tuple
     scenarios = load_motions(args.motions)
     if not (args.rate > 0):
         raise HitogataError(f"--rate {args.rate}: allowed frames per second > 0")
+    if args.surface == "elastic" and args.skinning != "dqs":
+        raise HitogataError(f"--surface elastic: the elastic body stands on dual-quaternion skinning; "
+                            f"drop --skinning {args.skinning}")
     return scenarios, garment_from_args(args)
 
 
@@ -85,7 +89,14 @@ def compute(args: argparse.Namespace, body: Body, scenarios: dict[str, Scenario]
     """The fit answers of `body` through the scenarios' motions, with the options' surface and rate."""
     poser = poser_for(body)
     clips = {name: scenario_clip(s, poser) for name, s in scenarios.items()}
-    return fit_answers(body, clips, skinned_surface(body, args.skinning), args.rate, garment)
+    if args.surface == "elastic":
+        frames = sum(len(sampled_frames(clip, args.rate)) for clip in clips.values())
+        print(f"elastic whole body: {frames} frames to hold, each with its skin's self-contact resolved "
+              "(a few seconds each)", flush=True)
+        surface = elastic_surface(body)
+    else:
+        surface = skinned_surface(body, args.skinning)
+    return fit_answers(body, clips, surface, args.rate, garment)
 
 
 def write_tables(answers: FitAnswers, folder: Path) -> list[str]:
@@ -116,18 +127,22 @@ def run(args: argparse.Namespace) -> None:
                   f"({row['increase_in']})  {row['decrease_cm']:6.1f} ({row['decrease_in']})")
 
 
-MOTION_DEFAULTS = {"motions": DEFAULT_MOTIONS, "skinning": "dqs", "rate": 5.0}
+MOTION_DEFAULTS = {"motions": DEFAULT_MOTIONS, "surface": "skinned", "skinning": "dqs", "rate": 5.0}
 
 
 def add_motion_arguments(parser: argparse.ArgumentParser, defaults: bool = True) -> None:
-    """--motions --skinning --rate --garment-ease --fabric: the motions and the garment, as `ease` takes them.
+    """--motions --surface --skinning --rate --garment-ease --fabric: the motions and the garment, as `ease` takes them.
     `defaults=False`: left None when not given (MOTION_DEFAULTS says what they stand for)."""
     d = {name: value if defaults else None for name, value in MOTION_DEFAULTS.items()}
     parser.add_argument("--motions", default=d["motions"],
                         help="comma-separated shipped motions (short names like reach, squat, cross will do) or "
                              f"scenario files; default {DEFAULT_MOTIONS}")
-    parser.add_argument("--skinning", choices=("dqs", "lbs"), default=d["skinning"],
-                        help="the surface's source; default dqs")
+    parser.add_argument("--surface", choices=SURFACE_SOURCES, default=d["surface"],
+                        help="the surface measured: the body skinned onto the posed skeleton, or the elastic whole "
+                             "body held at each frame with its skin's self-contact resolved and its creases folded "
+                             "(a few seconds a frame: minutes; on dqs); default skinned")
+    parser.add_argument("--skinning", choices=SKINNING[::-1], default=d["skinning"],
+                        help="the skinning method; default dqs")
     parser.add_argument("--rate", type=float, default=d["rate"], help="frames measured per second of motion; default 5")
     add_garment_arguments(parser, "its pressure through the motions (pressure.csv; with --fabric)")
 

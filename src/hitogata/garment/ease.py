@@ -1,8 +1,9 @@
 """Dynamic ease: how much each girth and length grows and shrinks through a set of motions.
 
 For a body and motions (skeleton clips), every sampled frame's surface (a
-parameter: the skinned surface by default, or any function of the joint
-angles and root motion — the elastic body's when it is ready) is measured
+parameter, any function of the joint angles and root motion: the skinned
+surface by default, or the elastic whole body's, each frame held with its
+skin's self-contact resolved, `elastic_surface`) is measured
 with `hitogata.measure` (the ISO 8559-1 measurements, the across-back and
 across-front widths among them). Against the standing body:
 the largest increase (the least ease a woven garment needs there) and the
@@ -71,6 +72,29 @@ def skinned_surface(body: Body, skinning: Skinning = "dqs") -> Surface:
     """The surface source: the body skinned onto the posed skeleton ('dqs' or 'lbs')."""
     poser = poser_for(body)
     return lambda angles, root: poser.pose_many(angles, skinning, root)
+
+
+def elastic_surface(body: Body, contact: bool = True) -> Surface:
+    """The surface source of the elastic whole body (on DQS): each frame's posture held (quasi-statics from
+    rest, no loads), its skin's self-contact resolved and its creases folded with `contact`
+    (`dynamics.single_pose.elastic_pose`), then moved by the frame's root. A frame asked for again (ease,
+    stretch and pressure each ask for the same frames) is not solved again."""
+    from hitogata.dynamics.single_pose import elastic_dynamics, elastic_pose
+
+    dynamics = elastic_dynamics(body)
+    held: dict[bytes, np.ndarray] = {}
+
+    def surface(angles: np.ndarray, root: np.ndarray) -> np.ndarray:
+        angles = np.atleast_2d(np.asarray(angles, dtype=float))
+        out = np.empty((len(angles), len(body.vertices), 3))
+        for k, (q, r) in enumerate(zip(angles, root)):
+            key = q.tobytes()
+            if key not in held:  # a clip's angles were checked with its scenario: a clamp only rounds off a hair
+                held[key] = elastic_pose(dynamics, angles=q, contact=contact, on_limit="clamp").vertices
+            out[k] = held[key] @ r[:3, :3].T + r[:3, 3]
+        return out
+
+    return surface
 
 
 def motion_ease(body: Body, name: str, clip: MotionClip, surface: Surface | None = None,
