@@ -6,9 +6,9 @@ For each body and pose (`hitogata.skeleton.extreme_poses`), on the coarse skin: 
 beyond the rest body's (`geometry.self_intersections`), skin vertices inside another part and the deepest
 in mm (`geometry.contact.SelfContact`, to 25 mm), the enclosed volume against rest; the elastic pose's time
 without and with contact and their ratio, measured in this run (each the median of `REPEATS` runs, the
-two alternating, so a busy machine's load weighs on both alike); for the contact: the free skin (vertices),
-Newton iterations per step of the path, the smallest gap left between skin that may meet. Prints a
-Markdown table (docs/elastic.md).
+two alternating, so a busy machine's load weighs on both alike), and all the poses' times together; for
+the contact: the free skin (vertices), Newton iterations per step of the path, the smallest gap left
+between skin that may meet. Prints a Markdown table (docs/elastic.md).
 
     PYTHONPATH=src python benchmarks/self_contact.py [female|male ...] [--poses "elbow 150°,knee 135°"]
 """
@@ -43,7 +43,7 @@ def main(sexes: list[str], names: list[str] | None) -> None:
         test = dynamics.contact
         rest = crossing_pairs(body.vertices, body.faces)
         rest_volume = enclosed_volume(body.vertices, body.faces)
-        ratios = []
+        ratios, totals = [], np.zeros(2)
         for pose, clinical in extreme_poses(dynamics.poser.skeleton).items():
             if names and pose not in names:
                 continue
@@ -57,6 +57,7 @@ def main(sexes: list[str], names: list[str] | None) -> None:
             plain, held = posed[False], posed[True]
             t_plain, t_held = (float(np.median(times[c])) for c in (False, True))
             ratios.append(t_held / t_plain)
+            totals += (t_plain, t_held)
             rows = {"DQS": (plain.skinned, ""), "elastic": (plain.vertices, f"{t_plain:.2f}"),
                     "elastic + contact": (held.vertices, f"{t_held:.2f}")}
             for name, (v, spent) in rows.items():
@@ -70,8 +71,8 @@ def main(sexes: list[str], names: list[str] | None) -> None:
                              f"{b.min_distance * 1e3:.2f} |")
                 print(f"| {sex} | {pose} | {name} | {pairs} | {len(inside)} | {inside.deepest * 1e3:.1f} | "
                       f"{volume * 100:+.2f}% | {spent} {extra}", flush=True)
-        print(f"<!-- {sex}: elastic + contact costs {min(ratios):.2f}-{max(ratios):.2f}x the elastic pose -->",
-              flush=True)
+        print(f"<!-- {sex}: elastic + contact costs {min(ratios):.2f}-{max(ratios):.2f}x the elastic pose; all the poses "
+              f"together {totals[1]:.1f} s against {totals[0]:.1f} s, {totals[1] / totals[0]:.2f}x -->", flush=True)
 
 
 if __name__ == "__main__":
