@@ -26,11 +26,13 @@ def wants_body(args: argparse.Namespace) -> bool:
 
 def settings(args: argparse.Namespace) -> str:
     """How the motions were measured, in words, for the page."""
-    surface = ("the elastic whole body held at each frame (DQS and quasi-statics; its skin's self-contact resolved "
-               "and its creases folded" if args.surface == "elastic" else
-               f"the body skinned onto the posed skeleton ({args.skinning.upper()}; strains at the joints are "
-               "skinning's")
-    text = f"Surface: {surface}, docs/garment.md); {args.rate:g} frames measured per second of motion"
+    if args.surface == "elastic":
+        surface = ("the elastic whole body held at each frame (DQS and quasi-statics; its skin's self-contact "
+                   "resolved and its creases folded, docs/garment.md)")
+    else:
+        surface = (f"the body skinned onto the posed skeleton ({args.skinning.upper()}; strains at the joints are "
+                   "skinning's, docs/garment.md)")
+    text = f"Surface: {surface}; {args.rate:g} frames measured per second of motion"
     if args.garment_ease is not None:
         text += f"; garment: ease {args.garment_ease} against the standing girths, fabric {args.fabric}"
     return text + "."

@@ -57,5 +57,4 @@ def face_normals(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
 def signed_distances(vertices: np.ndarray, faces: np.ndarray, points: np.ndarray) -> np.ndarray:
     """(P,) each point's offset from its closest surface point along that face's normal: positive
     outside an outward-oriented surface, negative inside; never larger than the distance."""
-    near = SurfaceQuery(vertices, faces).closest(points)
-    return np.einsum("ij,ij->i", face_normals(vertices, faces)[near.face], points - near.point)
+    return signed_closest(vertices, faces, points)[1]
