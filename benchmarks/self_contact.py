@@ -5,8 +5,8 @@ by the elastic body with its self-contact resolved (`elastic_pose(..., contact=T
 For each body and pose (`hitogata.skeleton.extreme_poses`), on the coarse skin: new self-crossing triangle pairs
 beyond the rest body's (`geometry.self_intersections`), skin vertices inside another part and the deepest
 in mm (`geometry.contact.SelfContact`, to 25 mm), the enclosed volume against rest; the elastic pose's time
-without and with contact and their ratio, measured in this run (each the median of `REPEATS` runs, the
-two alternating, so a busy machine's load weighs on both alike), and all the poses' times together; for
+without and with contact (each the median of `REPEATS` runs, the two alternating) and their ratio (the median
+of each run's pair's ratio, so a busy machine's load weighs on both alike), and all the poses' times together; for
 the contact: the free skin (vertices), Newton iterations per step of the path, the smallest gap left
 between skin that may meet. Prints a Markdown table (docs/elastic.md).
 
@@ -26,7 +26,7 @@ from hitogata.geometry import enclosed_volume, self_intersections
 from hitogata.skeleton.extreme_poses import extreme_poses
 
 
-REPEATS = 3  # runs of each pose without and with contact, alternating; the median time of each
+REPEATS = 5  # runs of each pose without and with contact, alternating; the median time of each
 
 
 def crossing_pairs(v: np.ndarray, faces: np.ndarray) -> set[tuple[int, int]]:
@@ -56,7 +56,9 @@ def main(sexes: list[str], names: list[str] | None) -> None:
                     times[contact].append(time.perf_counter() - start)
             plain, held = posed[False], posed[True]
             t_plain, t_held = (float(np.median(times[c])) for c in (False, True))
-            ratios.append(t_held / t_plain)
+            # each run's pair back to back, the median of their ratios: a load that drifts between runs weighs
+            # on both of a pair alike
+            ratios.append(float(np.median(np.array(times[True]) / np.array(times[False]))))
             totals += (t_plain, t_held)
             rows = {"DQS": (plain.skinned, ""), "elastic": (plain.vertices, f"{t_plain:.2f}"),
                     "elastic + contact": (held.vertices, f"{t_held:.2f}")}
@@ -67,7 +69,7 @@ def main(sexes: list[str], names: list[str] | None) -> None:
                 extra = "| | | | |"
                 if name == "elastic + contact" and held.barrier is not None:
                     b = held.barrier
-                    extra = (f"| {t_held / t_plain:.2f} | {int(b.free.sum())} | {','.join(map(str, b.iterations))} | "
+                    extra = (f"| {ratios[-1]:.2f} | {int(b.free.sum())} | {','.join(map(str, b.iterations))} | "
                              f"{b.min_distance * 1e3:.2f} |")
                 print(f"| {sex} | {pose} | {name} | {pairs} | {len(inside)} | {inside.deepest * 1e3:.1f} | "
                       f"{volume * 100:+.2f}% | {spent} {extra}", flush=True)

@@ -35,11 +35,11 @@ def test_the_groin_of_a_large_body_slides_at_hip_flexion():
     fs = body.fine_skinning
     carried = fs.surface(pose.posed.pose, "dqs", pose.vertices)  # the fine skin the coarse slide left
     fine = pose.slide.fine
-    # cm² beyond +100 % after the coarse slide, after the fine one (held whole where it crossed: 25.7), the fine
-    # vertices free and slid, the longest slide mm
+    # cm² beyond +100 % after the coarse slide, after the fine one (held whole where it crossed: 25.7; 1.0 before
+    # each step of the contact's path had its own unknowns), the fine vertices free and slid, the longest slide mm
     assert (beyond(fs.fine.vertices, carried, fs.fine.faces), beyond(fs.fine.vertices, fine.vertices, fs.fine.faces),
             int(fine.free.sum()), int((fine.moved > 0).sum()), round(float(fine.moved.max()) * 1e3)) == (
-        69.9, 1.0, 5945, 5945, 29)
+        97.6, 6.2, 5902, 5902, 32)
     # the slid fine skin crosses itself nowhere the carried one does not (the faces that moved and those near)
     centroids = carried[fs.fine.faces].mean(axis=1)
     near = np.flatnonzero(cKDTree(carried[fine.moved > 0]).query(centroids, distance_upper_bound=0.05)[0] < np.inf)

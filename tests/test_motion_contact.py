@@ -59,7 +59,7 @@ def test_contact_holds_through_an_elbow_flexion(female, flexion):
     worst = surface_integrity(female.vertices, faces, held.skin, held.times, held.skinned_skin).worst()
     assert worst["self_intersections_beyond_skinning"] == 0 and worst["below_floor_beyond_skinning"] == 0
     # no jump, no tear: the elastic displacement changes at most 10 mm a frame
-    assert round(worst["largest_elastic_jump_speed_m_s"], 2) == 0.09 < JUMP_SPEED
+    assert round(worst["largest_elastic_jump_speed_m_s"], 2) == 0.11 < JUMP_SPEED
     # left: the crease's forearm skin pressed against the upper arm folds 3 neighbouring triangle pairs over
     # at 150° (skin of one group nearer than barrier_contact.SAME_APART at rest, which the barrier lets meet)
     assert (worst["folds_beyond_skinning"], worst["new_folds_time_s"]) == (3, 0.9)
@@ -86,9 +86,9 @@ def test_the_elbow_crease_folds_through_the_motion(female, flexion):
     # 40° → 150° at 0.9 s: from 0.5 s on, the crease closed, the line is shorter than the elastic body's
     assert all(r < e for r, e in list(zip(resolved, elastic))[5:])
     # to 0.3 %: the barrier's Newton steps end within its tolerance (1 mm), where round-off can move them. At
-    # 150° -17.7 % (the elastic body -2.0 %, skinning -6.2 %; the contact without the creases' tether -12.8 %;
-    # the held pose -21.6 %, reached from rest rather than frame by frame)
-    assert resolved == pytest.approx([0.0, -1.9, -7.1, -14.4, -16.0, -22.2, -22.1, -17.0, -17.7, -17.7], abs=0.3)
+    # 150° -20.7 % (the elastic body -2.0 %, skinning -6.2 %; the contact without the creases' tether -12.8 %;
+    # the held pose -29.4 %, reached from rest rather than frame by frame)
+    assert resolved == pytest.approx([0.0, -1.9, -7.1, -14.4, -18.4, -24.6, -24.6, -21.0, -22.1, -20.7], abs=0.3)
 
 
 def test_simulate_takes_contact(capsys):

@@ -2,9 +2,10 @@
 
 import numpy as np
 import pytest
+import trimesh
 
 from hitogata.geometry import self_intersections, surface_integrity
-from hitogata.geometry.integrity import box_pairs
+from hitogata.geometry.integrity import SPARSE_ACTIVE, _crossing_pairs, box_pairs
 from hitogata.geometry.mesh_checks import _overlapping_boxes
 
 
@@ -77,10 +78,26 @@ def test_broad_phase_finds_every_overlapping_box_pair_of_the_body(female):
     i, j = box_pairs(lo, hi)
     a, b = _overlapping_boxes(lo, hi)
     assert set(zip(i.tolist(), j.tolist())) == set(zip(a.tolist(), b.tolist()))
-    active = female.vertices[female.faces][:, :, 1].mean(axis=1) > 1.0
-    i, j = box_pairs(lo, hi, active)
-    expected = {(p, q) for p, q in zip(a.tolist(), b.tolist()) if active[p] or active[q]}
-    assert set(zip(i.tolist(), j.tolist())) == expected
+    height = female.vertices[female.faces][:, :, 1].mean(axis=1)
+    # a broad share of active boxes, and a few (under SPARSE_ACTIVE: only the boxes in their bounds looked at)
+    for active in (height > 1.0, (height > 1.0) & (height < 1.02)):
+        i, j = box_pairs(lo, hi, active)
+        expected = {(p, q) for p, q in zip(a.tolist(), b.tolist()) if active[p] or active[q]}
+        assert set(zip(i.tolist(), j.tolist())) == expected and len(expected) > 1000
+
+
+def test_crossings_of_a_few_active_faces_are_those_of_all_faces_they_are_in():
+    """The crossing pairs with an active face, found among the faces in the active ones' bounds only (a
+    limiter's round), are those found among all faces: two spheres overlapping, a band of one active."""
+    sphere = trimesh.creation.icosphere(subdivisions=4, radius=0.05)
+    v, f = sphere.vertices, sphere.faces
+    x, faces = np.concatenate([v, v + [0.0, 0.0, 0.09]]), np.concatenate([f, f + len(v)])
+    everywhere = _crossing_pairs(x, faces)
+    height = x[faces][:, :, 0].mean(axis=1)
+    active = (np.arange(len(faces)) >= len(f)) & (np.abs(height) < 0.01)
+    assert active.mean() < SPARSE_ACTIVE
+    expected = {(p, q) for p, q in everywhere.tolist() if active[p] or active[q]}
+    assert set(map(tuple, _crossing_pairs(x, faces, active).tolist())) == expected and len(expected) == 62
 
 
 def test_a_torn_run_warns_in_one_line_before_its_figures():

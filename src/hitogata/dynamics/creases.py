@@ -56,18 +56,19 @@ def solve_creased(dynamics: BodyDynamics, before: Sequence[np.ndarray], plain: n
                   rotations: np.ndarray, free: np.ndarray, hold_towards: np.ndarray | None = None) -> CreaseSolve:
     """The skin `plain + offset` ((V, 3) skinned by the parts' `rotations` (parts, 3, 3), and its elastic offset)
     with its self-contact resolved, reached along `before` (the path's postures before the target, the first
-    free of crossings), its creases on the barrier's `free` skin (V,) bool tied back; held back towards
+    free of crossings), its creases on the barrier's free skin tied back (`free`: (steps, V) bool, each step's
+    unknowns, `barrier_contact.contact_regions`; the last row all of them); held back towards
     `hold_towards` (a skin free of crossings; None: the last step's start) where it crosses skin the barrier
     does not hold apart."""
     test, limiter = dynamics.contact, dynamics.skin_limiter
     elastic = np.asarray(plain + offset, dtype=float)
-    tether = _tethers(dynamics, plain, rotations, free)
+    tether = _tethers(dynamics, plain, rotations, free[-1])
     path = list(before)
     earlier: list[int] = []  # the iterations of the path's steps that a solve again resumes after
     for release in range(RELEASES + 1):
         target = elastic - tether[:, None] * offset
         swell = enclosed_volume(elastic, test.faces) - enclosed_volume(target, test.faces) if tether.any() else 0.0
-        resolved = barrier_resolve([*path, target], test, folding=FOLDING, swell=swell, free=free,
+        resolved = barrier_resolve([*path, target], test, folding=FOLDING, swell=swell, free=free[-len(path):],
                                    resumed=release > 0)
         # the steps before the last hang on the path alone, not on the target: a solve again starts where the
         # last step started (the same skin, so the same result), and reports the path's iterations as one solve

@@ -15,8 +15,8 @@ the way (`dynamics.contact.approach`).
 
 A vertex not free takes its target, so skin freed at one frame and not at the
 next would jump there unchecked: frame k's path is [x_{k−1}, y_{k−1}, y_k], and
-its free skin (the skin near contacts, `barrier_contact.contact_region`) that
-of both targets; freed skin is let go over one more solve. A frame whose free
+its free skin (the skin near contacts, `barrier_contact.contact_regions`) at
+its second step that of both targets; freed skin is let go over one more solve. A frame whose free
 skin lies nowhere near a contact takes its target as it is (no barrier). If the
 previous frame's skin crosses itself where the frame's free skin lies (skin
 that was not free, at its target), the frame is reached from rest instead.
@@ -33,7 +33,7 @@ import numpy as np
 
 from hitogata.dynamics.contact import approach
 from hitogata.dynamics.creases import solve_creased
-from hitogata.geometry.barrier_contact import DHAT, contact_region
+from hitogata.geometry.barrier_contact import DHAT, contact_regions
 
 if TYPE_CHECKING:
     from hitogata.dynamics.motion import BodyDynamics
@@ -72,14 +72,14 @@ def resolve_frames(dynamics: BodyDynamics, skins: np.ndarray, skinned: np.ndarra
             before, from_rest[k] = _from_rest(dynamics, angles[k], root), True
         else:
             before = [previous, target]  # the last frame's skin and the target it was given
-        region = contact_region([*before[1:], y], dynamics.contact)
-        if region.any():
+        region = contact_regions([*before[1:], y], dynamics.contact)
+        if region[-1].any():
             try:  # held back towards the last frame's skin (free of crossings), or from rest the last step's start
                 solved = solve_creased(dynamics, before, plain, y - plain, rotations[k], region,
                                        None if from_rest[k] else previous)
             except ValueError:  # the last frame's skin crosses where this frame's free skin lies
                 before, from_rest[k] = _from_rest(dynamics, angles[k], root), True
-                region = contact_region([*before[1:], y], dynamics.contact)
+                region = contact_regions([*before[1:], y], dynamics.contact)
                 solved = solve_creased(dynamics, before, plain, y - plain, rotations[k], region)
             previous, target = solved.skin, solved.target
             result = solved.barrier

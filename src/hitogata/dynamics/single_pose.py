@@ -29,7 +29,7 @@ from hitogata.dynamics.creases import solve_creased
 from hitogata.dynamics.motion import BodyDynamics
 from hitogata.dynamics.quality import STATIC_ITERATIONS, PoseQuality, pose_quality
 from hitogata.dynamics.quasistatic import rotate
-from hitogata.geometry.barrier_contact import BarrierResult, contact_region
+from hitogata.geometry.barrier_contact import BarrierResult, contact_regions
 from hitogata.geometry.contact import Penetrations
 from hitogata.geometry.skin_slide import SkinSlide, slide_posed_skin
 from hitogata.options import OnLimit
@@ -130,6 +130,7 @@ def _resolve(dynamics: BodyDynamics, posed: PosedBody, plain: np.ndarray, offset
     its creases tied back towards skinning (`dynamics.creases`). Returns the barrier's result, the skin
     (V, 3) and how far each vertex was held back (V,)."""
     path = approach(dynamics.poser, posed.angles, dynamics.rig.method)
-    free = contact_region([*path[1:], np.asarray(plain + offset, dtype=float)], dynamics.contact)
+    free = contact_regions([*path[1:], np.asarray(plain + offset, dtype=float)], dynamics.contact)
+    free[-2] = free[-1]  # the posture skinned and its elastic skin: one set of unknowns (not built twice)
     solved = solve_creased(dynamics, path, plain, offset, posed.pose.rotations[0], free)
     return solved.barrier, solved.skin, solved.held

@@ -75,19 +75,22 @@ def _grow(mask: np.ndarray, test: SelfContact, rings: int) -> np.ndarray:
     return out
 
 
-def contact_region(path: Sequence[np.ndarray], test: SelfContact, reach: float = REACH, rings: int = RINGS
-                   ) -> np.ndarray:
-    """(V,) bool: skin that may meet another group along `path` (at some posture of it, a vertex
-    within `reach` of another group's vertex that lay at least `reach` further away at rest: contacts
-    the posture brings, not the rest body's own; one of the two has moved by more than `reach`),
-    grown by `rings`. Searched group against group (a tree each, the pairs whose boxes come within
-    `reach`): the skin's own neighbours, most of the pairs this near, are never looked at."""
+def contact_regions(path: Sequence[np.ndarray], test: SelfContact, reach: float = REACH, rings: int = RINGS
+                    ) -> np.ndarray:
+    """(P, V) bool, a row for each of `path`'s P postures: the skin that may meet another group by that
+    posture (at it or one before it, a vertex within `reach` of another group's vertex that lay at least
+    `reach` further away at rest: contacts the posture brings, not the rest body's own; one of the two has
+    moved by more than `reach`), grown by `rings`. The last row is all the path's. Searched group against
+    group (a tree each, the pairs whose boxes come within `reach`): the skin's own neighbours, most of the
+    pairs this near, are never looked at."""
     order = np.argsort(test.groups, kind="stable")
     bounds = np.searchsorted(test.groups[order], np.arange(test.n_groups + 1))
     starts = bounds[:-1][bounds[1:] > bounds[:-1]]  # the groups with skin, as runs of `order`
     members = np.split(order, starts[1:])
-    near = np.zeros(len(test.rest), dtype=bool)
-    for target in path:
+    near = np.zeros((len(path), len(test.rest)), dtype=bool)
+    for step, target in enumerate(path):
+        if step:
+            near[step] = near[step - 1]
         moved = np.linalg.norm(target - test.rest, axis=1) > reach
         stirred = np.logical_or.reduceat(moved[order], starts)
         if not stirred.any():
@@ -105,9 +108,15 @@ def contact_region(path: Sequence[np.ndarray], test: SelfContact, reach: float =
             found = trees[g].sparse_distance_matrix(trees[h], reach, output_type="ndarray")
             i, j = members[g][found["i"]], members[h][found["j"]]
             keep = (moved[i] | moved[j]) & (np.linalg.norm(test.rest[i] - test.rest[j], axis=1) > found["v"] + reach)
-            near[i[keep]] = True
-            near[j[keep]] = True
-    return _grow(near, test, rings)
+            near[step, i[keep]] = True
+            near[step, j[keep]] = True
+    grown = near.copy()
+    for step in range(len(path)):  # a row like the one before grows alike
+        if step and np.array_equal(near[step], near[step - 1]):
+            grown[step] = grown[step - 1]
+        else:
+            grown[step] = _grow(near[step], test, rings)
+    return grown
 
 
 def _factor(a: sp.spmatrix) -> spla.SuperLU:
@@ -126,14 +135,14 @@ class _Problem:
         self.incompressibility = incompressibility
         # the collision mesh: the free skin's triangles, every vertex of them an unknown (a fixed
         # vertex would jump with its target, unchecked by CCD)
-        faces = test.faces[free[test.faces].all(axis=1)]
+        faces = test.faces[free[test.faces[:, 0]] & free[test.faces[:, 1]] & free[test.faces[:, 2]]]
         self.vertices = np.unique(faces)  # global ids of the sub-mesh's vertices
         local = np.full(len(test.rest), -1)
         local[self.vertices] = np.arange(len(self.vertices))
         self.faces = local[faces].astype(np.int32)
         # the triangles whose volume the unknowns change: those with a corner in the sub-mesh (which
         # corners, and their local ids)
-        touching = (local[test.faces] >= 0).any(axis=1)
+        touching = (local[test.faces[:, 0]] >= 0) | (local[test.faces[:, 1]] >= 0) | (local[test.faces[:, 2]] >= 0)
         self.touching = test.faces[touching]
         self.local_corners = local[self.touching]
         self.inside = self.local_corners >= 0
@@ -163,6 +172,7 @@ class _Problem:
             dict.fromkeys(zip(close[:, 0].tolist(), close[:, 1].tolist()), False), True)
         self.dhat = dhat
         self.barrier = ipctk.BarrierPotential(dhat, stiffness)
+        self.ccd = ipctk.AdditiveCCD()  # Li et al. 2021: a third of the tight-inclusion CCD's cost here
         sub = (test.neighbour_average[self.vertices][:, self.vertices] > 0).astype(float)
         laplacian = sp.diags(np.asarray(sub.sum(axis=1)).ravel()) - sub
         a = (sp.identity(n) + smoothing * laplacian).tocsr()
@@ -176,6 +186,11 @@ class _Problem:
         c = ipctk.Candidates()
         c.build(self.mesh, x0, x1, self.dhat if within is None else within)
         return c
+
+    def stepsize(self, candidates: ipctk.Candidates, x0: np.ndarray, x1: np.ndarray) -> float:
+        """The share (0…1) of the way x0 → x1 free of crossings, the skin kept CCD_GAP apart (`candidates`: the
+        way's pairs; the additive CCD)."""
+        return min(1.0, candidates.compute_collision_free_stepsize(self.mesh, x0, x1, CCD_GAP, self.ccd))
 
     def collisions(self, candidates: ipctk.Candidates, x: np.ndarray) -> ipctk.NormalCollisions:
         import ipctk
@@ -208,10 +223,11 @@ class _Problem:
         import ipctk
 
         y = target[self.vertices]
-        # nothing within reach at the target (a static query, the cheaper) nor on the way: the target as it is
-        meeting = self.collisions(self.candidates(y, y), y)
-        if not swell and not len(meeting):
-            if self.candidates(x, y).compute_collision_free_stepsize(self.mesh, x, y, CCD_GAP) >= 1.0:
+        # a step that starts out of contact and meets nothing at the target (a static query, the cheaper) nor on
+        # the way: the target as it is (a step in contact, or holding the volume, is solved)
+        if not swell and (contacts is None or not len(contacts)):
+            meeting = self.collisions(self.candidates(y, y), y)
+            if not len(meeting) and self.stepsize(self.candidates(x, y), x, y) >= 1.0:
                 return y.copy(), 0, meeting
         full = target[self.touching]
         at_target = np.einsum("ij,ij->i", full[:, 0], np.cross(full[:, 1], full[:, 2]))
@@ -249,7 +265,7 @@ class _Problem:
             # over wide areas, they were 2-3x as many on a short step, half again on a long one); the
             # contacts of a trial then from a static query of its own
             swept = self.candidates(x, x + step, CCD_GAP)
-            alpha = min(1.0, swept.compute_collision_free_stepsize(self.mesh, x, x + step, CCD_GAP))
+            alpha = self.stepsize(swept, x, x + step)
             slope = float(gradient @ step.ravel())
             while True:  # backtracking (Armijo) within the collision-free part of the step
                 trial = x + alpha * step
@@ -277,29 +293,39 @@ def barrier_resolve(path: Sequence[np.ndarray], test: SelfContact, stiffness: fl
     e.g. the rest skin), with no skin of one contact group passing into another's: each posture in
     turn is the target y of the barrier problem, started from the previous solution. swell (m³): the
     last step holds the enclosed volume at V(y) + swell (the volume a crease gives up, back round it);
-    free (V,) bool: the unknowns, if already found (default: `contact_region` of the path); resumed: the
-    first posture is a `before_last` of a barrier on the same free skin, not checked again (the toolkit's
-    intersection test finds crossings in it where skin that the barrier does not hold apart, one group's
-    skin near at rest, crosses: the female hip flexion 120°)."""
-    target = np.asarray(path[-1], dtype=float)
-    free = contact_region(path[1:], test, reach, rings) if free is None else free
-    if not free.any():  # nothing comes near other skin on the way: the target as it is
-        return BarrierResult(target.copy(), free, [0] * (len(path) - 1), dhat, np.array(path[-2], dtype=float))
-    problem = _Problem(test, free, stiffness, smoothing, dhat, incompressibility, folding)
-    ids = problem.vertices
-    x = np.array(path[0], dtype=float)[ids]
+    free (steps, V) bool: each step's unknowns, if already found (default: `contact_regions` of the path:
+    the skin that may meet other skin by that step; the rest takes the step's posture, as skin that may
+    meet nothing takes it); resumed: the first posture is a `before_last` of a barrier on the same free
+    skin, not checked again (the toolkit's intersection test finds crossings in it where skin that the
+    barrier does not hold apart, one group's skin near at rest, crosses: the female hip flexion 120°)."""
     import ipctk
 
-    if not resumed and ipctk.has_intersections(problem.mesh, x):
-        raise ValueError("the path's first skin passes through itself where skin may meet: no barrier can start there")
-    taken = []
-    before, contacts = x, None
-    for k, y in enumerate(path[1:], 2):  # each step starts where the last ended, with the contacts it ended with
-        before = x
-        x, n, contacts = problem.minimise(x, np.asarray(y, dtype=float), iterations, tolerance, contacts,
-                                          swell if k == len(path) else 0.0)
+    free = contact_regions(path[1:], test, reach, rings) if free is None else free
+    steps = len(path) - 1
+    skin = np.array(path[0], dtype=float)  # the whole skin where the path has taken it
+    before, taken, problem, unknowns = skin, [], None, np.zeros(len(skin), dtype=bool)
+    contacts: ipctk.NormalCollisions | None = None
+    for k, (y, step_free) in enumerate(zip(path[1:], free), 1):
+        before = skin
+        if (step_free & ~unknowns).any():  # skin comes near other skin: a problem for all that may meet by now
+            problem, unknowns, contacts = _Problem(test, step_free, stiffness, smoothing, dhat, incompressibility,
+                                                   folding), step_free, None
+            if not (resumed and k == 1) and ipctk.has_intersections(problem.mesh, skin[problem.vertices]):
+                if k == 1:
+                    raise ValueError("the path's first skin passes through itself where skin may meet: "
+                                     "no barrier can start there")
+                # skin that took its postures unchecked crosses where it joins the unknowns: every step with
+                # all of them, as from the path's start
+                return barrier_resolve(path, test, stiffness, smoothing, dhat, reach, rings, iterations, tolerance,
+                                       incompressibility, folding, swell, np.broadcast_to(free[-1], free.shape),
+                                       resumed)
+        skin = np.array(y, dtype=float)
+        if problem is None:  # nothing comes near other skin yet: the posture as it is
+            taken.append(0)
+            continue
+        x, n, contacts = problem.minimise(before[problem.vertices], skin, iterations, tolerance, contacts,
+                                          swell if k == steps else 0.0)
+        skin[problem.vertices] = x
         taken.append(n)
-    out, start = target.copy(), np.array(path[-2], dtype=float)
-    out[ids], start[ids] = x, before
-    assert contacts is not None  # the path has a step
-    return BarrierResult(out, free, taken, problem.min_distance(x, contacts), start)
+    gap = dhat if problem is None or contacts is None else problem.min_distance(skin[problem.vertices], contacts)
+    return BarrierResult(skin, free[-1], taken, gap, before)

@@ -164,18 +164,25 @@ def _intersect(x: np.ndarray, faces: np.ndarray, pairs: np.ndarray) -> np.ndarra
     """(K,) bool: the triangle pairs cross at positions x."""
     if not len(pairs):
         return np.zeros(0, dtype=bool)
-    tri = x[faces]
     size = float(np.linalg.norm(x.max(axis=0) - x.min(axis=0)))
-    return _triangles_intersect(tri[pairs[:, 0]], tri[pairs[:, 1]], _PLANE_TOLERANCE * size)
+    return _triangles_intersect(x[faces[pairs[:, 0]]], x[faces[pairs[:, 1]]], _PLANE_TOLERANCE * size)
 
 
 def _crossing_pairs(x: np.ndarray, faces: np.ndarray, active: np.ndarray | None = None) -> np.ndarray:
     """(K, 2) sorted face pairs (i < j, sharing no vertex) whose triangles intersect (with
     `active` (T,) bool: only pairs with an active face)."""
-    tri = x[faces]
-    lo, hi = tri.min(axis=1), tri.max(axis=1)
-    i, j = box_pairs(lo, hi, active)
-    pairs = _apart(faces, i, j)
+    near = np.arange(len(faces))
+    if active is not None and active.mean() < SPARSE_ACTIVE and active.any():
+        # a few active faces (a limiter's round): only the faces reaching into their bounds can meet one,
+        # those with no side of the bounds (below or above along an axis: a bit each) all three corners lie on
+        corners = x[faces[active]].reshape(-1, 3)
+        sides = np.packbits(np.hstack([x < corners.min(axis=0), x > corners.max(axis=0)]), axis=1,
+                            bitorder="little")[:, 0]
+        near = np.flatnonzero((sides[faces[:, 0]] & sides[faces[:, 1]] & sides[faces[:, 2]]) == 0)
+        active = active[near]
+    tri = x[faces[near]]
+    i, j = box_pairs(tri.min(axis=1), tri.max(axis=1), active)
+    pairs = _apart(faces, near[i], near[j])
     return pairs[_intersect(x, faces, pairs)]
 
 
@@ -187,17 +194,23 @@ def box_pairs(lo: np.ndarray, hi: np.ndarray, active: np.ndarray | None = None) 
     one k-d tree of centres per class; each pair of classes is searched in the
     Chebyshev metric within the sum of their largest half-sides, so a box meets
     only boxes near it, never a whole crowded cell of tiny ones. With few
-    active boxes only theirs are looked up (a tree of the active ones per
+    active boxes only the boxes reaching into the active ones' bounds are
+    kept, and only the active ones looked up (a tree of the active ones per
     class against each class's whole tree): the cost goes with the active.
     """
+    active = np.ones(len(lo), dtype=bool) if active is None else np.asarray(active, dtype=bool)
+    sparse = bool(active.mean() < SPARSE_ACTIVE)
+    if sparse and active.any():  # only the boxes that reach into the active ones' bounds can meet one of them
+        near = np.flatnonzero(((lo <= hi[active].max(axis=0)) & (hi >= lo[active].min(axis=0))).all(axis=1))
+        if len(near) < len(lo):
+            i, j = box_pairs(lo[near], hi[near], active[near])
+            return near[i], near[j]
     centre, half = 0.5 * (lo + hi), 0.5 * (hi - lo)
     size = np.maximum(half.max(axis=1), 1e-12)
     level = np.floor(np.log2(size / size.min())).astype(np.int64)
-    active = np.ones(len(lo), dtype=bool) if active is None else np.asarray(active, dtype=bool)
     classes = [np.flatnonzero(level == c) for c in np.unique(level)]
     trees = [cKDTree(centre[m]) for m in classes]
     largest = [float(size[m].max()) for m in classes]
-    sparse = bool(active.mean() < SPARSE_ACTIVE)
     movers = [m[active[m]] for m in classes]
     mover_trees = [cKDTree(centre[m]) if sparse and len(m) else None for m in movers]
     lo_axes, hi_axes = np.ascontiguousarray(lo.T), np.ascontiguousarray(hi.T)
