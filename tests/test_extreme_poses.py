@@ -25,7 +25,7 @@ pytestmark = pytest.mark.slow
 VOLUME = {
     "female": {"elbow 150°": -0.186, "knee 135°": -0.139, "hip flexion 120°": -0.509, "seated 90/90": -0.507,
                "hip adduction 30°": 0.087, "shoulder flexion 180°": 0.395, "shoulder abduction 170°": 0.277,
-               "neck flexion 45°": -0.005, "trunk flexion 80°": -0.044, "trunk rotation 45°": -0.121},
+               "neck flexion 45°": -0.005, "trunk flexion 80°": -0.044, "trunk rotation 45°": -0.102},
     "male": {"elbow 150°": -0.027, "knee 135°": -0.182, "hip flexion 120°": -0.426, "seated 90/90": -0.501,
              "hip adduction 30°": 0.026, "shoulder flexion 180°": -0.383, "shoulder abduction 170°": -0.335,
              "neck flexion 45°": -0.008, "trunk flexion 80°": -0.196, "trunk rotation 45°": -0.101},
