@@ -16,8 +16,9 @@ the way (`dynamics.contact.approach`).
 A vertex not free takes its target, so skin freed at one frame and not at the
 next would jump there unchecked: frame k's path is [x_{k−1}, y_{k−1}, y_k], and
 its free skin (the skin near contacts, `barrier_contact.contact_regions`) at
-its second step that of both targets; freed skin is let go over one more solve. A frame whose free
-skin lies nowhere near a contact takes its target as it is (no barrier). If the
+its second step that of both targets; freed skin is let go over one more
+solve. A frame whose free skin lies nowhere near a contact takes its target
+as it is (no barrier). If the
 previous frame's skin crosses itself where the frame's free skin lies (skin
 that was not free, at its target), the frame is reached from rest instead.
 """

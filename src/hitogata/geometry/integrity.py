@@ -194,23 +194,17 @@ def box_pairs(lo: np.ndarray, hi: np.ndarray, active: np.ndarray | None = None) 
     one k-d tree of centres per class; each pair of classes is searched in the
     Chebyshev metric within the sum of their largest half-sides, so a box meets
     only boxes near it, never a whole crowded cell of tiny ones. With few
-    active boxes only the boxes reaching into the active ones' bounds are
-    kept, and only the active ones looked up (a tree of the active ones per
+    active boxes only theirs are looked up (a tree of the active ones per
     class against each class's whole tree): the cost goes with the active.
     """
-    active = np.ones(len(lo), dtype=bool) if active is None else np.asarray(active, dtype=bool)
-    sparse = bool(active.mean() < SPARSE_ACTIVE)
-    if sparse and active.any():  # only the boxes that reach into the active ones' bounds can meet one of them
-        near = np.flatnonzero(((lo <= hi[active].max(axis=0)) & (hi >= lo[active].min(axis=0))).all(axis=1))
-        if len(near) < len(lo):
-            i, j = box_pairs(lo[near], hi[near], active[near])
-            return near[i], near[j]
     centre, half = 0.5 * (lo + hi), 0.5 * (hi - lo)
     size = np.maximum(half.max(axis=1), 1e-12)
     level = np.floor(np.log2(size / size.min())).astype(np.int64)
+    active = np.ones(len(lo), dtype=bool) if active is None else np.asarray(active, dtype=bool)
     classes = [np.flatnonzero(level == c) for c in np.unique(level)]
     trees = [cKDTree(centre[m]) for m in classes]
     largest = [float(size[m].max()) for m in classes]
+    sparse = bool(active.mean() < SPARSE_ACTIVE)
     movers = [m[active[m]] for m in classes]
     mover_trees = [cKDTree(centre[m]) if sparse and len(m) else None for m in movers]
     lo_axes, hi_axes = np.ascontiguousarray(lo.T), np.ascontiguousarray(hi.T)
