@@ -198,8 +198,9 @@ class Body:
         return garment_zones(self)
 
     @cached_property
-    def whole_body_dynamics(self) -> dict[float, BodyDynamics]:
-        """The whole-body elastic dynamics built for held postures, by element size (mm): filled by
+    def whole_body_dynamics(self) -> dict[tuple[float, str], BodyDynamics]:
+        """The whole-body elastic dynamics built for held postures, by element size (mm) and materials file:
+        filled by
         `hitogata.dynamics.single_pose.elastic_dynamics`, which builds each once."""
         return {}
 

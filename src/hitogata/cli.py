@@ -30,6 +30,8 @@ COMMANDS = {
     "ease": ("hitogata.commands.ease", "dynamic ease and fabric stretch of a body through mobility motions"),
     "fit": ("hitogata.commands.fit", "fit the body to a scan (OBJ/PLY mesh or point cloud) and write it"),
     "fit-report": ("hitogata.commands.fit_report", "a self-contained HTML fit report of a body through motions"),
+    "identify": ("hitogata.commands.identify",
+                 "fit the tissue constants to measured people and write them as a materials file"),
     "measure": ("hitogata.commands.measure", "apparel measurements of a body (a hitogata .glb or the body options)"),
     "modes": ("hitogata.commands.modes", "the elastic body's lowest vibration modes: CSV, VTU (ParaView), pictures"),
     "motion": ("hitogata.commands.motion", "import a BVH motion onto the skeleton, or export a scenario's motion as BVH"),
@@ -38,6 +40,8 @@ COMMANDS = {
     "skeleton": ("hitogata.commands.skeleton",
                  "draw the posed 65-part skeleton, front and side, optionally in its skin"),
     "study": ("hitogata.commands.study", "run a population study (bodies x motions) on dask.distributed"),
+    "validate": ("hitogata.commands.validate",
+                 "every published measurement of the validation set beside the model's answer"),
     "view": ("hitogata.commands.view", "open the interactive web viewer: pose the body by its muscles"),
 }
 NEGATIVE_VALUE = re.compile(r"^-\.?\d")  # '-5kg', '-.5': a value, not an option

@@ -35,7 +35,9 @@ def dof_candidates(name: str, known: Sequence[str]) -> list[str]:
     part, _, dof = name.rpartition(".")
     side = next((s for s in SIDES if part.endswith(s)), "")
     base = part[: len(part) - len(side)]
-    part = JOINT_NAMES.get(base, base) + side
+    if f"{base}_l.{dof}" not in known:  # 'shoulder_l.flexion' is the shoulder complex's own control
+        base = JOINT_NAMES.get(base, base)
+    part = base + side
     candidates = [f"{part}.{dof}"] if side else [f"{part}.{dof}"] + [f"{part}{s}.{dof}" for s in SIDES]
     return [c for c in candidates if c in known]
 

@@ -20,7 +20,7 @@ from dataclasses import dataclass, field
 
 from hitogata import units
 from hitogata.errors import HitogataError
-from hitogata.names import JOINT_NAMES, SIDES
+from hitogata.names import JOINT_NAMES, SIDES, dof_candidates
 from hitogata.options import OnLimit, Skinning
 from hitogata.pose import ON_LIMIT, Poser
 from hitogata.skeleton.shoulder import channel_names
@@ -92,17 +92,14 @@ def dof_names(poser: Poser, name: str) -> list[str]:
     """The DOFs (or shoulder-complex controls) a 'part.dof' name stands for, joint names and
     side-less names resolved."""
     known = poser.skeleton.dof_names + channel_names(poser.skeleton)
-    part, _, dof = name.rpartition(".")
-    side = next((s for s in SIDES if part.endswith(s)), "")
-    base = part[: len(part) - len(side)]
-    if f"{base}_l.{dof}" not in known:
-        base = JOINT_NAMES.get(base, base)
-    part = base + side
-    candidates = [f"{part}.{dof}"] if side else [f"{part}.{dof}"] + [f"{part}{s}.{dof}" for s in SIDES]
-    found = [c for c in candidates if c in known]
+    found = dof_candidates(name, known)
     if not found:
+        part, _, dof = name.rpartition(".")
+        side = next((s for s in SIDES if part.endswith(s)), "")
+        base = part[: len(part) - len(side)]
         short = {n.replace("_l.", ".").replace("_r.", ".") for n in known}
-        raise unknown("degree of freedom", name, "--angle", sorted(short | set(known)), f"{part}.{dof}")
+        query = f"{JOINT_NAMES.get(base, base)}{side}.{dof}"
+        raise unknown("degree of freedom", name, "--angle", sorted(short | set(known)), query)
     return found
 
 

@@ -27,6 +27,7 @@ from hitogata.body import Body
 from hitogata.dynamics.contact import approach
 from hitogata.dynamics.creases import solve_creased
 from hitogata.dynamics.motion import BodyDynamics
+from hitogata.elastic.materials import Materials
 from hitogata.dynamics.quality import STATIC_ITERATIONS, PoseQuality, pose_quality
 from hitogata.dynamics.quasistatic import rotate
 from hitogata.geometry.barrier_contact import BarrierResult, contact_regions
@@ -38,16 +39,20 @@ from hitogata.pose import PosedBody
 ELEMENT_SIZE = 40.0  # mm: the whole body's lattice for a held posture (as the large-motion tests)
 
 
-def elastic_dynamics(body: Body, element_size: float = ELEMENT_SIZE) -> BodyDynamics:
-    """The whole body's elastic model ready for posing (2 modes: statics need none), built once per body
-    and element size (kept in `Body.whole_body_dynamics`)."""
-    from hitogata.elastic import build_elastic_model
+def elastic_dynamics(body: Body, element_size: float = ELEMENT_SIZE, materials: Materials | None = None,
+                     n_modes: int = 2) -> BodyDynamics:
+    """The whole body's elastic model ready for posing, built once per body, element size and materials
+    (kept in `Body.whole_body_dynamics`; `materials` None: the shipped presets). Statics need no modes
+    (2 by default); a model built with more serves a call asking for fewer."""
+    from hitogata.elastic import build_elastic_model, load_materials
 
-    per_size = body.whole_body_dynamics
-    if element_size not in per_size:
-        model = build_elastic_model(body, extent="body", element_size=element_size, n_modes=2)
-        per_size[element_size] = BodyDynamics.build(body, model)
-    return per_size[element_size]
+    table = load_materials() if materials is None else materials
+    key = (element_size, table.source)
+    cached = body.whole_body_dynamics.get(key)
+    if cached is None or len(cached.eigenvalues) < n_modes:
+        model = build_elastic_model(body, extent="body", element_size=element_size, n_modes=n_modes, materials=table)
+        body.whole_body_dynamics[key] = cached = BodyDynamics.build(body, model)
+    return cached
 
 
 @dataclass(frozen=True, eq=False)

@@ -23,6 +23,7 @@ from hitogata.volume import REGIONS
 
 DEFAULT_FILE = "materials.toml"
 KEYS = ("density", "youngs_modulus", "poissons_ratio")
+DAMPING_KEYS = ("alpha", "beta")
 PRESSURE_UNITS = {"pa": 1.0, "kpa": 1e3, "mpa": 1e6, "gpa": 1e9}  # parse_quantity lower-cases the unit
 
 
@@ -32,6 +33,7 @@ class Materials:
 
     source: str
     regions: Mapping[str, Material]
+    rayleigh: tuple[float, float] | None = None  # (alpha 1/s, beta s) from the file's [damping], if it has one
 
     def table(self, region_names: tuple[str, ...]) -> dict[int, Material]:
         """Region index -> Material, for `hitogata.fem.region_materials`."""
@@ -46,14 +48,22 @@ def default_materials_path() -> Path:
 def load_materials(path: str | Path | None = None) -> Materials:
     """Read and check a materials file (the shipped defaults when `path` is None)."""
     source, doc = read_toml(default_materials_path() if path is None else path)
-    unknown = sorted(set(doc) - set(REGIONS))
+    unknown = sorted(set(doc) - set(REGIONS) - {"damping"})
     if unknown:
-        raise HitogataError(f"{source}: [{unknown[0]}]: unknown region; allowed: {', '.join(REGIONS)}")
+        raise HitogataError(f"{source}: [{unknown[0]}]: unknown region; allowed: {', '.join(REGIONS)} (and [damping])")
     missing = [name for name in REGIONS if name not in doc]
     if missing:
         raise HitogataError(f"{source}: no [{missing[0]}] table; every region needs one: {', '.join(REGIONS)}")
     regions = {name: _material(Entry(source, f"[{name}]", doc[name], KEYS), name) for name in REGIONS}
-    return Materials(source, MappingProxyType(regions))
+    rayleigh = _damping(Entry(source, "[damping]", doc["damping"], DAMPING_KEYS)) if "damping" in doc else None
+    return Materials(source, MappingProxyType(regions), rayleigh)
+
+
+def _damping(entry: Entry) -> tuple[float, float]:
+    """Rayleigh damping C = alpha M + beta K of the soft tissue: alpha (1/s) and beta (s), both >= 0."""
+    alpha = _checked(entry, "alpha", entry.number("alpha"), lambda v: v >= 0, ">= 0 (1/s)")
+    beta = _checked(entry, "beta", entry.number("beta"), lambda v: v >= 0, ">= 0 (s)")
+    return alpha, beta
 
 
 def _material(entry: Entry, name: str) -> Material:

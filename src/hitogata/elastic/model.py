@@ -183,13 +183,15 @@ def build_elastic_model(body: Body, *, extent: Extent = "trunk", element_size: f
     dilatation, free of the locking of nearly incompressible tissue) or
     "full" (the plain displacement element), see `fem.stiffness_matrix`;
     damping: `damping_ratios` ((f1 Hz, zeta1), (f2 Hz, zeta2)) or
-    `alpha_beta` (alpha 1/s, beta s), default `DEFAULT_DAMPING`; solver: see
+    `alpha_beta` (alpha 1/s, beta s), default the materials file's [damping], else `DEFAULT_DAMPING`; solver: see
     `hitogata.fem.solve_modes`; volume: a volume model of this body already
     built (skips meshing; extent and element_size are then its own).
     """
     _check_options(element, bone, cuts, dilatation)
-    alpha, beta = _rayleigh(damping_ratios, alpha_beta)
     table = materials if isinstance(materials, Materials) else load_materials(materials)
+    if damping_ratios is None and alpha_beta is None:
+        alpha_beta = table.rayleigh
+    alpha, beta = _rayleigh(damping_ratios, alpha_beta)
     timings: dict[str, float] = {}
 
     start = time.perf_counter()
@@ -284,7 +286,7 @@ def _lift(elements2: np.ndarray, nodes: np.ndarray, bones: np.ndarray, n_nodes: 
     return lifted, bone_of[lifted]
 
 
-def _bone_segments(volume: VolumeModel, rig) -> tuple[np.ndarray, np.ndarray]:
+def bone_segments(volume: VolumeModel, rig) -> tuple[np.ndarray, np.ndarray]:
     """Heads and tails (B, 3) of the volume model's bones, in `volume.bone_names` order."""
     rows = [rig.names.index(name) for name in volume.bone_names]
     return np.asarray(rig.heads)[rows], np.asarray(rig.tails)[rows]
@@ -295,7 +297,7 @@ def _with_cut_nodes(volume: VolumeModel, rig, nodes: np.ndarray, bones: np.ndarr
     cut = np.setdiff1d(np.unique(volume.cut_faces), nodes)
     if cut.size == 0:
         return nodes, bones
-    nearest = segment_distance(volume.nodes[cut], *_bone_segments(volume, rig)).argmin(axis=1)
+    nearest = segment_distance(volume.nodes[cut], *bone_segments(volume, rig)).argmin(axis=1)
     order = np.argsort(np.concatenate([nodes, cut]))
     return np.concatenate([nodes, cut])[order], np.concatenate([bones, nearest])[order]
 
@@ -324,14 +326,14 @@ def _with_loose_pieces(volume: VolumeModel, rig, nodes: np.ndarray, bones: np.nd
     loose = np.setdiff1d(np.unique(tets[~held[piece]]), nodes)
     if loose.size == 0:
         return nodes, bones
-    nearest = segment_distance(volume.nodes[loose], *_bone_segments(volume, rig)).argmin(axis=1)
+    nearest = segment_distance(volume.nodes[loose], *bone_segments(volume, rig)).argmin(axis=1)
     order = np.argsort(np.concatenate([nodes, loose]))
     return np.concatenate([nodes, loose])[order], np.concatenate([bones, nearest])[order]
 
 
 def _axis_nodes(volume: VolumeModel, rig) -> tuple[np.ndarray, np.ndarray]:
     """The bone nodes nearest each bone's axis (within `AXIS_BAND` elements of the nearest)."""
-    heads, tails = _bone_segments(volume, rig)
+    heads, tails = bone_segments(volume, rig)
     nodes, bones = volume.bone_nodes, volume.bone_node_bone
     d = segment_distance(volume.nodes[nodes], heads, tails)[np.arange(len(nodes)), bones]
     nearest = np.full(len(heads), np.inf)

@@ -78,3 +78,23 @@ def skin_strain(rest: np.ndarray, deformed: np.ndarray, faces: np.ndarray) -> Sk
         direction=direction,
         rest_area=area,
     )
+
+
+def directional_stretch(rest: np.ndarray, deformed: np.ndarray, faces: np.ndarray, directions: np.ndarray
+                        ) -> np.ndarray:
+    """Stretch (F,) of each triangle along a direction given at rest (F, 3): the length a short line
+    of skin drawn that way has now over its rest length (what marks on the skin, a tape between two
+    dots, measure). The direction is projected into the triangle's rest plane first; a direction
+    normal to the triangle, or a triangle of zero area, gives NaN."""
+    rest, deformed = np.asarray(rest, dtype=np.float64), np.asarray(deformed, dtype=np.float64)
+    if rest.shape != deformed.shape:
+        raise HitogataError(f"deformed vertices: shape {deformed.shape}, allowed {rest.shape} (the rest shape)")
+    rest_coords, t, b, _ = _frames(rest, faces)
+    l0, p0, h0 = rest_coords.T
+    l1, p1, h1 = _frames(deformed, faces)[0].T
+    u, w = np.einsum("ij,ij->i", directions, t), np.einsum("ij,ij->i", directions, b)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        norm = np.hypot(u, w)
+        u, w = u / norm, w / norm
+        a, c, d = l1 / l0, (p1 - l1 / l0 * p0) / h0, h1 / h0
+        return np.hypot(a * u + c * w, d * w)

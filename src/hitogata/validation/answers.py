@@ -1,0 +1,303 @@
+"""hitogata's answer to each validation row, on the skinned and on the elastic surface.
+
+Each study's subjects become a body (sex, age, stature and mass as reported:
+the missing ones the default body's; a mixed group is the mean of a female
+and a male body). Then, by kind:
+
+- posture_change: the measurement (`hitogata.measure`) in the posture minus
+  standing, on the skinned surface (DQS) and on the elastic whole body held
+  in that posture with its skin's self-contact resolved
+  (`dynamics.single_pose.elastic_pose`);
+- skin_strain: the zone's area-weighted mean stretch of short skin lines drawn
+  along the limb or trunk (vertical) or round it (horizontal), or its area
+  change (`measure.strain`), on both surfaces;
+- frequency, damping: the region's soft-tissue resonance of the elastic whole
+  body (`elastic.resonance`);
+- stiffness: the tissue region's modulus (muscle: the muscle region; fat: the
+  skin-and-fat layer); the dermis alone is no region of the model: undefined;
+- pressure: Laplace's estimate at the garment level (`garment.pressure`) on
+  both surfaces, where the study gives the fabric's tension.
+
+An answer that has no meaning is `Answer.undefined` with the reason, never a
+number.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterable, Mapping
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from hitogata.body import Body, default_measurements
+from hitogata.elastic.materials import Materials, load_materials
+from hitogata.errors import HitogataError
+from hitogata.geometry.normals import vertex_normals
+from hitogata.names import resolve_dofs
+from hitogata.validation.dataset import Dataset, Row, Source, Subjects
+
+SURFACES = ("skinned", "elastic")
+MODEL_ELEMENT_SIZE = 40.0  # mm: the whole body's lattice, as a held posture's (`dynamics.single_pose`)
+RESONANCE_MODES = 60  # the lowest modes searched for a region's resonance (2-8 Hz on the default bodies)
+BOTH_SEXES = ("female", "male")
+# The side of a flexing joint whose skin stretches (rest pose, unit vector): the kneecap faces forward, the
+# point of the elbow backward (the arms hang at the sides).
+EXTENSOR_SIDE = {"knee": np.array([0.0, 0.0, 1.0]), "elbow": np.array([0.0, 0.0, -1.0])}
+
+
+@dataclass(frozen=True)
+class Answer:
+    """The model's value in the row's unit, or None with the reason it has none."""
+
+    value: float | None
+    reason: str = ""
+
+    @staticmethod
+    def undefined(reason: str) -> Answer:
+        return Answer(None, reason)
+
+
+@dataclass(frozen=True)
+class RowAnswers:
+    """A row's answers by surface ('skinned', 'elastic'); material rows have the elastic one only."""
+
+    row: Row
+    answers: Mapping[str, Answer]
+
+
+@dataclass
+class BodyCache:
+    """Bodies built once per subject group, and their postures solved once per posture. A body some row asks
+    the resonance of is given its modes when its elastic model is first built (`resonant`)."""
+
+    materials: Materials
+    resonant: set[tuple] = field(default_factory=set)
+    bodies: dict[tuple, Body | HitogataError] = field(default_factory=dict)
+    modes: dict[int, int] = field(default_factory=dict)  # id(body) → modes its elastic model is built with
+    postures: dict[tuple, tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]] = field(default_factory=dict)
+
+    def body(self, sex: str, subjects: Subjects) -> Body:
+        key = (sex, subjects)
+        if key not in self.bodies:
+            try:
+                built = self.bodies[key] = _build_body(sex, subjects)
+                self.modes[id(built)] = RESONANCE_MODES if key in self.resonant else 2
+            except HitogataError as err:
+                self.bodies[key] = err
+        made = self.bodies[key]
+        if isinstance(made, HitogataError):
+            raise made
+        return made
+
+    def dynamics(self, body: Body):
+        """The body's whole elastic model for held postures (with its modes where a row needs them)."""
+        from hitogata.dynamics.single_pose import elastic_dynamics
+
+        return elastic_dynamics(body, MODEL_ELEMENT_SIZE, self.materials, n_modes=self.modes.get(id(body), 2))
+
+
+def _build_body(sex: str, subjects: Subjects) -> Body:
+    stature, mass = default_measurements(sex)
+    if subjects.stature is not None and subjects.mass is None:  # the default body's BMI at the study's stature
+        mass = mass * (subjects.stature / stature) ** 2
+    return Body.from_measurements(sex, subjects.age or 30.0, subjects.stature or stature,
+                                  subjects.mass or mass)
+
+
+def clinical_posture(row: Row, known: tuple[str, ...], where: str) -> dict[str, float]:
+    """The row's posture as clinical angles (radians) by DOF name, names resolved as the command line's."""
+    out: dict[str, float] = {}
+    for name, degrees in row.posture.items():
+        for dof in resolve_dofs(name, known, where):
+            out[dof] = math.radians(degrees)
+    return out
+
+
+def answer_dataset(dataset: Dataset, materials: Materials | None = None,
+                   surfaces: Iterable[str] = SURFACES, progress=None) -> list[RowAnswers]:
+    """Every row's answers, in the dataset's order (rows of one body and posture share their solves)."""
+    cache = BodyCache(load_materials() if materials is None else materials)
+    cache.resonant = {(sex, dataset.source_of(r).subjects) for r in dataset.rows if r.kind in ("frequency", "damping")
+                      for sex in _sexes(dataset.source_of(r).subjects)}
+    surfaces = tuple(surfaces)
+    out = []
+    for k, row in enumerate(dataset.rows):
+        out.append(RowAnswers(row, answer_row(row, dataset.source_of(row), cache, surfaces)))
+        if progress is not None:
+            progress(k + 1, len(dataset.rows), row)
+    return out
+
+
+def answer_row(row: Row, source: Source, cache: BodyCache, surfaces: tuple[str, ...]) -> dict[str, Answer]:
+    """One row's answers by surface; a body the model cannot build is an undefined answer with the reason."""
+    sexes = _sexes(source.subjects)
+    wanted = ("elastic",) if row.kind in ("frequency", "damping", "stiffness") else surfaces
+    per_sex: dict[str, list[Answer]] = {s: [] for s in wanted}
+    for sex in sexes:
+        try:
+            body = cache.body(sex, source.subjects)
+        except HitogataError as err:
+            return {s: Answer.undefined(f"the study's subjects: {err}") for s in wanted}
+        for surface in wanted:
+            per_sex[surface].append(_one(row, body, surface, cache))
+    return {s: _mean(answers) for s, answers in per_sex.items()}
+
+
+def _sexes(subjects: Subjects) -> tuple[str, ...]:
+    """A mixed group is answered as the mean of a female and a male body."""
+    return BOTH_SEXES if subjects.sex == "mixed" else (subjects.sex,)
+
+
+def _mean(answers: list[Answer]) -> Answer:
+    missing = [a for a in answers if a.value is None]
+    if missing:
+        return missing[0]
+    return Answer(float(np.mean([a.value for a in answers])))
+
+
+def _one(row: Row, body: Body, surface: str, cache: BodyCache) -> Answer:
+    if row.kind == "stiffness":
+        return _stiffness(row, cache.materials)
+    if row.kind in ("frequency", "damping"):
+        return _resonance(row, body, cache)
+    skin, joints, rest_skin, rest_joints = _posture(row, body, surface, cache)
+    if row.kind == "posture_change":
+        return _posture_change(row, body, skin, joints)
+    if row.kind == "skin_strain":
+        return _skin_strain(row, body, skin)
+    return _pressure(row, body, skin, joints)
+
+
+def _posture(row: Row, body: Body, surface: str, cache: BodyCache
+             ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """(skin, rig joints) of the body in the row's posture on a surface, and at rest; solved once."""
+    poser = body.poser
+    from hitogata.skeleton.shoulder import channel_names
+
+    known = poser.skeleton.dof_names + channel_names(poser.skeleton)
+    clinical = clinical_posture(row, known, f"row {row.id!r}: posture")
+    key = (id(body), surface, tuple(sorted(clinical.items())))
+    if key not in cache.postures:
+        if surface == "skinned" or not clinical:
+            posed = poser.pose(clinical=clinical, skinning="dqs")
+            skin = posed.vertices
+        else:
+            from hitogata.dynamics.single_pose import elastic_pose
+
+            held = elastic_pose(cache.dynamics(body), clinical=clinical, contact=True)
+            posed, skin = held.posed, held.vertices
+        cache.postures[key] = (skin, posed.rig_joints, body.vertices, body.rig.heads)
+    return cache.postures[key]
+
+
+def _posture_change(row: Row, body: Body, skin: np.ndarray, joints: np.ndarray) -> Answer:
+    from hitogata.measure.measurements import measure
+
+    standing = measure(body).get(row.quantity)
+    posed = measure(body, skin, joints).get(row.quantity)
+    if not (math.isfinite(standing) and math.isfinite(posed)):
+        return Answer.undefined(f"{row.quantity} has no meaning in this posture (ISO 8559-1 defines it standing)")
+    change = posed - standing
+    return Answer(100.0 * change if row.unit == "cm" else 100.0 * change / standing)
+
+
+def _skin_strain(row: Row, body: Body, skin: np.ndarray) -> Answer:
+    from hitogata.measure.strain import directional_stretch, skin_strain
+    from hitogata.measure.zones import ZONES, body_zones
+
+    zone, _, direction = row.quantity.partition(".")
+    name = zone if zone in ZONES else f"{zone}_right"
+    faces = body.faces[body_zones(body)[name]]
+    if zone in EXTENSOR_SIDE:  # the skin over the kneecap or the point of the elbow, where the studies mark it
+        faces = faces[vertex_normals(body.vertices, body.faces)[faces].mean(axis=1) @ EXTENSOR_SIDE[zone] > 0.5]
+    if direction == "area":
+        strain = skin_strain(body.vertices, skin, faces)
+        weights = strain.rest_area
+        return Answer(100.0 * float(np.sum(weights * strain.area_ratio) / weights.sum() - 1.0))
+    directions, weights = _zone_directions(body, faces, ZONES[name], direction)
+    stretch = directional_stretch(body.vertices, skin, faces, directions)
+    good = np.isfinite(stretch)
+    return Answer(100.0 * float(np.average(stretch[good] - 1.0, weights=weights[good])))
+
+
+def _zone_directions(body: Body, faces: np.ndarray, zone, direction: str) -> tuple[np.ndarray, np.ndarray]:
+    """Per face, the rest direction of a line drawn along the limb or trunk ('vertical') or round it
+    ('horizontal'), and the face's rest area."""
+    from hitogata.measure.zones import JointZone
+
+    tri = body.vertices[faces]
+    normal = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
+    area = 0.5 * np.linalg.norm(normal, axis=1)
+    normal /= np.maximum(2.0 * area, 1e-30)[:, None]
+    axis = np.array([0.0, 1.0, 0.0])
+    if isinstance(zone, JointZone):  # along the limb: the mean of the two bones meeting at the joint
+        rig = body.rig
+        k = rig.index(zone.joint)
+        parent = rig.index(zone.bones[0])
+        child = rig.index(zone.bones[-1])
+        axis = (rig.heads[k] - rig.heads[parent]) / np.linalg.norm(rig.heads[k] - rig.heads[parent])
+        axis += (rig.tails[child] - rig.heads[k]) / np.linalg.norm(rig.tails[child] - rig.heads[k])
+    along = axis - (normal @ axis)[:, None] * normal
+    along /= np.maximum(np.linalg.norm(along, axis=1), 1e-30)[:, None]
+    return (along if direction == "vertical" else np.cross(normal, along)), area
+
+
+def _stiffness(row: Row, materials: Materials) -> Answer:
+    tissue, modulus, _ = row.quantity.split(".")
+    if tissue == "skin":
+        return Answer.undefined("the dermis is no region of its own: the model's skin region is skin and "
+                                "subcutaneous fat as one layer (compare the fat rows)")
+    m = materials.regions["muscle" if tissue == "muscle" else "skin"]
+    value = m.E if modulus == "youngs_modulus" else m.E / (2.0 * (1.0 + m.nu))
+    return Answer(value / 1000.0)
+
+
+def _resonance(row: Row, body: Body, cache: BodyCache) -> Answer:
+    from hitogata.elastic.model import bone_segments
+    from hitogata.elastic.resonance import region_nodes, resonance
+
+    model = cache.dynamics(body).model
+    heads, tails = bone_segments(model.volume, body.rig)
+    nodes = region_nodes(model.points, model.volume.bone_names, heads, tails, row.quantity)
+    found = resonance(model.M, model.modes.eigenvalues, model.modes.vectors, nodes, model.alpha, model.beta,
+                      row.quantity)
+    if row.kind == "frequency":
+        return Answer(found.frequency)
+    if row.unit == "1":
+        return Answer(found.damping_ratio)
+    return Answer(found.damping_ratio * 2.0 * math.pi * found.frequency)  # decay rate ζω (1/s)
+
+
+def _pressure(row: Row, body: Body, skin: np.ndarray, joints: np.ndarray) -> Answer:
+    from hitogata.garment.fabric import Fabric
+    from hitogata.garment.pressure import MMHG, Garment, garment_pressure
+
+    spec = row.garment
+    if spec is not None and spec.curve is not None:
+        fabric = Fabric(tuple(p[0] for p in spec.curve), tuple(p[1] for p in spec.curve), "the study's curve")
+    elif spec is not None and spec.modulus is not None:
+        fabric = Fabric.linear(spec.modulus)
+    else:
+        return Answer.undefined("the study gives no fabric tension: the pressure cannot be computed")
+    garment = (Garment(ease=spec.ease, levels=(row.quantity,)) if spec.ease is not None
+               else Garment(relaxed={row.quantity: float(spec.relaxed or 0.0)}))
+    level = garment_pressure(body, garment, fabric, skin, joints)[row.quantity]
+    return Answer(level.mean_pressure / MMHG)
+
+
+def reachable(dataset: Dataset, body: Body) -> None:
+    """A one-line error for the first posture the skeleton cannot take (names, ranges), before any work."""
+    from hitogata.skeleton.shoulder import channel_names
+
+    poser = body.poser
+    known = poser.skeleton.dof_names + channel_names(poser.skeleton)
+    for row in dataset.rows:
+        if not row.posture:
+            continue
+        where = f"{dataset.path}: row {row.id!r}: posture"
+        clinical = clinical_posture(row, known, where)
+        try:
+            poser.angles(clinical=clinical, on_limit="raise")
+        except HitogataError as err:
+            raise HitogataError(f"{where}: {err}; the model cannot reach it") from None

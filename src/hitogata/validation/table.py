@@ -1,0 +1,212 @@
+"""The comparison table: each row's measurement beside hitogata's answers, in units of the measurement's SD.
+
+Rows become `Comparison`s (error z = (model − mean) / SD per surface); the
+summary gives, per kind and surface, the share of rows within 1 and 2 SD.
+Written as CSV (one line a row), JSON (rows, summary, sources) and a
+Markdown page for the docs, all from the same figures.
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import json
+import math
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+
+from hitogata.validation.answers import SURFACES, RowAnswers
+from hitogata.validation.dataset import KINDS, POSTURED, Dataset, Row
+
+
+@dataclass(frozen=True)
+class Comparison:
+    """One row: the measurement, the model's value (None: undefined, with the reason) and z per surface."""
+
+    row: Row
+    values: Mapping[str, float | None]
+    reasons: Mapping[str, str]
+
+    def z(self, surface: str) -> float | None:
+        """(model − mean) / SD; None where the model has no answer or the study no spread."""
+        value = self.values.get(surface)
+        if value is None or self.row.sd <= 0:
+            return None
+        return (value - self.row.mean) / self.row.sd
+
+
+@dataclass(frozen=True)
+class Share:
+    """How many rows of a kind have an answer on a surface, and how many lie within 1 and 2 SD."""
+
+    kind: str
+    surface: str
+    answered: int
+    within_1sd: int
+    within_2sd: int
+    undefined: int
+
+    @property
+    def share_2sd(self) -> float | None:
+        return self.within_2sd / self.answered if self.answered else None
+
+    @property
+    def share_1sd(self) -> float | None:
+        return self.within_1sd / self.answered if self.answered else None
+
+
+def compare(answers: Sequence[RowAnswers]) -> list[Comparison]:
+    return [Comparison(a.row, {s: a.answers[s].value for s in a.answers},
+                       {s: a.answers[s].reason for s in a.answers if a.answers[s].value is None}) for a in answers]
+
+
+def summary(comparisons: Sequence[Comparison]) -> list[Share]:
+    """Per kind (and 'all') and surface: rows answered, within 1 SD, within 2 SD, undefined."""
+    out = []
+    for kind in (*KINDS, "all"):
+        mine = [c for c in comparisons if kind in ("all", c.row.kind)]
+        if not mine:
+            continue
+        for surface in SURFACES:
+            zs = [c.z(surface) for c in mine if surface in c.values]
+            answered = [abs(z) for z in zs if z is not None]
+            if not zs:
+                continue
+            out.append(Share(kind, surface, len(answered), sum(z <= 1 for z in answered),
+                             sum(z <= 2 for z in answered), len(zs) - len(answered)))
+    return out
+
+
+def headline(shares: Sequence[Share]) -> dict[str, float | None]:
+    """The share of all rows within 2 SD, by surface (the elastic surface includes the material rows)."""
+    return {s.surface: s.share_2sd for s in shares if s.kind == "all"}
+
+
+COLUMNS = ("row", "kind", "quantity", "posture", "source", "where", "read_off_plot", "measured_mean", "measured_sd",
+           "sd_of", "unit", "skinned", "elastic", "z_skinned", "z_elastic", "undefined_because")
+
+
+def _posture_text(row: Row) -> str:
+    """'thigh.flexion=90deg …', 'standing' for a postured row at rest, '' for a row without a posture."""
+    if row.kind not in POSTURED:
+        return ""
+    return " ".join(f"{k}={v:g}deg" for k, v in row.posture.items()) or "standing"
+
+
+def records(comparisons: Sequence[Comparison], dataset: Dataset) -> list[dict]:
+    """One dict per row with the table's columns (numbers rounded for reading, None where undefined)."""
+    out = []
+    for c in comparisons:
+        r = c.row
+        out.append({
+            "row": r.id, "kind": r.kind, "quantity": r.quantity, "posture": _posture_text(r),
+            "source": dataset.sources[r.source].citation, "where": r.where, "read_off_plot": r.read_off_plot,
+            "measured_mean": r.mean, "measured_sd": r.sd, "sd_of": r.sd_of, "unit": r.unit,
+            "skinned": _round(c.values.get("skinned")), "elastic": _round(c.values.get("elastic")),
+            "z_skinned": _round(c.z("skinned")), "z_elastic": _round(c.z("elastic")),
+            "undefined_because": "; ".join(f"{s}: {why}" for s, why in c.reasons.items()),
+        })
+    return out
+
+
+def _round(value: float | None) -> float | None:
+    return None if value is None else float(f"{value:.4g}")
+
+
+def table_csv(comparisons: Sequence[Comparison], dataset: Dataset) -> str:
+    buffer = io.StringIO()
+    writer = csv.DictWriter(buffer, COLUMNS, lineterminator="\n")
+    writer.writeheader()
+    for rec in records(comparisons, dataset):
+        writer.writerow({k: "" if v is None else v for k, v in rec.items()})
+    return buffer.getvalue()
+
+
+def table_json(comparisons: Sequence[Comparison], dataset: Dataset, materials: str) -> str:
+    shares = summary(comparisons)
+    doc = {
+        "validation_set": dataset.path,
+        "materials": materials,
+        "headline_within_2sd": headline(shares),
+        "summary": [{"kind": s.kind, "surface": s.surface, "answered": s.answered, "within_1sd": s.within_1sd,
+                     "within_2sd": s.within_2sd, "undefined": s.undefined} for s in shares],
+        "rows": records(comparisons, dataset),
+        "sources": {k: {"citation": s.citation, "title": s.title, "method": s.method, "n": s.n, "url": s.url,
+                        "doi": s.doi, "subjects": vars(s.subjects)} for k, s in dataset.sources.items()},
+    }
+    return json.dumps(doc, indent=1)
+
+
+def _cell(value: float | None, unit: str = "") -> str:
+    if value is None:
+        return "undefined"
+    return f"{value:.3g}{unit}"
+
+
+def _z_cell(z: float | None) -> str:
+    if z is None:
+        return "—"
+    mark = "" if abs(z) <= 2 else " ✗"
+    return f"{z:+.1f}{mark}"
+
+
+def table_markdown(comparisons: Sequence[Comparison], dataset: Dataset, materials: str, command: str) -> str:
+    """The docs page: headline, summary by kind, every row, the rows outside 2 SD with their reasons, sources."""
+    shares = summary(comparisons)
+    head = headline(shares)
+    lines = [
+        "# hitogata beside measured people",
+        "",
+        f"Generated by `{command}`; do not edit by hand. Every figure below is a published measurement of",
+        "living people (the validation set, `src/hitogata/data/validation/measured_people.toml`, with its",
+        "sources) beside hitogata's answer for a body built to the study's subjects, on the skinned surface",
+        "and on the elastic whole body (skin self-contact resolved). z is the error in units of the",
+        "study's standard deviation; ✗ marks |z| > 2.",
+        "",
+        f"Materials: `{materials}`.",
+        "",
+        "**Share of rows within 2 SD of the measurement:** "
+        + ", ".join(f"{s} {_pct(v)}" for s, v in head.items()) + ".",
+        "",
+        "| kind | surface | rows answered | within 1 SD | within 2 SD | undefined |",
+        "|---|---|---|---|---|---|",
+    ]
+    for s in shares:
+        lines.append(f"| {s.kind} | {s.surface} | {s.answered} | {_pct(s.share_1sd)} | {_pct(s.share_2sd)} | "
+                     f"{s.undefined} |")
+    for kind in KINDS:
+        mine = [c for c in comparisons if c.row.kind == kind]
+        if not mine:
+            continue
+        lines += ["", f"## {kind.replace('_', ' ')}", "",
+                  "| row | quantity | posture | measured | skinned | z | elastic | z | source |",
+                  "|---|---|---|---|---|---|---|---|---|"]
+        for c in mine:
+            r = c.row
+            plot = " (plot)" if r.read_off_plot else ""
+            lines.append(
+                f"| {r.id} | {r.quantity} | {_posture_text(r)} | {r.mean:.3g} ± {r.sd:.2g} {r.unit}{plot} | "
+                f"{_cell(c.values.get('skinned')) if 'skinned' in c.values else '—'} | {_z_cell(c.z('skinned'))} | "
+                f"{_cell(c.values.get('elastic'))} | {_z_cell(c.z('elastic'))} | "
+                f"{dataset.sources[r.source].authors.split(',')[0]} {dataset.sources[r.source].year}, {r.where} |")
+    undefined = [c for c in comparisons if c.reasons]
+    if undefined:
+        lines += ["", "## Answers reported as undefined", ""]
+        lines += [f"- {c.row.id}: " + "; ".join(f"{s}: {why}" for s, why in c.reasons.items()) for c in undefined]
+    lines += ["", "## Sources", ""]
+    for src in dataset.sources.values():
+        who = src.subjects
+        subjects = ", ".join(x for x in (who.sex, _opt(who.age, "y"), _opt(who.stature and who.stature * 100, " cm"),
+                                          _opt(who.mass, " kg")) if x)
+        link = f" <{src.url}>" if src.url else ""
+        lines.append(f"- **{src.id}**: {src.authors} ({src.year}). {src.title}. {src.journal}. N = {src.n} "
+                     f"({subjects}); {src.method}.{link}")
+    return "\n".join(lines) + "\n"
+
+
+def _opt(value: float | None, unit: str) -> str:
+    return "" if value is None or (isinstance(value, float) and math.isnan(value)) else f"{value:.4g}{unit}"
+
+
+def _pct(share: float | None) -> str:
+    return "—" if share is None else f"{100 * share:.0f} %"
