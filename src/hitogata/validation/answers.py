@@ -72,6 +72,7 @@ class BodyCache:
     the resonance of is given its modes when its elastic model is first built (`resonant`)."""
 
     materials: Materials
+    element_size: float = MODEL_ELEMENT_SIZE  # mm, the whole body's lattice
     resonant: set[tuple] = field(default_factory=set)
     bodies: dict[tuple, Body | HitogataError] = field(default_factory=dict)
     modes: dict[int, int] = field(default_factory=dict)  # id(body) → modes its elastic model is built with
@@ -94,7 +95,7 @@ class BodyCache:
         """The body's whole elastic model for held postures (with its modes where a row needs them)."""
         from hitogata.dynamics.single_pose import elastic_dynamics
 
-        return elastic_dynamics(body, MODEL_ELEMENT_SIZE, self.materials, n_modes=self.modes.get(id(body), 2))
+        return elastic_dynamics(body, self.element_size, self.materials, n_modes=self.modes.get(id(body), 2))
 
 
 def _build_body(sex: str, subjects: Subjects) -> Body:
@@ -114,12 +115,13 @@ def clinical_posture(row: Row, known: tuple[str, ...], where: str) -> dict[str, 
     return out
 
 
-def answer_dataset(dataset: Dataset, materials: Materials | None = None,
-                   surfaces: Iterable[str] = SURFACES, progress=None) -> list[RowAnswers]:
-    """Every row's answers, in the dataset's order (rows of one body and posture share their solves)."""
-    cache = BodyCache(load_materials() if materials is None else materials)
+def answer_dataset(dataset: Dataset, materials: Materials | None = None, surfaces: Iterable[str] = SURFACES,
+                   progress=None, element_size: float = MODEL_ELEMENT_SIZE) -> list[RowAnswers]:
+    """Every row's answers, in the dataset's order (rows of one body and posture share their solves);
+    `element_size` (mm): the elastic whole body's lattice."""
+    cache = BodyCache(load_materials() if materials is None else materials, element_size)
     cache.resonant = {(sex, dataset.source_of(r).subjects) for r in dataset.rows if r.kind in ("frequency", "damping")
-                      for sex in _sexes(dataset.source_of(r).subjects)}
+                      for sex in sexes(dataset.source_of(r).subjects)}
     surfaces = tuple(surfaces)
     out = []
     for k, row in enumerate(dataset.rows):
@@ -131,10 +133,10 @@ def answer_dataset(dataset: Dataset, materials: Materials | None = None,
 
 def answer_row(row: Row, source: Source, cache: BodyCache, surfaces: tuple[str, ...]) -> dict[str, Answer]:
     """One row's answers by surface; a body the model cannot build is an undefined answer with the reason."""
-    sexes = _sexes(source.subjects)
+    groups = sexes(source.subjects)
     wanted = ("elastic",) if row.kind in ("frequency", "damping", "stiffness") else surfaces
     per_sex: dict[str, list[Answer]] = {s: [] for s in wanted}
-    for sex in sexes:
+    for sex in groups:
         try:
             body = cache.body(sex, source.subjects)
         except HitogataError as err:
@@ -144,7 +146,7 @@ def answer_row(row: Row, source: Source, cache: BodyCache, surfaces: tuple[str, 
     return {s: _mean(answers) for s, answers in per_sex.items()}
 
 
-def _sexes(subjects: Subjects) -> tuple[str, ...]:
+def sexes(subjects: Subjects) -> tuple[str, ...]:
     """A mixed group is answered as the mean of a female and a male body."""
     return BOTH_SEXES if subjects.sex == "mixed" else (subjects.sex,)
 

@@ -38,7 +38,7 @@ from hitogata.elastic.materials import Materials
 from hitogata.errors import HitogataError
 from hitogata.fem import Material, mass_matrix, sparsity, stiffness_matrix
 from hitogata.elastic.resonance import weighted_response
-from hitogata.validation.answers import MODEL_ELEMENT_SIZE, RESONANCE_MODES, BodyCache, _sexes
+from hitogata.validation.answers import MODEL_ELEMENT_SIZE, RESONANCE_MODES, BodyCache, sexes
 from hitogata.validation.dataset import Dataset, Row
 
 IDENTIFIABLE = ("stiffness", "frequency", "damping")
@@ -163,13 +163,15 @@ class ReducedBody:
         return found.frequency, found.damping_ratio
 
 
-def reduce_body(body: Body, materials: Materials, theta: np.ndarray, volume=None) -> ReducedBody:
-    """The full model at constants `theta`, solved, and its projections (see `ReducedBody`)."""
+def reduce_body(body: Body, materials: Materials, theta: np.ndarray, volume=None,
+                element_size: float = MODEL_ELEMENT_SIZE) -> ReducedBody:
+    """The full model at constants `theta`, solved, and its projections (see `ReducedBody`); `volume`: the
+    body's volume model already meshed (at `element_size`, mm)."""
     from hitogata.elastic.model import bone_segments, build_elastic_model
     from hitogata.elastic.resonance import REGIONS, region_nodes
 
     table = materials_of(theta, materials)
-    model = build_elastic_model(body, extent="body", element_size=MODEL_ELEMENT_SIZE, n_modes=RESONANCE_MODES,
+    model = build_elastic_model(body, extent="body", element_size=element_size, n_modes=RESONANCE_MODES,
                                 materials=table, volume=volume)
     phi = model.modes.vectors
     samples = model.volume.region_samples
@@ -258,16 +260,17 @@ def identifiable(dataset: Dataset) -> Dataset:
 
 
 def identify(dataset: Dataset, materials: Materials, held_out: Dataset | None = None,
-             progress: Callable[[str], None] | None = None) -> Identification:
+             progress: Callable[[str], None] | None = None, element_size: float = MODEL_ELEMENT_SIZE) -> Identification:
     """Fit the constants to the dataset's rows (all identifiable), starting from `materials`; `held_out`
-    rows (identifiable, kept apart) are predicted with the fit."""
+    rows (identifiable, kept apart) are predicted with the fit. `element_size` (mm): the whole body's
+    lattice, as `answer_dataset`'s."""
     identifiable(dataset)
     say = progress or (lambda _: None)
     rows = dataset.rows
     theta0 = constants_of(materials)
     _check_start(theta0)
-    cache = BodyCache(materials)
-    keys = {r.id: [(s, dataset.source_of(r).subjects) for s in _sexes(dataset.source_of(r).subjects)]
+    cache = BodyCache(materials, element_size)
+    keys = {r.id: [(s, dataset.source_of(r).subjects) for s in sexes(dataset.source_of(r).subjects)]
             for r in rows if r.kind != "stiffness"}
     bodies = {key: cache.body(*key) for ks in keys.values() for key in ks}
     theta = theta0.copy()
@@ -278,7 +281,8 @@ def identify(dataset: Dataset, materials: Materials, held_out: Dataset | None = 
     for rounds in range(1, MAX_ROUNDS + 1):
         for key, body in bodies.items():
             say(f"round {rounds}: solving the whole body of {key[0]} subjects at the current constants")
-            reduced[key] = reduce_body(body, materials, theta, reduced[key].volume if key in reduced else None)
+            reduced[key] = reduce_body(body, materials, theta, reduced[key].volume if key in reduced else None,
+                                       element_size)
         residual = _residuals(rows, keys, reduced)
         J = _jacobian(residual, _to_unit(theta))
         free = _pinned(J)
@@ -297,7 +301,7 @@ def identify(dataset: Dataset, materials: Materials, held_out: Dataset | None = 
     cv = _leave_one_source_out(rows, dataset, keys, reduced, x, free, lo, hi)
     z_held = np.zeros(0)
     if held_out is not None and held_out.rows:
-        extra = _bodies_for(held_out, cache, materials, theta)
+        extra = _bodies_for(held_out, cache, materials, theta, element_size)
         z_held = np.array([(row_value(r, theta, extra.get(r.id, [])) - r.mean) / r.sd for r in held_out.rows])
     fitted = np.array([row_value(r, theta, [reduced[k] for k in keys.get(r.id, [])]) for r in rows])
     start_residual = np.array([(row_value(r, theta0, [reduced[k] for k in keys.get(r.id, [])]) - r.mean) / r.sd
@@ -384,7 +388,8 @@ def _leave_one_source_out(rows, dataset: Dataset, keys, reduced, x, free, lo, hi
     return out
 
 
-def _bodies_for(held_out: Dataset, cache: BodyCache, materials: Materials, theta: np.ndarray) -> dict:
+def _bodies_for(held_out: Dataset, cache: BodyCache, materials: Materials, theta: np.ndarray,
+                element_size: float) -> dict:
     """Reduced bodies at the fit for held-out resonance rows (one per sex of each row's subjects)."""
     out: dict = {}
     built: dict = {}
@@ -393,9 +398,9 @@ def _bodies_for(held_out: Dataset, cache: BodyCache, materials: Materials, theta
             continue
         subjects = held_out.source_of(r).subjects
         out[r.id] = []
-        for sex in _sexes(subjects):
+        for sex in sexes(subjects):
             key = (sex, subjects)
             if key not in built:
-                built[key] = reduce_body(cache.body(sex, subjects), materials, theta)
+                built[key] = reduce_body(cache.body(sex, subjects), materials, theta, None, element_size)
             out[r.id].append(built[key])
     return out

@@ -1,0 +1,178 @@
+"""The validation set, `hitogata validate` and `hitogata identify`: the data, the answers, bad input."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from hitogata.cli import main
+from hitogata.elastic.materials import load_materials
+from hitogata.measure.strain import directional_stretch
+from hitogata.validation import KINDS, load_dataset
+from hitogata.validation.answers import BodyCache, answer_dataset
+from hitogata.validation.dataset import UNITS
+
+SOURCE = """
+[[source]]
+id = "demo2001"
+authors = "Doe J, Roe R"
+year = 2001
+title = "A study"
+journal = "J Test 1:1-2"
+method = "tape"
+n = 10
+subjects = { sex = "female", age = 25, stature_cm = 165, mass_kg = 60 }
+"""
+
+ROW = """
+[[row]]
+id = "{id}"
+source = "demo2001"
+kind = "{kind}"
+where = "table 1"
+mean = {mean}
+sd = {sd}
+unit = "{unit}"
+quantity = "{quantity}"
+definition = "as the study defines it"
+{extra}
+"""
+
+
+def row(id="r1", kind="posture_change", mean=4.0, sd=2.0, unit="cm", quantity="hip_girth",
+        extra='posture = { "thigh.flexion" = 90, "shank.flexion" = 90 }') -> str:
+    return ROW.format(id=id, kind=kind, mean=mean, sd=sd, unit=unit, quantity=quantity, extra=extra)
+
+
+def test_the_shipped_set_has_every_kind_from_enough_sources():
+    data = load_dataset()
+    assert len(data.rows) >= 40 and len(data.sources) >= 8
+    assert {r.kind for r in data.rows} == set(KINDS)
+    for r in data.rows:
+        source = data.sources[r.source]
+        assert source.authors and source.journal and source.method and source.n >= 1, r.id
+        assert r.unit in UNITS[r.kind] and r.sd >= 0, r.id
+
+
+def test_every_shipped_posture_is_one_the_skeleton_takes(female):
+    from hitogata.validation.answers import reachable
+
+    reachable(load_dataset(), female)  # raises a one-line error naming the row otherwise
+
+
+@pytest.mark.parametrize("text, words", [
+    (SOURCE.replace('id = "demo2001"', 'id = "other"') + row(), ["row 'r1'", "source", "'demo2001'", "no [[source]]"]),
+    (SOURCE + row(unit="inch"), ["row 'r1'", "unit", "'inch'", "cm, %"]),
+    (SOURCE + row(sd=-1.0), ["row 'r1'", "sd", "-1.0", ">= 0"]),
+    (SOURCE + row(quantity="belly_girth"), ["row 'r1'", "quantity", "'belly_girth'", "hip_girth"]),
+    (SOURCE + row(extra='posture = { "shank.flexion" = 170 }'), ["row 'r1'", "posture", "shank", "cannot reach"]),
+    (SOURCE + row(extra='posture = { "knee_twist.flexion" = 10 }'), ["row 'r1'", "posture", "knee_twist"]),
+    (SOURCE.replace("n = 10", "n = 0") + row(), ["[[source]] 1", "n", "0", ">= 1"]),
+    (SOURCE + row() + row(), ["row 'r1'", "given twice"]),
+    (SOURCE + row(kind="pressure", unit="mmHg", quantity="calf", extra="garment = { ease = -0.2, relaxed_cm = 30 }"),
+     ["row 'r1'", "garment", "one of ease or relaxed_cm"]),
+])
+@pytest.mark.parametrize("command", ["validate", "identify"])
+def test_a_bad_validation_file_is_one_line_and_writes_nothing(tmp_path, capsys, text, words, command):
+    data = tmp_path / "rows.toml"
+    data.write_text(text)
+    out = tmp_path / ("out" if command == "validate" else "m.toml")
+    assert main([command, "--data", str(data), "--out", str(out)]) == 2
+    err = capsys.readouterr().err.strip()
+    if command == "identify" and "cannot reach" in words:  # identify refuses the posture row's kind first
+        words = ["row 'r1'", "posture_change", "stiffness, frequency, damping"]
+    assert len(err.splitlines()) == 1 and str(data) in err, err
+    for word in words:
+        assert word in err, (word, err)
+    assert not out.exists() and list(tmp_path.iterdir()) == [data]
+
+
+def test_a_stretch_along_one_direction_is_measured_along_it_and_not_across():
+    rest = np.array([[0.0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0]])
+    faces = np.array([[0, 1, 2], [1, 3, 2]])
+    deformed = rest * [1.0, 1.3, 1.0]  # skin drawn out 30 % along y
+    along = directional_stretch(rest, deformed, faces, np.tile([0.0, 1.0, 0.0], (2, 1)))
+    across = directional_stretch(rest, deformed, faces, np.tile([1.0, 0.0, 0.0], (2, 1)))
+    diagonal = directional_stretch(rest, deformed, faces, np.tile([1.0, 1.0, 0.0], (2, 1)) / np.sqrt(2))
+    np.testing.assert_allclose(along, 1.3, rtol=1e-12)
+    np.testing.assert_allclose(across, 1.0, rtol=1e-12)
+    np.testing.assert_allclose(diagonal, np.hypot(1.0, 1.3) / np.sqrt(2), rtol=1e-12)
+    normal = directional_stretch(rest, deformed, faces, np.tile([0.0, 0.0, 1.0], (2, 1)))
+    assert np.isnan(normal).all()  # a line normal to the skin has no stretch on it
+
+
+def test_stiffness_rows_read_the_region_moduli_and_the_dermis_is_undefined(tmp_path):
+    materials = load_materials()
+    text = SOURCE + "".join([
+        row("mu", "stiffness", 5.0, 2.0, "kPa", "muscle.shear_modulus.thigh", ""),
+        row("fat", "stiffness", 2.0, 1.0, "kPa", "fat.youngs_modulus.thigh", ""),
+        row("dermis", "stiffness", 100.0, 30.0, "kPa", "skin.youngs_modulus.forearm", ""),
+    ])
+    (tmp_path / "rows.toml").write_text(text)
+    got = {a.row.id: a.answers["elastic"] for a in answer_dataset(load_dataset(tmp_path / "rows.toml"), materials)}
+    muscle, skin = materials.regions["muscle"], materials.regions["skin"]
+    assert got["mu"].value == pytest.approx(muscle.E / (2 * (1 + muscle.nu)) / 1000)
+    assert got["fat"].value == pytest.approx(skin.E / 1000)
+    assert got["dermis"].value is None and "one layer" in got["dermis"].reason
+
+
+def test_validate_writes_one_table_three_ways(tmp_path, capsys):
+    """The skinned surface's posture rows and the material rows: CSV, JSON and the page agree row for row."""
+    text = SOURCE + "".join([
+        row("hip-sit"),
+        row("knee", "skin_strain", 35.0, 5.0, "%", "knee.vertical", 'posture = { "shank.flexion" = 90 }'),
+        row("mu", "stiffness", 5.0, 2.0, "kPa", "muscle.shear_modulus.thigh", ""),
+        row("tights", "pressure", 15.0, 3.0, "mmHg", "calf", ""),
+    ])
+    data = tmp_path / "rows.toml"
+    data.write_text(text)
+    out = tmp_path / "out"
+    assert main(["validate", "--data", str(data), "--surface", "skinned", "--quiet", "--out", str(out)]) == 0
+    assert sorted(p.name for p in out.iterdir()) == ["validation.csv", "validation.json", "validation.md"]
+    doc = json.loads((out / "validation.json").read_text())
+    rows = {r["row"]: r for r in doc["rows"]}
+    assert list(rows) == ["hip-sit", "knee", "mu", "tights"]
+    hip = rows["hip-sit"]
+    assert hip["skinned"] > 0 and hip["z_skinned"] == pytest.approx((hip["skinned"] - 4.0) / 2.0, abs=1e-3)
+    assert 15.0 < rows["knee"]["skinned"] < 60.0  # the skin over the kneecap stretches at 90° of flexion
+    assert rows["tights"]["skinned"] is None and "fabric" in rows["tights"]["undefined_because"]
+    csv_lines = (out / "validation.csv").read_text().splitlines()
+    assert len(csv_lines) == 5 and csv_lines[1].startswith("hip-sit,posture_change,hip_girth")
+    page = (out / "validation.md").read_text()
+    assert "hitogata validate --data" in page and "| hip-sit | hip_girth |" in page and "**demo2001**" in page
+    assert "within 2 SD" in capsys.readouterr().out
+
+
+def test_a_mixed_group_is_the_mean_of_a_female_and_a_male_body(tmp_path):
+    text = SOURCE.replace('sex = "female"', 'sex = "mixed"') + row(
+        "upper", "posture_change", 2.0, 1.0, "cm", "chest_girth", 'posture = { "shoulder.flexion" = 90 }')
+    (tmp_path / "rows.toml").write_text(text)
+    data = load_dataset(tmp_path / "rows.toml")
+    both = answer_dataset(data, surfaces=("skinned",))[0].answers["skinned"].value
+    cache = BodyCache(load_materials())
+    from hitogata.measure.measurements import measure
+    from hitogata.validation.answers import clinical_posture
+
+    values = []
+    for sex in ("female", "male"):
+        body = cache.body(sex, data.sources["demo2001"].subjects)
+        posed = body.poser.pose(clinical=clinical_posture(data.rows[0], body.poser.skeleton.dof_names +
+                                                          ("shoulder_l.flexion", "shoulder_r.flexion"), "test"),
+                                skinning="dqs")
+        values.append(100 * (measure(posed).chest_girth - measure(body).chest_girth))
+    assert both == pytest.approx(np.mean(values), rel=1e-9)
+    assert values[0] != pytest.approx(values[1], rel=1e-3)  # two different bodies
+
+
+def test_the_docs_page_is_the_one_validate_writes():
+    """docs/validation.md is generated: its rows are the shipped set's, in order."""
+    page = (Path(__file__).parents[1] / "docs" / "validation.md").read_text()
+    assert page.startswith("# hitogata beside measured people") and "Generated by `hitogata validate" in page
+    listed = [line.split("|")[1].strip() for line in page.splitlines()
+              if line.startswith("| ") and not line.startswith(("| row", "| kind", "|---"))]
+    rows = [r.id for r in load_dataset().rows]
+    assert [x for x in listed if x in rows] == [r for r in rows if r in listed]
+    assert set(rows) <= set(listed)
