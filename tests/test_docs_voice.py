@@ -23,7 +23,10 @@ DIARY = {
     "a numbered round of work": r"\b(?:sessions?|rounds?|waves?|sprints?|iterations? of work)\s+\d+\b",
     "a round of work": r"\b(?:this|that|last|previous|earlier|next|another)\s+(?:session|wave|sprint)s?\b"
                        r"|\b(?:this|earlier|previous)\s+rounds?\b|\bthe\s+(?:session|round)\s+before\b",
-    "a dated entry": r"\b20\d\d-[01]\d-[0-3]\d\b",
+    "a dated entry": r"\b20\d\d-[01]\d-[0-3]\d\b"
+                     r"|\b(?:Jan|Feb|Mar|Apr|May|Jun|Jul|Aug|Sep|Oct|Nov|Dec)[a-z]*\.? \d{1,2},? 20\d\d\b"
+                     r"|\b\d{1,2} (?:Jan|Feb|Mar|Apr|May|Jun|Jul|Aug|Sep|Oct|Nov|Dec)[a-z]* 20\d\d\b",
+    "a commit of the history": r"\b(?:commit|at|against|before|since)\s+(?=[0-9a-f]*\d)(?=[0-9a-f]*[a-f])[0-9a-f]{7,40}\b",
     "the history of attempts": r"\btried\s+and\s+(?:left|rejected|dropped)\b|\bwhat\s+moved\b|\btried\s+this\s+"
                                r"(?:session|round)\b|\btried\s+on\s+the\s+way\b",
     "an issue number": r"\b(?:issues?|pull\s+requests?|PRs?|tickets?)\s+#?\d+\b|(?<![\w&#/\"'=-])#\d{1,5}\b(?![\w-])",
@@ -57,11 +60,13 @@ def test_the_patterns_find_diary_and_leave_prose_alone():
     for text in ("session 12's run", "measured in round 3", "wave 2 of the work", "rerun 2026-11-23",
                  "Tried and left: a graded lattice", "What moved. The skin", "before issue 15",
                  "the measurements of issue 15", "fixed in #12", "(#7)", "this session, after its changes",
-                 "the round before", "the run before this session"):
+                 "the round before", "the run before this session", "measured 24 November 2026",
+                 "on Nov 24, 2026", "against eabcd71 in the same run", "c7f1e03's solver at commit c7f1e03"):
         assert diary(text), text
     for text in ("shear-wave elastography", "in rounds until nothing changes", "at most 3 rounds",
                  "colour #1b7837", "ISO 8559-1:2017", "## Headings", "the 2 × 2 FᵀF",
-                 "a round trip through BVH", "Session cookies"):
+                 "a round trip through BVH", "Session cookies",
+                 "Gordon et al. 2014", "ISO 2631-1:1997", "sha256 at 0x1f", "against 1e-12"):
         assert not diary(text), text
 
 
