@@ -40,7 +40,7 @@ def test_the_gallery_is_numbered_and_covers_the_library():
     names = sorted(p.name for p in EXAMPLES.glob("[0-9][0-9]_*.py"))
     assert [n[:2] for n in names] == [f"{i:02d}" for i in range(1, len(names) + 1)]
     for topic in ("body", "made_to_measure", "scan_fit", "pose", "elastic_pose_contact", "simulate",
-                  "dynamic_ease", "fit_report", "study"):
+                  "dynamic_ease", "fit_report", "study", "garment_pressure", "motion_capture"):
         assert any(topic in n for n in names), topic
     tutorial = (REPO / "docs" / "tutorial.md").read_text(encoding="utf-8")
     for n in names:
@@ -119,3 +119,19 @@ def test_09_study(tmp_path):
     assert bodies + failed == 6
     assert number(r"across_back_width .* P50 ([\d.]+)", out) > 0  # reaching forward widens the back
     assert (tmp_path / "results" / "percentiles.csv").is_file()
+
+
+def test_10_garment_pressure(tmp_path):
+    out = run_example("10_garment_pressure.py", tmp_path)
+    ankle, calf = (number(rf"{level} +[\d.]+ +([\d.]+) /", out) for level in ("ankle", "calf"))
+    assert ankle > calf  # the same strain on a smaller radius: graduated compression comes free
+    knee_standing, knee_seated = number(r"knee +[\d.]+ +([\d.]+) /", out), number(r"knee .* ([\d.]+) / +[\d.]+\n", out)
+    assert knee_seated > knee_standing  # sitting stretches the garment over the knee
+    assert (tmp_path / "pressure.csv").read_text().count("\n") == 13  # header + 6 levels × 2 postures
+
+
+def test_11_motion_capture(tmp_path):
+    out = run_example("11_motion_capture.py", tmp_path)
+    assert number(r"largest joint-angle difference ([\d.e+-]+)°", out) < 0.01  # the 6-decimal file's round-off
+    assert number(r"read back: (\d+) frames", out) == number(r"reach.bvh: (\d+) frames", out)
+
