@@ -1,5 +1,5 @@
-"""Every link in the docs leads somewhere: relative Markdown links in README.md, CHANGELOG.md and
-docs/ resolve to files of the repository, and every `docs/….md` path the docs, the examples or
+"""Every link in the docs leads somewhere: relative Markdown links in README.md, CHANGELOG.md,
+examples/README.md and docs/ resolve to files of the repository, and every `docs/….md` path the docs, the examples or
 the source's docstrings name exists — so a page moved or renamed is caught, not left to a reader."""
 
 from __future__ import annotations
@@ -13,7 +13,8 @@ DOC_PATH = re.compile(r"\bdocs/[\w./-]+\.md\b")
 
 
 def markdown_files() -> list[Path]:
-    return [REPO / "README.md", REPO / "CHANGELOG.md", *sorted((REPO / "docs").rglob("*.md"))]
+    return [REPO / "README.md", REPO / "CHANGELOG.md", REPO / "examples" / "README.md",
+            *sorted((REPO / "docs").rglob("*.md"))]
 
 
 def test_relative_links_resolve():
