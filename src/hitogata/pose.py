@@ -63,6 +63,7 @@ class PosedBody:
 
     @property
     def muscle_names(self) -> tuple[str, ...]:
+        """The muscles' names, in the order of `muscle_lengths`."""
         return self.muscles.names
 
     @property

@@ -94,7 +94,7 @@ class BodyDynamics:
         """Prepare a body and its elastic model (`hitogata.elastic.build_elastic_model`).
 
         solver: the quasi-statics' class (its constructor's); another is for comparisons
-        (`benchmarks/bench_dynamics.py` runs the solver of an earlier commit this way)."""
+        (`benchmarks/bench_dynamics.py` runs a baseline solver this way)."""
         poser = poser or poser_for(body)
         rig = node_rig(poser, model, skinning)
         held = np.setdiff1d(model.fixed_nodes, joint_nodes(rig.weights, model.elements, model.fixed_nodes))
@@ -121,6 +121,7 @@ class BodyDynamics:
 
     @property
     def n_nodes(self) -> int:
+        """Number of FE nodes (corners and mid-edge nodes) of the elastic model."""
         return len(self.model.points)
 
     @cached_property

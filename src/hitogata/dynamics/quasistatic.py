@@ -39,28 +39,22 @@ go), each projection capped at STEP_CAP per node (a flat element's
 linearisation is poor), then the regions' volumes restored exactly. The
 few elements that deep creases leave below the floor after that are lifted
 by moving single nodes (`untangle`). A pose with no such element costs two
-volume checks more than before. The repair steps also go on converging the
-whole body (handing the untangler the elements after three repair steps
-that leave no fewer of them raised the knee at 130°'s skin distortion from
-0.115 to 0.127, above LBS's 0.120), so they are Anderson-accelerated too,
-the history restarted whenever the held set changes, and stop when a step
-moves no node by more than the tolerance: the creased pose of
-`benchmarks/bench_dynamics.py` (one element stuck at 1.98 % of its rest
-volume) took all 30 plain repair steps, each moving the body less than the
-last by a sixth; accelerated, 7 steps end within 0.04 mm of that answer.
+volume checks. The repair steps also go on converging the whole body, so
+they are Anderson-accelerated too, the history restarted whenever the held
+set changes, and stop when a step moves no node by more than the tolerance
+(docs/decisions/0011-quasi-statics-floor-repairs-accelerated.md).
 
 The solve runs on the elements' corner (linear) mesh: the correction is
 smooth, the shear-only energy does not lock, and it is ~10x cheaper than on
 the quadratic mesh; the dynamics lift it to the mid-edge nodes.
 
-Speed (whole default female body, 11,024 elements, 2,662 free nodes, one CPU
-thread): a local/global step costs ~9 ms — the deformation gradients and the
-global step's right side are fixed sparse maps of the positions and the
-rotations, the rotations are extracted on component arrays
-(`rotations.extract_rotations`), the volumes and their gradients too
-(`volumes`), and the factor's triangular solves run with BLAS held to one
-thread (with two, a 9-column solve took 12 ms instead of 1.2 ms on this
-busy two-core machine). docs/scenarios.md has the per-pose figures.
+Speed: the deformation gradients and the global step's right side are
+fixed sparse maps of the positions and the rotations, the rotations are
+extracted on component arrays (`rotations.extract_rotations`), the volumes
+and their gradients too (`volumes`), and the factor's triangular solves run
+with BLAS held to one thread (docs/decisions/0008-blas-on-one-thread-in-small-solves.md).
+A local/global step on the whole default body costs ~9 ms of one core;
+docs/scenarios.md has the per-pose figures.
 """
 
 from __future__ import annotations

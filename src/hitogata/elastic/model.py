@@ -100,10 +100,12 @@ class ElasticModel(ElasticSystem):
 
     @property
     def region_names(self) -> tuple[str, ...]:
+        """The tissue regions' names, by the index `region` holds ("bone", "viscera", "muscle", "skin")."""
         return self.volume.region_names
 
     @property
     def muscle_names(self) -> tuple[str, ...]:
+        """The named muscle regions of the volume model, by index."""
         return self.volume.muscle_names
 
     @property

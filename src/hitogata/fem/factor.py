@@ -11,9 +11,9 @@ and solving with the factors. Methods:
 - ``"pardiso"``: Intel MKL PARDISO through the optional ``pypardiso`` package
   (Cholesky, multithreaded), only if pypardiso and mkl (x86-64, ~0.9 GB) are
   installed. Its factorization is 3-10x faster still, but each solve is no
-  faster than SuperLU's and its threads suffer on a busy machine, so it wins
-  only where factoring dominates (large static problems); eigen-solves,
-  which need ~3.5 solves per mode, measured no faster end to end here.
+  faster than SuperLU's and its threads wait on each other when the cores are
+  shared, so it wins only where factoring dominates (large static problems),
+  not in eigen-solves, which need ~3.5 solves per mode.
 - ``"superlu"``: scipy's default (SuperLU with COLAMD, partial pivoting),
   what ``scipy.sparse.linalg.eigsh(sigma=...)`` uses: the baseline.
 

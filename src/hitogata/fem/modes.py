@@ -59,8 +59,8 @@ def solve_modes(K: sp.spmatrix, M: sp.spmatrix, n_modes: int, fixed_nodes: np.nd
     eigenvalues' error is of order tol^2, far below any modelling error.
     blas_threads: OpenBLAS threads while ARPACK runs (needs threadpoolctl;
     None leaves them alone). ARPACK's work is memory-bound matrix-vector BLAS,
-    which extra threads do not speed up but, on a busy machine, slow down
-    several-fold (measured: 6.7 s vs 0.7 s of ARPACK time for 40 modes at 33k dof).
+    which extra threads do not speed up but, when the cores are shared, slow
+    down several-fold (docs/decisions/0008-blas-on-one-thread-in-small-solves.md).
     """
     K = sp.csr_matrix(K)
     M = sp.csr_matrix(M)
@@ -116,6 +116,5 @@ def _openblas_limit(threads: int | None):
     except ImportError:
         return nullcontext()
     # selected by internal API: a limits dict keyed "openblas" (not a user API, file path or
-    # prefix) limited nothing, and ARPACK ran on two spinning threads (40 modes, 53k dof: 11.8 s
-    # CPU instead of 6.1 s, and twice the wall time when another process holds the other core)
+    # prefix) limits nothing (docs/decisions/0008-blas-on-one-thread-in-small-solves.md)
     return ThreadpoolController().select(internal_api="openblas").limit(limits=threads)

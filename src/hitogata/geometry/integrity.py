@@ -19,9 +19,9 @@ leaves behind:
 The self-intersection broad phase runs per frame over size classes of the
 triangles' bounding boxes (a k-d tree per class, Chebyshev metric), so the
 tiny triangles of the face and hands and the large ones of the trunk each
-meet only their own neighbourhood: 0.30 s for the 24k-triangle body where
-`mesh_checks`' uniform grid took 0.48 s (same run, loaded machine), less
-with a reference (only triangles off it count). The exact narrow phase is
+meet only their own neighbourhood: about 0.3 s a frame for the 24k-triangle
+body, under two thirds of one uniform grid's time, less with a reference
+(only triangles off it count). The exact narrow phase is
 `mesh_checks`' triangle–triangle test.
 """
 

@@ -90,11 +90,9 @@ class _Level:
 COARSE = _Level(TILTS, SHRINK, FALLOFF, None)
 # the fine skin, after the coarse: its triangles turn at most 90° from the surface under them (more is skin
 # folded over itself), may shrink to 2 % of their area (skin takes compression in wrinkles), and its slide
-# dies away within 2 cm (it spreads what the coarse slide left over a few of its triangles). Measured on the
-# male groin at hip flexion 120°: shrinking to a fifth at most, or a 4 cm tether, the slide folds the skin
-# there (crossings) and stops 1–2.5 cm² short. Skin whose slide crosses other skin is tied 30 times as hard
-# to where it lay, not held whole: held whole, the groin of a male 195 cm, BMI 35 at hip flexion kept
-# 25.7 cm² beyond +100 % (165 vertices held); tied harder, 1.0 cm², crossing nothing
+# dies away within 2 cm (it spreads what the coarse slide left over a few of its triangles); skin whose slide
+# crosses other skin is tied 30 times as hard to where it lay, not held whole (the numbers behind each:
+# docs/decisions/0007-the-fine-skin-slides-on-its-own.md)
 FINE = _Level((0.0,), 0.02, 0.02, 30.0)
 
 

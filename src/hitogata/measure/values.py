@@ -39,6 +39,7 @@ class Measurements:
 
     @staticmethod
     def names() -> tuple[str, ...]:
+        """The measurements' names, in the table's order."""
         return tuple(f.name for f in fields(Measurements))
 
     def get(self, name: str) -> float:
@@ -47,6 +48,7 @@ class Measurements:
         return float(getattr(self, name))
 
     def as_dict(self) -> dict[str, float]:
+        """Every measurement by name, metres (stature and lengths too)."""
         return {k: float(v) for k, v in asdict(self).items()}
 
 

@@ -4,9 +4,10 @@ Faces are drawn into an image with a depth buffer (`raster`), coloured by a
 value per face (e.g. skin stretch) and shaded by their tilt to the viewer so
 the shape reads; lines (tapes) are drawn on a finer layer and reduced, so
 they are smooth. Every view has the same scale. The layout follows
-matplotlib's defaults (the figures' earlier look) without importing
-matplotlib, which took longer to load than the whole picture now takes to
-draw; only a colour map (the strain heat map's) is looked up in matplotlib.
+matplotlib's defaults without importing matplotlib, which takes longer to
+load than the whole picture takes to draw
+(docs/decisions/0017-pictures-without-matplotlib.md); only a colour map
+(the strain heat map's) is looked up in matplotlib.
 """
 
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""The extreme poses a garment is judged at (issue 12): each joint at the end of its clinical range.
+"""The extreme poses a garment is judged at: each joint at the end of its clinical range.
 
 Clinical angles (radians, `Poser.pose(clinical=...)`) by pose name: elbow
 150°, knee 135°, hip flexion 120°, both hips and knees at 90° (seated), hip
