@@ -45,7 +45,7 @@ from scipy.spatial import cKDTree
 from hitogata.dynamics.contact import skin_contact
 from hitogata.dynamics.motion_contact import MotionContact, resolve_frames
 from hitogata.dynamics.quasistatic import QuasiStatic, WarmStart, rotate, unrotate
-from hitogata.dynamics.rigging import NodeRig, joint_nodes, node_rig
+from hitogata.dynamics.rigging import NodeRig, anchored, joint_nodes, node_rig
 from hitogata.dynamics.timeline import RootTrack, Timeline
 from hitogata.errors import HitogataError
 from hitogata.fem import advance, lumped_masses, modal_step
@@ -97,7 +97,8 @@ class BodyDynamics:
         (`benchmarks/bench_dynamics.py` runs a baseline solver this way)."""
         poser = poser or poser_for(body)
         rig = node_rig(poser, model, skinning)
-        held = np.setdiff1d(model.fixed_nodes, joint_nodes(rig.weights, model.elements, model.fixed_nodes))
+        held = anchored(np.setdiff1d(model.fixed_nodes, joint_nodes(rig.weights, model.elements, model.fixed_nodes)),
+                        model.fixed_nodes, model.elements[:, :4])
         soft = tuple(model.region_names.index(r) for r in SOFT_REGIONS if r in model.region_names)
         soft = tuple(r for r in soft if np.any(model.region == r))
         corners = len(model.volume.nodes)

@@ -31,6 +31,7 @@ from dataclasses import dataclass
 
 import numpy as np
 import scipy.sparse as sp
+from scipy.sparse.csgraph import connected_components
 import scipy.sparse.linalg as sla
 from scipy.spatial import cKDTree
 
@@ -162,6 +163,20 @@ def joint_nodes(weights: sp.csr_matrix, elements: np.ndarray, fixed_nodes: np.nd
     low = np.where(parts >= 0, parts, high[:, None]).min(axis=1)
     mixed = corners[low != high]
     return np.unique(mixed[rigid[mixed]])
+
+
+def anchored(held: np.ndarray, fixed_nodes: np.ndarray, corners: np.ndarray) -> np.ndarray:
+    """`held` plus the bone nodes of every piece of mesh (corners joined through elements) that holds none
+    of them: a piece hanging on its joints' nodes alone (a toe or a fingertip at a coarse size, once those
+    settle freely) would float, and the quasi-statics would have no equilibrium for it."""
+    n = int(corners.max()) + 1
+    pairs = np.stack([np.repeat(corners[:, :1], corners.shape[1], axis=1).ravel(), corners.ravel()])
+    graph = sp.csr_matrix((np.ones(pairs.shape[1], dtype=np.int8), (pairs[0], pairs[1])), shape=(n, n))
+    _, piece = connected_components(graph, directed=False)
+    fixed = np.asarray(fixed_nodes)
+    fixed = fixed[fixed < n]
+    bare = np.setdiff1d(piece[fixed], piece[held[held < n]])
+    return np.union1d(held, fixed[np.isin(piece[fixed], bare)])
 
 
 def node_rig(poser: Poser, model: ElasticModel, method: Skinning = "dqs", bind_skin: bool = True) -> NodeRig:

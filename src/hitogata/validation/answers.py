@@ -76,7 +76,7 @@ class BodyCache:
     resonant: set[tuple] = field(default_factory=set)
     bodies: dict[tuple, Body | HitogataError] = field(default_factory=dict)
     modes: dict[int, int] = field(default_factory=dict)  # id(body) → modes its elastic model is built with
-    postures: dict[tuple, tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]] = field(default_factory=dict)
+    postures: dict[tuple, tuple[np.ndarray, np.ndarray]] = field(default_factory=dict)
 
     def body(self, sex: str, subjects: Subjects) -> Body:
         key = (sex, subjects)
@@ -163,7 +163,9 @@ def _one(row: Row, body: Body, surface: str, cache: BodyCache) -> Answer:
         return _stiffness(row, cache.materials)
     if row.kind in ("frequency", "damping"):
         return _resonance(row, body, cache)
-    skin, joints, rest_skin, rest_joints = _posture(row, body, surface, cache)
+    if row.kind == "pressure" and _fabric(row) is None:
+        return Answer.undefined("the study gives no fabric tension: the pressure cannot be computed")
+    skin, joints = _posture(row, body, surface, cache)
     if row.kind == "posture_change":
         return _posture_change(row, body, skin, joints)
     if row.kind == "skin_strain":
@@ -171,9 +173,8 @@ def _one(row: Row, body: Body, surface: str, cache: BodyCache) -> Answer:
     return _pressure(row, body, skin, joints)
 
 
-def _posture(row: Row, body: Body, surface: str, cache: BodyCache
-             ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-    """(skin, rig joints) of the body in the row's posture on a surface, and at rest; solved once."""
+def _posture(row: Row, body: Body, surface: str, cache: BodyCache) -> tuple[np.ndarray, np.ndarray]:
+    """(skin, rig joints) of the body in the row's posture on a surface; each posture solved once."""
     poser = body.poser
     from hitogata.skeleton.shoulder import channel_names
 
@@ -189,7 +190,7 @@ def _posture(row: Row, body: Body, surface: str, cache: BodyCache
 
             held = elastic_pose(cache.dynamics(body), clinical=clinical, contact=True)
             posed, skin = held.posed, held.vertices
-        cache.postures[key] = (skin, posed.rig_joints, body.vertices, body.rig.heads)
+        cache.postures[key] = (skin, posed.rig_joints)
     return cache.postures[key]
 
 
@@ -271,16 +272,23 @@ def _resonance(row: Row, body: Body, cache: BodyCache) -> Answer:
     return Answer(found.damping_ratio * 2.0 * math.pi * found.frequency)  # decay rate ζω (1/s)
 
 
-def _pressure(row: Row, body: Body, skin: np.ndarray, joints: np.ndarray) -> Answer:
+def _fabric(row: Row):
+    """The pressure row's fabric (`garment.fabric.Fabric`), or None where the study gives no tension."""
     from hitogata.garment.fabric import Fabric
-    from hitogata.garment.pressure import MMHG, Garment, garment_pressure
 
     spec = row.garment
     if spec is not None and spec.curve is not None:
-        fabric = Fabric(tuple(p[0] for p in spec.curve), tuple(p[1] for p in spec.curve), "the study's curve")
-    elif spec is not None and spec.modulus is not None:
-        fabric = Fabric.linear(spec.modulus)
-    else:
+        return Fabric(tuple(p[0] for p in spec.curve), tuple(p[1] for p in spec.curve), "the study's curve")
+    if spec is not None and spec.modulus is not None:
+        return Fabric.linear(spec.modulus)
+    return None
+
+
+def _pressure(row: Row, body: Body, skin: np.ndarray, joints: np.ndarray) -> Answer:
+    from hitogata.garment.pressure import MMHG, Garment, garment_pressure
+
+    spec, fabric = row.garment, _fabric(row)
+    if spec is None or fabric is None:
         return Answer.undefined("the study gives no fabric tension: the pressure cannot be computed")
     garment = (Garment(ease=spec.ease, levels=(row.quantity,)) if spec.ease is not None
                else Garment(relaxed={row.quantity: float(spec.relaxed or 0.0)}))
