@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import json
+
 import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
@@ -46,7 +48,7 @@ def test_reach_forward_widens_the_back_and_narrows_the_front(request, sex, back,
     table = ease_csv([ease])
     assert table.splitlines()[0].startswith("motion,measurement,standing_cm,increase_cm")
     assert len(table.splitlines()) == 1 + 2 * len(NAMES)
-    assert '"all"' in ease_json([ease]) and overall([ease])[0]["increase_in"] == "reach_forward"
+    assert '"all"' in ease_json([ease]) and overall([ease])[NAMES.index("chest_girth")]["increase_in"] == "reach_forward"
     assert ease_plot([ease]).startswith(b"\x89PNG")
 
 
@@ -93,3 +95,19 @@ def test_ease_command_checks_the_surface_before_work(tmp_path, capsys):
     assert main(["fit-report", "--surface", "elastic", "--skinning", "lbs", "--out", str(tmp_path / "r")]) == 2
     assert "--surface elastic: the elastic body stands on dual-quaternion skinning" in capsys.readouterr().err
     assert not (tmp_path / "e").exists() and not (tmp_path / "r").exists()
+
+
+def test_heights_are_undefined_in_a_motion_never_a_number(female):
+    """An inside leg while touching the toes has no meaning: the tables say so instead of giving -72 cm."""
+    clip = scenario_clip(load_scenario(shipped_scenarios()["mobility_toe_touch"]), poser_for(female))
+    ease = motion_ease(female, "toe_touch", clip, rate=1.0)
+    for row in [*ease.largest(), *overall([ease])]:
+        if row["measurement"] in HEIGHTS:
+            assert row["increase_cm"] is None and row["decrease_cm"] is None and "standing" in row["undefined"]
+        else:
+            assert row["increase_cm"] is not None and row["decrease_cm"] is not None
+    lines = [line for line in ease_csv([ease]).splitlines() if ",inside_leg," in line]
+    assert len(lines) == 2 and all(",undefined," in line for line in lines)
+    doc = json.loads(ease_json([ease]))
+    k = doc["measurements"].index("inside_leg")
+    assert all(row[k] is None for row in doc["motions"]["toe_touch"]["values_cm"])

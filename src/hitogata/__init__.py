@@ -61,6 +61,11 @@ _EXPORTS: dict[str, str] = {
     "write_motion_glb": "hitogata.dynamics.files",
     "write_pvd": "hitogata.dynamics.files",
     "write_sequence": "hitogata.dynamics.files",
+    # beside measured people
+    "load_dataset": "hitogata.validation.dataset",
+    "answer_dataset": "hitogata.validation.answers",
+    "compare": "hitogata.validation.table",
+    "identify": "hitogata.validation.identify",
     # errors
     "HitogataError": "hitogata.errors",
 }
@@ -68,14 +73,18 @@ _EXPORTS: dict[str, str] = {
 # Spelled out for linters and type checkers; tests/test_front_door.py checks it matches _EXPORTS.
 __all__ = [
     "__version__",
+    "answer_dataset",
     "Body",
     "BodyDynamics",
     "body_to_measure",
     "build_elastic_model",
+    "compare",
     "default_body",
     "ElasticModel",
     "HitogataError",
+    "identify",
     "Keyframe",
+    "load_dataset",
     "load_materials",
     "load_scenario",
     "Materials",
@@ -118,6 +127,10 @@ if TYPE_CHECKING:
     from hitogata.made_to_measure import body_to_measure
     from hitogata.measure.measurements import measure
     from hitogata.measure.values import Measurements
+    from hitogata.validation.answers import answer_dataset
+    from hitogata.validation.dataset import load_dataset
+    from hitogata.validation.identify import identify
+    from hitogata.validation.table import compare
     from hitogata.measure.strain import SkinStrain, skin_strain
     from hitogata.measure.zones import zone_strains
     from hitogata.pose import PosedBody, Poser, pose_body

@@ -122,7 +122,9 @@ def run(args: argparse.Namespace) -> None:
                                                                      f"{body.mass:.0f} kg"))
     print(f"{out}/: {', '.join([*written, 'ease.png'])} ({len(answers.ease)} motions)")
     for row in overall(answers.ease):
-        if row["increase_cm"] > 0.05 or row["decrease_cm"] < -0.05:
+        if row["increase_cm"] is None:
+            print(f"  {row['measurement']:20s} {row['standing_cm']:6.1f} cm  undefined in motion (a height)")
+        elif row["increase_cm"] > 0.05 or row["decrease_cm"] < -0.05:
             print(f"  {row['measurement']:20s} {row['standing_cm']:6.1f} cm  +{row['increase_cm']:5.1f} "
                   f"({row['increase_in']})  {row['decrease_cm']:6.1f} ({row['decrease_in']})")
 

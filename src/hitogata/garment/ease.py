@@ -33,7 +33,10 @@ from hitogata.pose import poser_for
 # raised the tape loops round the shoulder (+33 cm reaching forward), which is no armhole's need.
 STANDING_ONLY = ("armscye_girth",)
 NAMES = tuple(n for n in MEASUREMENT_NAMES if n not in STANDING_ONLY)
-HEIGHTS = ("stature", "inside_leg")  # vertical heights: they change with the posture by definition
+# Heights above the floor (ISO 8559-1 takes them standing upright): they have no meaning once the body bends,
+# sits or strides (an inside leg while touching the toes), so dynamic ease reports them as undefined.
+HEIGHTS = ("stature", "inside_leg")
+UNDEFINED = "a height above the floor: ISO 8559-1 takes it standing upright, it has no meaning in a motion"
 Surface = Callable[[np.ndarray, np.ndarray], np.ndarray]  # (F, D) angles, (F, 4, 4) root → (F, V, 3) vertices
 
 
@@ -52,12 +55,18 @@ class MotionEase:
         return self.values - self.standing
 
     def largest(self) -> list[dict]:
-        """Per measurement: standing, largest increase and decrease (cm, %) and when (s)."""
+        """Per measurement: standing, largest increase and decrease (cm, %) and when (s); None where the
+        measurement has no meaning in a motion (`HEIGHTS`), with the reason in 'undefined'."""
         rows = []
         for m, name in enumerate(NAMES):
+            standing = self.standing[m]
+            if name in HEIGHTS:
+                rows.append({"motion": self.motion, "measurement": name, "standing_cm": 100 * standing,
+                             **{k: None for k in ("increase_cm", "increase_pct", "increase_at_s", "decrease_cm",
+                                                  "decrease_pct", "decrease_at_s")}, "undefined": UNDEFINED})
+                continue
             change = self.change[:, m]
             up, down = int(np.nanargmax(change)), int(np.nanargmin(change))
-            standing = self.standing[m]
             rows.append({"motion": self.motion, "measurement": name, "standing_cm": 100 * standing,
                          "increase_cm": max(100 * change[up], 0.0),
                          "increase_pct": max(100 * change[up] / standing, 0.0),
@@ -137,11 +146,17 @@ def dynamic_ease(body: Body, motions: Mapping[str, MotionClip], surface: Surface
 
 
 def overall(results: list[MotionEase]) -> list[dict]:
-    """Per measurement over all motions: the largest increase and decrease and the motion of each."""
+    """Per measurement over all motions: the largest increase and decrease and the motion of each (None, with
+    the reason in 'undefined', where the measurement has no meaning in a motion)."""
     rows = [r for e in results for r in e.largest()]
     out = []
     for name in NAMES:
         mine = [r for r in rows if r["measurement"] == name]
+        if name in HEIGHTS:
+            out.append({"motion": "all", "measurement": name, "standing_cm": mine[0]["standing_cm"],
+                        **{k: None for k in ("increase_cm", "increase_pct", "increase_in", "decrease_cm",
+                                             "decrease_pct", "decrease_in")}, "undefined": UNDEFINED})
+            continue
         up = max(mine, key=lambda r: r["increase_cm"])
         down = min(mine, key=lambda r: r["decrease_cm"])
         out.append({"motion": "all", "measurement": name, "standing_cm": up["standing_cm"],
@@ -166,9 +181,12 @@ def ease_csv(results: list[MotionEase]) -> str:
 
 def ease_json(results: list[MotionEase]) -> str:
     """The same table as JSON, with the sampled series (cm) for plots."""
+    heights = [NAMES.index(n) for n in HEIGHTS]
     doc = {"units": {"lengths": "cm", "times": "s"}, "measurements": list(NAMES),
+           "undefined": {n: UNDEFINED for n in HEIGHTS},
            "motions": {e.motion: {"times_s": e.times.round(4).tolist(),
-                                  "values_cm": (100 * e.values).round(3).tolist(),
+                                  "values_cm": [[None if k in heights else v for k, v in enumerate(row)]
+                                                for row in (100 * e.values).round(3).tolist()],
                                   "standing_cm": (100 * e.standing).round(3).tolist(),
                                   "largest": e.largest()} for e in results},
            "all": overall(results)}
@@ -176,4 +194,6 @@ def ease_json(results: list[MotionEase]) -> str:
 
 
 def _cell(value) -> str:
+    if value is None:
+        return "undefined"
     return f"{value:.4g}" if isinstance(value, float) else str(value)

@@ -72,10 +72,10 @@ def body_zones(body: Body) -> dict[str, np.ndarray]:
 
 def find_zones(body: Body) -> dict[str, np.ndarray]:
     """Face indices of each zone, found on the body's rest shape."""
-    return {name: _zone_faces(body, zone) for name, zone in ZONES.items()}
+    return {name: zone_faces(body, zone) for name, zone in ZONES.items()}
 
 
-def _zone_faces(body: Body, zone: JointZone | BackZone) -> np.ndarray:
+def zone_faces(body: Body, zone: JointZone | BackZone) -> np.ndarray:
     rig, v = body.rig, body.vertices
     columns = [rig.index(bone) for bone in zone.bones]
     weight = np.asarray(body.skin_weights[:, columns].sum(axis=1)).ravel()

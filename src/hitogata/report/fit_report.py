@@ -66,19 +66,23 @@ def label(name: str) -> str:
     return name.replace("_", " ")
 
 
-def _signed(x: float) -> str:
-    return f"{round(x, 1) + 0.0:+.1f}"  # + 0.0: no "-0.0"
+def _signed(x: float | None) -> str:
+    return "undefined" if x is None else f"{round(x, 1) + 0.0:+.1f}"  # + 0.0: no "-0.0"
 
 
-def _fixed(x: float) -> str:
-    return f"{round(x, 1) + 0.0:.1f}"
+def _fixed(x: float | None) -> str:
+    return "undefined" if x is None else f"{round(x, 1) + 0.0:.1f}"
+
+
+def _at(x: float | None) -> str:
+    return "—" if x is None else f"{x:.2f}"
 
 
 def ease_rows(ease: MotionEase) -> list[list[object]]:
     """One motion's ease table: standing, largest increase and decrease (cm, %, when)."""
     return [[label(r["measurement"]), _fixed(r["standing_cm"]), _signed(r["increase_cm"]),
-             _fixed(r["increase_pct"]), f"{r['increase_at_s']:.2f}", _signed(r["decrease_cm"]),
-             _fixed(r["decrease_pct"]), f"{r['decrease_at_s']:.2f}"] for r in ease.largest()]
+             _fixed(r["increase_pct"]), _at(r["increase_at_s"]), _signed(r["decrease_cm"]),
+             _fixed(r["decrease_pct"]), _at(r["decrease_at_s"])] for r in ease.largest()]
 
 
 EASE_COLUMNS = ("measurement", "standing cm", "largest increase cm", "%", "at s", "largest decrease cm", "%", "at s")
@@ -165,11 +169,12 @@ def motion_section(answers: FitAnswers, ease: MotionEase, stretch: ZoneStretch,
 
 def overall_section(answers: FitAnswers) -> str:
     rows = [[label(r["measurement"]), _fixed(r["standing_cm"]), _signed(r["increase_cm"]), _fixed(r["increase_pct"]),
-             label(r["increase_in"]), _signed(r["decrease_cm"]), _fixed(r["decrease_pct"]), label(r["decrease_in"])]
-            for r in overall(answers.ease)]
+             label(r["increase_in"] or "—"), _signed(r["decrease_cm"]), _fixed(r["decrease_pct"]),
+             label(r["decrease_in"] or "—")] for r in overall(answers.ease)]
     columns = ("measurement", "standing cm", "largest increase cm", "%", "in", "largest decrease cm", "%", "in")
-    note = h.paragraph(f"Heights ({', '.join(map(label, HEIGHTS))}) change with the posture by definition; the plot "
-                       "leaves them out.", "note")
+    note = h.paragraph(f"Heights ({', '.join(map(label, HEIGHTS))}) are undefined in a motion: ISO 8559-1 takes "
+                       "them standing upright, and a height has no meaning once the body bends, sits or strides.",
+                       "note")
     return h.section("all-motions", "all motions", [
         h.table(columns, rows, id="ease-all", caption="dynamic ease over all motions"),
         note, h.image(ease_plot(answers.ease), "largest change of each girth and length per motion")])

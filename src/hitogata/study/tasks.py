@@ -43,7 +43,6 @@ ROWS_VERSION = 3  # part of every task's hash: bump when a row's meaning changes
 # numpy depends on the memory alignment of its array (SIMD blocks), so the same task gave a thigh
 # girth of 0.5735926758767658 m in one process and ...657 in another; rounded, the bits agree.
 DECIMALS = 9
-HEIGHTS = ("stature", "inside_leg")
 
 # Row columns and their kinds: "str", "float". Lengths in m, strains in %, times in s.
 COLUMNS: dict[str, str] = {
@@ -226,7 +225,7 @@ def dynamic_ease(standing: float, values: np.ndarray) -> tuple[float, float]:
 
 def task_rows(task: Task) -> dict[str, list]:
     """The rows of one task: one per measurement and one per zone, as wanted by `task.outputs`."""
-    from hitogata.garment.ease import STANDING_ONLY
+    from hitogata.garment.ease import HEIGHTS, STANDING_ONLY
     from hitogata.measure.axes import JointSet
     from hitogata.measure.landmarks import body_landmarks
     from hitogata.measure.measurements import GIRTHS, MEASUREMENT_NAMES, measure_surface, tape_skin
@@ -267,7 +266,8 @@ def task_rows(task: Task) -> dict[str, list]:
         for i, name in enumerate(MEASUREMENT_NAMES):
             series, standing = values[:, i], prep.standing[name]
             kind = "girth" if name in GIRTHS else "height" if name in HEIGHTS else "length"
-            increase, decrease = dynamic_ease(standing, series) if ease and name not in STANDING_ONLY else (nan, nan)
+            undefined = name in STANDING_ONLY or name in HEIGHTS  # no meaning in a motion: nan, never a number
+            increase, decrease = dynamic_ease(standing, series) if ease and not undefined else (nan, nan)
             finite = np.isfinite(series).any()
             add(kind=kind, name=name, standing_m=standing,
                 low_m=float(np.nanmin(series)) if finite else nan, high_m=float(np.nanmax(series)) if finite else nan,

@@ -34,6 +34,7 @@ from hitogata.body import Body, default_measurements
 from hitogata.elastic.materials import Materials, load_materials
 from hitogata.errors import HitogataError
 from hitogata.geometry.normals import vertex_normals
+from hitogata.measure.zones import BackZone, JointZone
 from hitogata.names import resolve_dofs
 from hitogata.validation.dataset import Dataset, Row, Source, Subjects
 
@@ -41,6 +42,9 @@ SURFACES = ("skinned", "elastic")
 MODEL_ELEMENT_SIZE = 40.0  # mm: the whole body's lattice, as a held posture's (`dynamics.single_pose`)
 RESONANCE_MODES = 60  # the lowest modes searched for a region's resonance (2-8 Hz on the default bodies)
 BOTH_SEXES = ("female", "male")
+# Skin the studies mark that no garment zone covers: the lumbar skin of the Schober test (backward-facing,
+# mainly following the lumbar vertebrae).
+EXTRA_ZONES = {"lower_back": BackZone(("spine04", "spine05"), facing=0.5)}
 # The side of a flexing joint whose skin stretches (rest pose, unit vector): the kneecap faces forward, the
 # point of the elbow backward (the arms hang at the sides).
 EXTENSOR_SIDE = {"knee": np.array([0.0, 0.0, 1.0]), "elbow": np.array([0.0, 0.0, -1.0])}
@@ -106,13 +110,36 @@ def _build_body(sex: str, subjects: Subjects) -> Body:
                                   subjects.mass or mass)
 
 
-def clinical_posture(row: Row, known: tuple[str, ...], where: str) -> dict[str, float]:
-    """The row's posture as clinical angles (radians) by DOF name, names resolved as the command line's."""
+SPINE = {"lumbar": ("lumbar_",), "thoracic": ("thoracic_",), "spine": ("lumbar_", "thoracic_")}
+
+
+def clinical_posture(row: Row, known: tuple[str, ...], where: str, skeleton=None) -> dict[str, float]:
+    """The row's posture as clinical angles (radians) by DOF name, names resolved as the command line's.
+    'lumbar.flexion', 'thoracic.flexion' and 'spine.flexion' (both) bend a stretch of the spine by the
+    angle given, shared among its vertebrae in proportion to their ranges (a Schober test's forward bend)."""
     out: dict[str, float] = {}
     for name, degrees in row.posture.items():
-        for dof in resolve_dofs(name, known, where):
-            out[dof] = math.radians(degrees)
+        part, _, dof = name.partition(".")
+        if part in SPINE and skeleton is not None:
+            out.update(_spine(skeleton, SPINE[part], dof, math.radians(degrees), f"{where}: {name}"))
+            continue
+        for resolved in resolve_dofs(name, known, where):
+            out[resolved] = math.radians(degrees)
     return out
+
+
+def _spine(skeleton, prefixes: tuple[str, ...], dof: str, angle: float, where: str) -> dict[str, float]:
+    """Clinical angles of the vertebrae's `dof` summing to `angle`, each in proportion to its range."""
+    names = [n for n in skeleton.dof_names if n.startswith(prefixes) and n.endswith(f".{dof}")]
+    if not names:
+        raise HitogataError(f"{where}: the spine has no {dof!r}; allowed flexion, lateral_bending")
+    reach = np.array([skeleton.upper[skeleton.dof_index(n)] if angle >= 0 else -skeleton.lower[skeleton.dof_index(n)]
+                      for n in names])
+    if abs(angle) > reach.sum() + 1e-9:
+        raise HitogataError(f"{where} = {math.degrees(angle):.1f}°: that stretch of the spine allows "
+                            f"{math.degrees(reach.sum()):.1f}° at most")
+    share = angle * reach / reach.sum()
+    return {n: float(skeleton.rest[skeleton.dof_index(n)] + a) for n, a in zip(names, share)}
 
 
 def answer_dataset(dataset: Dataset, materials: Materials | None = None, surfaces: Iterable[str] = SURFACES,
@@ -179,7 +206,7 @@ def _posture(row: Row, body: Body, surface: str, cache: BodyCache) -> tuple[np.n
     from hitogata.skeleton.shoulder import channel_names
 
     known = poser.skeleton.dof_names + channel_names(poser.skeleton)
-    clinical = clinical_posture(row, known, f"row {row.id!r}: posture")
+    clinical = clinical_posture(row, known, f"row {row.id!r}: posture", poser.skeleton)
     key = (id(body), surface, tuple(sorted(clinical.items())))
     if key not in cache.postures:
         if surface == "skinned" or not clinical:
@@ -207,18 +234,23 @@ def _posture_change(row: Row, body: Body, skin: np.ndarray, joints: np.ndarray) 
 
 def _skin_strain(row: Row, body: Body, skin: np.ndarray) -> Answer:
     from hitogata.measure.strain import directional_stretch, skin_strain
-    from hitogata.measure.zones import ZONES, body_zones
+    from hitogata.measure.zones import ZONES, body_zones, zone_faces
 
     zone, _, direction = row.quantity.partition(".")
-    name = zone if zone in ZONES else f"{zone}_right"
-    faces = body.faces[body_zones(body)[name]]
+    spec: JointZone | BackZone
+    if zone in EXTRA_ZONES:
+        spec = EXTRA_ZONES[zone]
+        faces = body.faces[zone_faces(body, spec)]
+    else:
+        name = zone if zone in ZONES else f"{zone}_right"
+        spec, faces = ZONES[name], body.faces[body_zones(body)[name]]
     if zone in EXTENSOR_SIDE:  # the skin over the kneecap or the point of the elbow, where the studies mark it
         faces = faces[vertex_normals(body.vertices, body.faces)[faces].mean(axis=1) @ EXTENSOR_SIDE[zone] > 0.5]
     if direction == "area":
         strain = skin_strain(body.vertices, skin, faces)
         weights = strain.rest_area
         return Answer(100.0 * float(np.sum(weights * strain.area_ratio) / weights.sum() - 1.0))
-    directions, weights = _zone_directions(body, faces, ZONES[name], direction)
+    directions, weights = _zone_directions(body, faces, spec, direction)
     stretch = directional_stretch(body.vertices, skin, faces, directions)
     good = np.isfinite(stretch)
     return Answer(100.0 * float(np.average(stretch[good] - 1.0, weights=weights[good])))
@@ -227,8 +259,6 @@ def _skin_strain(row: Row, body: Body, skin: np.ndarray) -> Answer:
 def _zone_directions(body: Body, faces: np.ndarray, zone, direction: str) -> tuple[np.ndarray, np.ndarray]:
     """Per face, the rest direction of a line drawn along the limb or trunk ('vertical') or round it
     ('horizontal'), and the face's rest area."""
-    from hitogata.measure.zones import JointZone
-
     tri = body.vertices[faces]
     normal = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
     area = 0.5 * np.linalg.norm(normal, axis=1)
@@ -306,8 +336,10 @@ def reachable(dataset: Dataset, body: Body) -> None:
         if not row.posture:
             continue
         where = f"{dataset.path}: row {row.id!r}: posture"
-        clinical = clinical_posture(row, known, where)
         try:
+            clinical = clinical_posture(row, known, where, poser.skeleton)
             poser.angles(clinical=clinical, on_limit="raise")
         except HitogataError as err:
-            raise HitogataError(f"{where}: {err}; the model cannot reach it") from None
+            text = str(err)
+            raise HitogataError(text if text.startswith(where) else f"{where}: {text}; the model cannot reach it"
+                                ) from None

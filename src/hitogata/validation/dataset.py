@@ -33,7 +33,7 @@ UNITS: Mapping[str, tuple[str, ...]] = MappingProxyType({
     "stiffness": ("kPa",),
     "pressure": ("mmHg",),
 })
-SKIN_ZONES = ("back", "seat", "elbow", "knee", "shoulder")
+SKIN_ZONES = ("back", "lower_back", "seat", "elbow", "knee", "shoulder")
 SKIN_DIRECTIONS = ("vertical", "horizontal", "area")
 SOFT_TISSUE_REGIONS = ("thigh", "calf", "shin", "upper_arm", "forearm", "abdomen", "breast")
 TISSUES = ("muscle", "fat", "skin")
@@ -133,7 +133,9 @@ class Dataset:
                 raise HitogataError(f"row kind {kind!r}: allowed {', '.join(KINDS)}")
         rows = tuple(r for r in self.rows if (not ids or r.id in ids) and (not kinds or r.kind in kinds))
         if not rows:
-            raise HitogataError(f"{self.path}: no row is of the kinds {', '.join(kinds)} and ids {', '.join(ids)}")
+            asked = " and ".join(x for x in (ids and f"ids {', '.join(ids)}", kinds and f"kinds {', '.join(kinds)}")
+                                 if x)
+            raise HitogataError(f"{self.path}: no row of {asked}")
         return Dataset(self.path, self.sources, rows)
 
 

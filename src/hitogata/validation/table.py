@@ -56,6 +56,7 @@ class Share:
 
 
 def compare(answers: Sequence[RowAnswers]) -> list[Comparison]:
+    """Each row's measurement beside the model's answers (`answer_dataset`'s), with z per surface."""
     return [Comparison(a.row, {s: a.answers[s].value for s in a.answers},
                        {s: a.answers[s].reason for s in a.answers if a.answers[s].value is None}) for a in answers]
 
