@@ -124,6 +124,15 @@ def test_the_page_shows_the_tables_it_wrote(report):
     assert (risk["pressure"]["level"], round(risk["pressure"]["peak_mmHg"], 1)) == ("ankle", 25.5)
     text = (report / "fit_report.html").read_text(encoding="utf-8")
     assert html.escape(summary["summary"]) in text and "+6.1 cm" in summary["summary"] and "25.5 mmHg peak" in summary["summary"]
+    # each figure beside the published measurements that speak to it (the shipped validation set's rows)
+    from hitogata.validation import load_dataset
+
+    shown_rows = page.tables["measured-people"][1:]
+    data = load_dataset()
+    for figure, kind, quantity in (("across back width", "posture_change", "across_back_width"),
+                                   ("calf girth", "posture_change", "calf_girth"), ("ankle", "pressure", "ankle")):
+        expected = {r.id for r in data.rows if r.kind == kind and r.quantity == quantity}
+        assert expected and {r[1].split(":")[0] for r in shown_rows if r[0] == figure} == expected, figure
     # the lines of non-extension: the JSON's are the CSV's, counted in the picture's caption (pinned)
     lines = json.loads((report / "non_extension.json").read_text(encoding="utf-8"))["reach_forward"]
     points = rows(report / "non_extension.csv")

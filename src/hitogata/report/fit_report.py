@@ -180,6 +180,39 @@ def overall_section(answers: FitAnswers) -> str:
         note, h.image(ease_plot(answers.ease), "largest change of each girth and length per motion")])
 
 
+MEASURED_COLUMNS = ("figure in this report", "published measurement", "posture", "mean ± SD", "source")
+
+
+def measured_section(answers: FitAnswers) -> str:
+    """Each figure the report gives, beside the validation rows of measured people that speak to it
+    (`hitogata validate` sets the model beside each of them: docs/validation.md)."""
+    from hitogata.validation import load_dataset
+    from hitogata.validation.table import posture_text
+
+    data = load_dataset()
+    asked = [("posture_change", r["measurement"]) for r in overall(answers.ease) if r["increase_cm"] is not None]
+    asked += [("skin_strain", z) for z in (answers.stretch[0].zones if answers.stretch else ())]
+    if answers.garment is not None:
+        asked += [("pressure", level) for level in answers.garment[0].covered]
+    rows: list[list[object]] = []
+    unmatched = []
+    for kind, name in asked:
+        found = data.supporting(kind, name)
+        if not found:
+            unmatched.append(label(name))
+        for r in found:
+            source = data.sources[r.source]
+            rows.append([label(name), f"{r.id}: {r.definition}", posture_text(r) or "—",
+                         f"{r.mean:.3g} ± {r.sd:.2g} {r.unit}", f"{source.authors.split(',')[0]} {source.year}"])
+    parts = [h.paragraph("The published measurements of living people that speak to this report's figures; "
+                         "hitogata validate sets the model's answer beside each (docs/validation.md)."),
+             h.table(MEASURED_COLUMNS, rows, id="measured-people", caption="figures beside measured people")]
+    if unmatched:
+        parts.append(h.paragraph("No published measurement in the validation set yet for: " + ", ".join(unmatched)
+                                 + ".", "note"))
+    return h.section("measured-people", "beside measured people", parts)
+
+
 def population_section(population: Population) -> str:
     """Per motion: the P5/P50/P95 table of dynamic ease and required stretch per group, and the band plot."""
     bands, parts = population.bands, []
@@ -227,6 +260,7 @@ def write_fit_report(folder: str | os.PathLike, answers: FitAnswers | None = Non
         body_html, tables["measurements.csv"] = body_section(answers)
         sections.append(("body", "body", h.section("body", "the body", [body_html])))
         sections.append(("all-motions", "all motions", overall_section(answers)))
+        sections.append(("measured-people", "beside measured people", measured_section(answers)))
         from hitogata.render import Renderer
 
         lines: dict[str, list[Line]] = {}

@@ -38,7 +38,7 @@ SKIN_DIRECTIONS = ("vertical", "horizontal", "area")
 SOFT_TISSUE_REGIONS = ("thigh", "calf", "shin", "upper_arm", "forearm", "abdomen", "breast")
 TISSUES = ("muscle", "fat", "skin")
 MODULI = ("shear_modulus", "youngs_modulus")
-SD_OF = ("change", "values", "range")
+SD_OF = ("change", "values", "range", "guessed")
 SEXES = ("female", "male", "mixed")
 POSTURED = ("posture_change", "skin_strain", "pressure")
 
@@ -121,6 +121,14 @@ class Dataset:
 
     def source_of(self, row: Row) -> Source:
         return self.sources[row.source]
+
+    def supporting(self, kind: str, quantity: str) -> tuple[Row, ...]:
+        """The rows of a kind whose quantity is `quantity` or, for skin strain, whose zone is its first word
+        (a 'knee_right' zone's rows are the 'knee.*' ones)."""
+        if kind == "skin_strain":
+            zone = quantity.split("_")[0]
+            return tuple(r for r in self.rows if r.kind == kind and r.quantity.split(".")[0] in (quantity, zone))
+        return tuple(r for r in self.rows if r.kind == kind and r.quantity == quantity)
 
     def select(self, ids: tuple[str, ...] = (), kinds: tuple[str, ...] = ()) -> Dataset:
         """The rows with the given ids and/or kinds (all when none given); an unknown one is an error."""

@@ -362,8 +362,10 @@ def _merge(x: np.ndarray, y: np.ndarray, free: np.ndarray) -> np.ndarray:
 
 
 def _intervals(J: np.ndarray, x: np.ndarray, free: np.ndarray) -> tuple[tuple[float, float] | None, ...]:
-    """95 % intervals from the Gauss–Newton covariance (JᵀJ)⁻¹ of the free constants (residuals in SD)."""
+    """95 % intervals from the Gauss–Newton covariance (JᵀJ)⁻¹ of the free constants (residuals in SD), cut
+    at the literature's bounds."""
     out: list[tuple[float, float] | None] = [None] * len(x)
+    lo, hi = _unit_bounds()
     Jf = J[:, free]
     if Jf.size == 0:
         return tuple(out)
@@ -371,7 +373,7 @@ def _intervals(J: np.ndarray, x: np.ndarray, free: np.ndarray) -> tuple[tuple[fl
     half = 1.96 * np.sqrt(np.maximum(np.diag(cov), 0.0))
     for k, h in zip(np.flatnonzero(free), half):
         p = PARAMETERS[k]
-        a, b = x[k] - h, x[k] + h
+        a, b = max(x[k] - h, lo[k]), min(x[k] + h, hi[k])  # within the literature's range, as the fit is
         out[k] = ((math.exp(a), math.exp(b)) if p.log else (p.low + a * (p.high - p.low), p.low + b * (p.high - p.low)))
     return tuple(out)
 

@@ -12,7 +12,7 @@ import math
 import numpy as np
 
 from hitogata.elastic.materials import Materials
-from hitogata.validation.identify import PARAMETERS, Identification
+from hitogata.validation.identify import PARAMETERS, PINNED, Identification
 
 DISPLAY = {  # constant → (unit shown, factor from SI)
     "youngs_modulus": ("kPa", 1e-3),
@@ -58,9 +58,10 @@ def report_lines(fit: Identification) -> list[str]:
         strongest = int(np.argmax(np.abs(fit.sensitivity[k])))
         pins = fit.sensitivity[k, strongest]
         cv = fit.cross_validated[k]
-        lines.append(f"  {row.id:34s} {row.mean:8.3g} ± {row.sd:<6.2g}{row.unit:5s} model {fit.fitted[k]:8.3g}  "
-                     f"z {fit.z[k]:+5.1f}  left out {'—' if not np.isfinite(cv) else f'{cv:+5.1f}'}  "
-                     f"pins {PARAMETERS[strongest].name} ({pins:+.2f} SD per +10 %)")
+        what = (f"pins {PARAMETERS[strongest].name} ({pins:+.2f} SD per +10 %)" if abs(pins) >= PINNED
+                else "pins nothing (no constant moves it by 0.05 SD per +10 %)")
+        lines.append(f"  {row.id:34s} {row.mean:8.3g} ± {row.sd:<6.2g} {row.unit:5s} model {fit.fitted[k]:8.3g}  "
+                     f"z {fit.z[k]:+5.1f}  left out {'—' if not np.isfinite(cv) else f'{cv:+5.1f}'}  {what}")
     if fit.held_out:
         lines.append(f"held-out rows (not used in the fit): RMS {_rms(fit.z_held_out):.2f}, "
                      f"within 2 SD {_within(fit.z_held_out)}")

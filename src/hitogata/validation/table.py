@@ -62,10 +62,13 @@ def compare(answers: Sequence[RowAnswers]) -> list[Comparison]:
 
 
 def summary(comparisons: Sequence[Comparison]) -> list[Share]:
-    """Per kind (and 'all') and surface: rows answered, within 1 SD, within 2 SD, undefined."""
+    """Per kind (and 'all') and surface: rows answered, within 1 SD, within 2 SD, undefined. Rows whose
+    study reported no spread (`sd_of = "guessed"`) are left out: an error in units of an assumed SD
+    says nothing."""
     out = []
+    reported = [c for c in comparisons if c.row.sd_of != "guessed"]
     for kind in (*KINDS, "all"):
-        mine = [c for c in comparisons if kind in ("all", c.row.kind)]
+        mine = [c for c in reported if kind in ("all", c.row.kind)]
         if not mine:
             continue
         for surface in SURFACES:
@@ -87,7 +90,7 @@ COLUMNS = ("row", "kind", "quantity", "posture", "source", "where", "read_off_pl
            "sd_of", "unit", "skinned", "elastic", "z_skinned", "z_elastic", "undefined_because")
 
 
-def _posture_text(row: Row) -> str:
+def posture_text(row: Row) -> str:
     """'thigh.flexion=90deg …', 'standing' for a postured row at rest, '' for a row without a posture."""
     if row.kind not in POSTURED:
         return ""
@@ -100,7 +103,7 @@ def records(comparisons: Sequence[Comparison], dataset: Dataset) -> list[dict]:
     for c in comparisons:
         r = c.row
         out.append({
-            "row": r.id, "kind": r.kind, "quantity": r.quantity, "posture": _posture_text(r),
+            "row": r.id, "kind": r.kind, "quantity": r.quantity, "posture": posture_text(r),
             "source": dataset.sources[r.source].citation, "where": r.where, "read_off_plot": r.read_off_plot,
             "measured_mean": r.mean, "measured_sd": r.sd, "sd_of": r.sd_of, "unit": r.unit,
             "skinned": _round(c.values.get("skinned")), "elastic": _round(c.values.get("elastic")),
@@ -162,7 +165,8 @@ def table_markdown(comparisons: Sequence[Comparison], dataset: Dataset, material
         "living people (the validation set, `src/hitogata/data/validation/measured_people.toml`, with its",
         "sources) beside hitogata's answer for a body built to the study's subjects, on the skinned surface",
         "and on the elastic whole body (skin self-contact resolved). z is the error in units of the",
-        "study's standard deviation; ✗ marks |z| > 2.",
+        "study's standard deviation; ✗ marks |z| > 2. Rows whose study reported no spread are shown",
+        "with the spread the set assumes, and left out of the shares.",
         "",
         f"Materials: `{materials}`.",
         "",
@@ -184,12 +188,19 @@ def table_markdown(comparisons: Sequence[Comparison], dataset: Dataset, material
                   "|---|---|---|---|---|---|---|---|---|"]
         for c in mine:
             r = c.row
-            plot = " (plot)" if r.read_off_plot else ""
+            plot = (" (plot)" if r.read_off_plot else "") + (" (spread assumed)" if r.sd_of == "guessed" else "")
             lines.append(
-                f"| {r.id} | {r.quantity} | {_posture_text(r)} | {r.mean:.3g} ± {r.sd:.2g} {r.unit}{plot} | "
+                f"| {r.id} | {r.quantity} | {posture_text(r)} | {r.mean:.3g} ± {r.sd:.2g} {r.unit}{plot} | "
                 f"{_cell(c.values.get('skinned')) if 'skinned' in c.values else '—'} | {_z_cell(c.z('skinned'))} | "
                 f"{_cell(c.values.get('elastic'))} | {_z_cell(c.z('elastic'))} | "
                 f"{dataset.sources[r.source].authors.split(',')[0]} {dataset.sources[r.source].year}, {r.where} |")
+    misses = [c for c in comparisons if any(z is not None and abs(z) > 2 for z in (c.z(s) for s in SURFACES))]
+    if misses:
+        lines += ["", "## Rows outside 2 SD, and why", "",
+                  "Each with the study's own caveats as the validation set records them (where the model's posture, "
+                  "zone or tissue differs from what the study measured):", ""]
+        lines += [f"- **{c.row.id}** ({'; '.join(f'{s} z {c.z(s):+.1f}' for s in SURFACES if c.z(s) is not None)}): "
+                  f"{c.row.note or c.row.definition}" for c in misses]
     undefined = [c for c in comparisons if c.reasons]
     if undefined:
         lines += ["", "## Answers reported as undefined", ""]
