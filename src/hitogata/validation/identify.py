@@ -351,7 +351,7 @@ def _fit(residual: Callable[[np.ndarray], np.ndarray], x: np.ndarray, free: np.n
     """The bounded least-squares fit of the free constants (of `rows` only, if given), from `x`."""
     keep = slice(None) if rows is None else rows
     fit = least_squares(lambda y: residual(_merge(x, y, free))[keep], x[free], bounds=(lo[free], hi[free]),
-                        x_scale="jac", method="trf")
+                        x_scale="jac", method="trf", xtol=1e-12, ftol=1e-12, gtol=1e-12)
     return _merge(x, fit.x, free)
 
 
