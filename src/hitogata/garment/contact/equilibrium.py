@@ -31,15 +31,17 @@ import scipy.sparse as sp
 from hitogata.errors import HitogataError
 from hitogata.garment.contact.tube import Tube
 
+import os
+_TRACE = bool(os.environ.get('GDEBUG'))
 DHAT = 1e-3  # m: the barrier's reach, about a knit's thickness; the garment ends up within it of the skin
 SETTLE = 0.5  # share of DHAT at which the start's garment forces would be balanced (sets κ)
 CCD_GAP = 0.01 * DHAT  # m: CCD keeps garment and skin this far apart along a step
 MAX_STEP = 0.005  # m: the longest vertex move of one Newton step (a trust region: CCD sees contact coming)
 NEWTON = 200  # most Newton iterations
-TOLERANCE = 1e-6  # m: a Newton step whose largest vertex move is below this has converged
+TOLERANCE = 1e-5  # m: a Newton step whose largest vertex move is below this has converged
 # the Newton decrement −gᵀΔ below this share of the energy has converged (slow sliding into the facets of the
 # skin's mesh then changes nothing a user reads)
-DECREMENT = 1e-7
+DECREMENT = 1e-5
 DAMPING = 1e-7  # Levenberg–Marquardt: × the Hessian's mean diagonal, for the garment's free sliding round a limb
 
 
@@ -62,12 +64,14 @@ class ContactBody:
 @dataclass(frozen=True, eq=False)
 class Equilibrium:
     """The garment (V, 3) and body nodes (N, 3) at equilibrium, the contact force on each body node (N, 3)
-    and on each garment vertex (V, 3) (N), Newton iterations, the least garment–skin distance (m)."""
+    and on each garment vertex (V, 3) (N), the force holding each garment vertex in its plane (V, 3) (N: what
+    friction on the skin must supply), Newton iterations, the least garment–skin distance (m)."""
 
     garment: np.ndarray
     body: np.ndarray
     body_force: np.ndarray
     garment_force: np.ndarray
+    held: np.ndarray  # (V, 3) N: the force holding each garment vertex in its ring's plane (along the tube)
     iterations: int
     min_distance: float
     converged: bool
@@ -199,6 +203,10 @@ def settle(tube: Tube, start: np.ndarray, body: ContactBody, dhat: float = DHAT,
             if alpha <= 1e-8 or e <= e0 + 1e-4 * alpha * slope:
                 break
             alpha *= 0.5
+        if _TRACE:
+            print(taken, f"move {longest:.1e} alpha {alpha:.1e} scale {scale:.1e} dec {-slope / abs(e0):.1e} "
+                  f"contacts {len(contacts_trial)} fv {contacts_trial.fv_collisions.__len__()} "
+                  f"ee {contacts_trial.ee_collisions.__len__()}")
         z, e0, contacts = trial, e, contacts_trial
         if alpha * longest * scale < tolerance:
             converged = True
@@ -209,7 +217,8 @@ def settle(tube: Tube, start: np.ndarray, body: ContactBody, dhat: float = DHAT,
     body_force = np.zeros_like(body.points)
     body_force[problem.surface] = force[problem.n_garment:]
     gap = float(np.sqrt(contacts.compute_minimum_distance(problem.mesh, v))) if len(contacts) else dhat
-    return Equilibrium(garment, nodes, body_force, force[:problem.n_garment], taken, gap, converged)
+    held = membrane.derivatives(garment)[1] - force[:problem.n_garment]  # balances the fabric's and the skin's pull
+    return Equilibrium(garment, nodes, body_force, force[:problem.n_garment], held, taken, gap, converged)
 
 
 def _collision_free(problem: _Problem, v0: np.ndarray, v1: np.ndarray, dhat: float) -> float:
@@ -225,3 +234,18 @@ def _solve(a: sp.csc_matrix, b: np.ndarray) -> np.ndarray:
     from hitogata.fem.factor import factorize
 
     return np.asarray(factorize(a, "auto")(b))
+
+
+def crossings(garment: np.ndarray, garment_faces: np.ndarray, skin: np.ndarray, skin_faces: np.ndarray) -> bool:
+    """Whether any garment triangle and skin triangle intersect (exact: the IPC Toolkit's test)."""
+    import ipctk
+
+    used = np.unique(skin_faces)
+    local = np.full(len(skin), -1)
+    local[used] = len(garment) + np.arange(len(used))
+    faces = np.concatenate([garment_faces, local[skin_faces]]).astype(np.int32)
+    vertices = np.concatenate([garment, skin[used]])
+    mesh = ipctk.CollisionMesh(vertices, np.asarray(ipctk.edges(faces), dtype=np.int32), faces)
+    patch = np.concatenate([np.zeros(len(garment)), np.ones(len(used))]).astype(np.int32)
+    mesh.can_collide = ipctk.make_vertex_patches_filter(patch)
+    return bool(ipctk.has_intersections(mesh, vertices))
