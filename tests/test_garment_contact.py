@@ -3,6 +3,8 @@ ellipses (Laplace's law, force balance) and a soft thick-walled cylinder (Lamé)
 
 from __future__ import annotations
 
+import re
+
 import numpy as np
 import pytest
 
@@ -161,3 +163,19 @@ def test_garment_file_mistakes_are_one_line(tmp_path, text, message):
 def test_unknown_garment_name_lists_the_shipped():
     with pytest.raises(HitogataError, match="allowed a garment file or a shipped garment: legging, sleeve"):
         load_garment("no-such-garment")
+
+
+def test_a_garment_smaller_than_its_fabric_can_stretch_is_refused(female, tmp_path):
+    from hitogata.garment.contact.dressing import prepare
+
+    csv = tmp_path / "knit.csv"
+    csv.write_text("strain_%,tension_N/m\n0,0\n50,100\n", encoding="utf-8")
+    path = tmp_path / "tight.toml"
+    path.write_text('segment = "leg"\n[relaxed]\nankle = "10cm"\ncalf = "25cm"\n[fabric]\ncourse = "knit.csv"\n',
+                    encoding="utf-8")
+    with pytest.raises(HitogataError) as err:
+        prepare(female, load_garment(path))
+    message = str(err.value)
+    assert f"{path}: relaxed.ankle: 10.0 cm is smaller than the fabric can stretch to" in message
+    assert re.search(r"near the ankle \((19|20)\.\d cm round: 9\d % strain\); allowed at least 1[23]\.\d cm there "
+                     r"\(the fabric's test reaches 50 %\)$", message) and "\n" not in message

@@ -92,8 +92,7 @@ def dress(body: Body, spec: GarmentSpec) -> Dressing:
     """The garment on the standing body, solved (see the module note)."""
     levels, tube, start, arc, level_arc = prepare(body, spec)
     rest = np.asarray(body.vertices, dtype=float)
-    near = np.zeros(len(rest), dtype=bool)
-    near[np.unique(np.concatenate(cKDTree(rest).query_ball_point(start, REACH)))] = True
+    near = cKDTree(start).query(rest, distance_upper_bound=REACH)[0] <= REACH
     faces = body.faces[near[body.faces].any(axis=1)]
     sub = np.unique(faces)
     local = np.full(len(rest), -1)
