@@ -15,6 +15,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+from scipy.ndimage import maximum_filter1d
 
 from hitogata.body import Body
 from hitogata.errors import HitogataError
@@ -28,6 +29,7 @@ from hitogata.measure.topology import topology
 ELBOW_BONES = ("upperarm02.R", "lowerarm01.R")
 SPACING = 0.01  # m between stations
 MARGIN = (0.01, 0.01)  # m: the garment's reach beyond its first and last levels (more crosses other skin)
+REACH = 2  # stations each side whose sections a ring's start clears
 CLEARANCE = 0.002  # m: a ring's start outside the body's section (beyond the barrier's reach)
 
 
@@ -103,22 +105,23 @@ def station_skin(levels: list[Level], arc: np.ndarray, level_arc: np.ndarray) ->
 def body_rings(vertices: np.ndarray, faces: np.ndarray, stations: Stations, skins: list[np.ndarray],
                per_ring: int, clearance: float = CLEARANCE) -> tuple[np.ndarray, np.ndarray]:
     """Each station's section of the body (its convex hull): the hull's perimeter (M,) (m) and the ring
-    (M, N, 3) at even angles round the station's centre, `clearance` outside the hull."""
+    (M, N, 3) at even angles round the station's centre, `clearance` outside the hulls of its station and
+    the `REACH` stations each side (a bulge between two stations, a breast's or a calf's, stays inside the
+    tube's triangles)."""
     topo = topology(faces)
     angle = 2 * np.pi * np.arange(per_ring) / per_ring
     rays = np.stack([np.cos(angle), np.sin(angle)], axis=1)
-    girths, rings = [], []
+    girths, radii = [], []
     for j, (origin, u, v) in enumerate(zip(stations.origins, stations.u, stations.v)):
-        normal = np.cross(u, v)
-        tape = tape_girth(vertices, topo, origin, normal, origin, part=skins[j])
+        tape = tape_girth(vertices, topo, origin, np.cross(u, v), origin, part=skins[j])
         if not np.isfinite(tape.girth):
             raise HitogataError(f"garment: the body has no section at station {j} of the segment")
         flat = np.stack([(tape.path - origin) @ u, (tape.path - origin) @ v], axis=1)
-        radius = _ray_hull(flat, rays)
         girths.append(tape.girth)
-        coords = rays * (radius + clearance)[:, None]
-        rings.append(origin + coords[:, :1] * u + coords[:, 1:] * v)
-    return np.array(girths), np.array(rings)
+        radii.append(_ray_hull(flat, rays))
+    radius = maximum_filter1d(np.array(radii), 2 * REACH + 1, axis=0, mode="nearest") + clearance
+    coords = rays[None] * radius[..., None]
+    return np.array(girths), stations.place(coords)
 
 
 def _ray_hull(hull: np.ndarray, rays: np.ndarray) -> np.ndarray:
