@@ -15,8 +15,8 @@ from hitogata.errors import HitogataError
 
 
 def run(args: argparse.Namespace) -> None:
-    from hitogata.garment.contact.answers import garment_contact
-    from hitogata.garment.contact.dressing import dress, prepare
+    from hitogata.garment.contact.answers import dress_garment
+    from hitogata.garment.contact.dressing import prepare
     from hitogata.garment.contact.files import write_dressing
     from hitogata.garment.contact.spec import load_garment
     from hitogata.render import ensure_offscreen_gl
@@ -25,7 +25,7 @@ def run(args: argparse.Namespace) -> None:
     body = body_of(args)
     ensure_offscreen_gl()  # the picture needs it: a missing library is one line before the long work
     prepare(body, spec)  # the garment against this body (its levels, its fabric's range), before the solve
-    result = garment_contact(dress(body, spec))
+    result = dress_garment(body, spec)
     if result.inside or result.crossing:
         raise HitogataError(f"{spec.source}: the solve left {result.inside} garment vertices inside the body"
                             f"{' and garment crossing the skin' if result.crossing else ''}; nothing written")

@@ -16,13 +16,16 @@ garment triangle through a skin triangle (the IPC Toolkit's intersection test).
 from __future__ import annotations
 
 from dataclasses import dataclass
+from pathlib import Path
 
 import numpy as np
 import scipy.sparse as sp
 
-from hitogata.garment.contact.dressing import Dressing
+from hitogata.body import Body
+from hitogata.garment.contact.dressing import Dressing, dress
 from hitogata.garment.contact.equilibrium import crossings
 from hitogata.garment.contact.pressure import patch_pressure, pressing_forces
+from hitogata.garment.contact.spec import GarmentSpec, load_garment
 from hitogata.garment.levels import LEVELS
 from hitogata.garment.pressure import MMHG, Garment, compression_class, garment_pressure
 from hitogata.geometry.mesh_checks import contains
@@ -133,6 +136,13 @@ def garment_contact(dressing: Dressing) -> GarmentContact:
                           int(contains(skin, faces, dressing.garment).sum()),
                           crossings(dressing.garment, tube.faces, skin, contact_faces), dressing.min_distance,
                           dressing.iterations)
+
+
+def dress_garment(body: Body, garment: GarmentSpec | str | Path) -> GarmentContact:
+    """A garment (a checked `GarmentSpec`, a shipped garment's name or a garment file) put on the standing
+    body and solved: its contact answers."""
+    spec = garment if isinstance(garment, GarmentSpec) else load_garment(garment)
+    return garment_contact(dress(body, spec))
 
 
 def _laplace(dressing: Dressing) -> dict[str, float]:

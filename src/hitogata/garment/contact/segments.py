@@ -30,7 +30,7 @@ ELBOW_BONES = ("upperarm02.R", "lowerarm01.R")
 SPACING = 0.01  # m between stations
 MARGIN = (0.01, 0.01)  # m: the garment's reach beyond its first and last levels (more crosses other skin)
 REACH = 2  # stations each side whose sections a ring's start clears
-CLEARANCE = 0.002  # m: a ring's start outside the body's section (beyond the barrier's reach)
+CLEARANCE = 0.004  # m: a ring's start outside the sections (2 mm let a 64-gon's chord cut a large calf's skin)
 
 
 @dataclass(frozen=True, eq=False)
