@@ -55,7 +55,8 @@ def test_the_quick_examples_run_in_order(tmp_path, worktree_python_path):
 
 
 @pytest.mark.skipif(os.environ.get("HITOGATA_README_ALL") != "1",
-                    reason="the long examples (modes, simulate, demo, study, ease, fit-report, fit) take minutes: HITOGATA_README_ALL=1")
+                    reason="the long examples (modes, simulate, demo, study, ease, fit-report, fit, dress) take minutes: "
+                           "HITOGATA_README_ALL=1")
 def test_all_examples_run_in_order(tmp_path, worktree_python_path):
     done = run(tmp_path)
     assert len(done) == len(examples()) - len(SERVERS)

@@ -26,6 +26,9 @@ def run(args: argparse.Namespace) -> None:
     ensure_offscreen_gl()  # the picture needs it: a missing library is one line before the long work
     prepare(body, spec)  # the garment against this body (its levels, its fabric's range), before the solve
     result = dress_garment(body, spec)
+    if not result.converged:
+        raise HitogataError(f"{spec.source}: the contact solve did not converge in {result.iterations} Newton "
+                            "iterations; nothing written")
     if result.inside or result.crossing:
         raise HitogataError(f"{spec.source}: the solve left {result.inside} garment vertices inside the body"
                             f"{' and garment crossing the skin' if result.crossing else ''}; nothing written")

@@ -36,9 +36,9 @@ REACH = 0.03  # m: skin within this of the garment's start is the contact surfac
 @dataclass(frozen=True, eq=False)
 class Dressing:
     """A garment on the body, solved: the body, its levels, the stations' and levels' arc lengths (m), the
-    garment's tube and its vertices (V, 3), the skin (V, 3), the contact force on each skin vertex (V, 3)
+    garment's tube, its vertices (G, 3) and the skin's push on each (G, 3) (N), the skin (V, 3), the contact force on each skin vertex (V, 3)
     (N), the skin's share of holding the courses (V, 3) (N), the skin vertices of the contact surface (V,)
-    bool, Newton's iterations and the least garment–skin distance (m)."""
+    bool, Newton's iterations, whether it converged and the least garment–skin distance (m)."""
 
     body: Body
     spec: GarmentSpec
@@ -47,11 +47,13 @@ class Dressing:
     arc: np.ndarray
     tube: Tube
     garment: np.ndarray
+    garment_force: np.ndarray  # (G, 3) N: the skin's push on each garment vertex
     skin: np.ndarray
     force: np.ndarray
     friction: np.ndarray  # (V, 3) N: the skin's share of holding the garment's courses in their planes
     contact_skin: np.ndarray
     iterations: int
+    converged: bool
     min_distance: float
 
 
@@ -109,8 +111,8 @@ def dress(body: Body, spec: GarmentSpec) -> Dressing:
     friction[sub] = hold_on_skin(eq, rest[sub], sub_faces)
     contact = np.zeros(len(rest), dtype=bool)
     contact[sub] = True
-    return Dressing(body, spec, levels, level_arc, arc, tube, eq.garment, rest, force, friction, contact,
-                    eq.iterations, eq.min_distance)
+    return Dressing(body, spec, levels, level_arc, arc, tube, eq.garment, eq.garment_force, rest, force, friction, contact,
+                    eq.iterations, eq.converged, eq.min_distance)
 
 
 def hold_on_skin(eq: Equilibrium, skin: np.ndarray, faces: np.ndarray) -> np.ndarray:

@@ -31,8 +31,6 @@ import scipy.sparse as sp
 from hitogata.errors import HitogataError
 from hitogata.garment.contact.tube import Tube
 
-import os
-_TRACE = bool(os.environ.get('GDEBUG'))
 DHAT = 1e-3  # m: the barrier's reach, about a knit's thickness; the garment ends up within it of the skin
 SETTLE = 0.5  # share of DHAT at which the start's garment forces would be balanced (sets κ)
 CCD_GAP = 0.01 * DHAT  # m: CCD keeps garment and skin this far apart along a step
@@ -203,10 +201,6 @@ def settle(tube: Tube, start: np.ndarray, body: ContactBody, dhat: float = DHAT,
             if alpha <= 1e-8 or e <= e0 + 1e-4 * alpha * slope:
                 break
             alpha *= 0.5
-        if _TRACE:
-            print(taken, f"move {longest:.1e} alpha {alpha:.1e} scale {scale:.1e} dec {-slope / abs(e0):.1e} "
-                  f"contacts {len(contacts_trial)} fv {contacts_trial.fv_collisions.__len__()} "
-                  f"ee {contacts_trial.ee_collisions.__len__()}")
         z, e0, contacts = trial, e, contacts_trial
         if alpha * longest * scale < tolerance:
             converged = True
