@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import csv
 
+import numpy as np
 import pytest
 
 from hitogata.cli import main
@@ -43,3 +44,20 @@ def test_dress_refuses_a_garment_the_fabric_cannot_stretch_to(tmp_path, capsys):
     err = capsys.readouterr().err.strip()
     assert err.startswith(f"hitogata: error: {garment}: ease: -60% is smaller than the fabric can stretch to")
     assert "\n" not in err and not out.exists()
+
+
+def test_legging_on_the_largest_body_stays_outside_its_skin():
+    """The range's 195 cm BMI 35 male: the rings start clear of a large calf (at 2 mm a ring's chord cut it)."""
+    from hitogata.body import Body
+    from hitogata.garment.contact import dress_garment
+    from hitogata.garment.fabric import Fabric
+
+    result = dress_garment(Body.from_measurements("male", stature=1.95, mass=35 * 1.95 ** 2), "legging")
+    assert result.converged and result.inside == 0 and not result.crossing
+    assert 0.0 < result.min_distance < 1e-3
+    tension = Fabric.linear(400.0).tension
+    for level in result.levels:
+        # the mean round a level is the ring's own balance 2π T / C (docs/garment_contact.md)
+        balance = 2 * np.pi * float(tension(level.course_strain)) / level.garment_girth
+        assert level.pressure == pytest.approx(balance, rel=0.05)
+        assert level.peak > level.pressure
