@@ -191,7 +191,7 @@ def settle(tube: Tube, start: np.ndarray, body: ContactBody, dhat: float = DHAT,
             break
         scale = min(1.0, MAX_STEP / longest)
         step, move = step * scale, move * scale
-        alpha = min(1.0, _collision_free(problem, v, v + move, dhat))
+        alpha = min(1.0, _collision_free(problem, v, v + move))
         slope = float(gradient @ step)
         while True:
             trial = z + alpha * step
@@ -215,7 +215,7 @@ def settle(tube: Tube, start: np.ndarray, body: ContactBody, dhat: float = DHAT,
     return Equilibrium(garment, nodes, body_force, force[:problem.n_garment], held, taken, gap, converged)
 
 
-def _collision_free(problem: _Problem, v0: np.ndarray, v1: np.ndarray, dhat: float) -> float:
+def _collision_free(problem: _Problem, v0: np.ndarray, v1: np.ndarray) -> float:
     """The share (0…1) of the way v0 → v1 free of crossings, garment and skin kept CCD_GAP apart."""
     import ipctk
 
