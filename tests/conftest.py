@@ -17,6 +17,7 @@ NEEDS: dict[str, tuple[str, ...]] = {
     "test_cli_skeleton": ("render",),
     "test_elastic_cli": ("render", "slow"),
     "test_dynamics_outputs": ("render", "slow"),
+    "test_garment_dressing": ("render", "slow"),
     # Chromium driven by playwright
     "test_viewer_browser": ("browser", "slow"),
     # an elastic model, a whole-body mesh or a simulation: tens of seconds each
@@ -49,6 +50,7 @@ SHARED_MODEL = ("test_elastic_pose", "test_extreme_poses", "test_self_contact", 
 # test_fit_scan 80 s, test_extreme_bodies 65 s, test_made_to_measure 50 s, then 40 s or less each); the others
 # as pytest-xdist orders them.
 LONGEST = ("shared whole-body model", "test_body_mesh_grid", "test_skin_follows_tissue", "test_fit_scan",
+           "test_garment_dressing",
            "test_extreme_bodies", "test_made_to_measure", "test_study_cluster", "test_viewer_browser",
            "test_dynamics_coupling",
            "test_readme_examples", "test_elastic_model")

@@ -27,6 +27,7 @@ from hitogata.errors import HitogataError
 COMMANDS = {
     "body": ("hitogata.commands.body", "build a body from sex, age, stature and mass, and write it"),
     "demo": ("hitogata.commands.demo", "run the main job on the built-in default bodies"),
+    "dress": ("hitogata.commands.dress", "put a stretch garment on the body: its contact pressure on the skin"),
     "ease": ("hitogata.commands.ease", "dynamic ease and fabric stretch of a body through mobility motions"),
     "fit": ("hitogata.commands.fit", "fit the body to a scan (OBJ/PLY mesh or point cloud) and write it"),
     "fit-report": ("hitogata.commands.fit_report", "a self-contained HTML fit report of a body through motions"),

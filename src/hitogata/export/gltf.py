@@ -185,6 +185,25 @@ def add_skinned_mesh(
     return SkinnedMeshNodes(joints=tuple(joint_nodes), armature=armature, mesh=mesh)
 
 
+def add_mesh(builder: GlbBuilder, vertices: np.ndarray, faces: np.ndarray, name: str, rgba: Sequence[float],
+             double_sided: bool = False) -> int:
+    """Add a plain (unskinned) triangle mesh as a root node with its own material; return the node.
+    double_sided: drawn from both sides (an open surface such as a garment)."""
+    vertices = _finite_array("vertices", vertices, (None, 3))
+    faces = _face_array(faces, len(vertices))
+    attributes = gl.Attributes(
+        POSITION=builder.add_accessor(vertices.astype(np.float32), gl.VEC3, target=gl.ARRAY_BUFFER, with_bounds=True),
+        NORMAL=builder.add_accessor(vertex_normals(vertices, faces).astype(np.float32), gl.VEC3,
+                                    target=gl.ARRAY_BUFFER),
+    )
+    indices = builder.add_accessor(faces.astype(np.uint32).reshape(-1), gl.SCALAR, target=gl.ELEMENT_ARRAY_BUFFER)
+    material = add_material(builder, name, rgba)
+    builder.gltf.materials[material].doubleSided = double_sided or builder.gltf.materials[material].doubleSided
+    builder.gltf.meshes.append(gl.Mesh(name=safe_name(name), primitives=[
+        gl.Primitive(attributes=attributes, indices=indices, mode=gl.TRIANGLES, material=material)]))
+    return builder.add_node(named_node(name, mesh=len(builder.gltf.meshes) - 1), root=True)
+
+
 def write_glb(
     path: str | os.PathLike,
     vertices: np.ndarray,

@@ -1,4 +1,4 @@
-"""Vertex normals of a triangle surface."""
+"""Vertex normals and vertex areas of a triangle surface."""
 
 from __future__ import annotations
 
@@ -21,3 +21,10 @@ def vertex_normals(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
     ok = length > 0
     unit[ok] = summed[ok] / length[ok, None]
     return unit
+
+
+def vertex_areas(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
+    """Each vertex's share of the surface's area (m²): a third of each triangle it is a corner of."""
+    tri = vertices[faces]
+    area = 0.5 * np.linalg.norm(np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]), axis=1)
+    return np.bincount(faces.ravel(), np.repeat(area / 3.0, 3), minlength=len(vertices))

@@ -51,7 +51,7 @@ import scipy.sparse.linalg as spla
 from scipy.sparse.csgraph import dijkstra
 
 from hitogata.geometry.mesh_checks import edge_graph, self_intersections
-from hitogata.geometry.normals import vertex_normals
+from hitogata.geometry.normals import vertex_areas, vertex_normals
 from hitogata.measure.fine_skin import FineSkinning
 from hitogata.measure.strain import skin_strain
 from hitogata.options import Skinning
@@ -192,12 +192,6 @@ def _tangents(normals: np.ndarray) -> np.ndarray:
     u = np.cross(normals, helper)
     u /= np.linalg.norm(u, axis=1)[:, None]
     return np.stack([u, np.cross(normals, u)], axis=2)
-
-
-def _vertex_areas(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
-    tri = vertices[faces]
-    area = 0.5 * np.linalg.norm(np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]), axis=1)
-    return np.bincount(faces.ravel(), np.repeat(area / 3.0, 3), minlength=len(vertices))
 
 
 def slide_skin(rest: np.ndarray, coarse: np.ndarray, faces: np.ndarray, fine_rest: np.ndarray, fine_faces: np.ndarray,
@@ -343,7 +337,7 @@ def _relax(rest: np.ndarray, start: np.ndarray, faces: np.ndarray, free: np.ndar
         b = sp.vstack([g_fine @ w_free, own_free]).tocsr()
         fixed_part = np.concatenate([g_fine @ (carried.vertices - w_free @ start[idx]), own_fixed])
         area, measured = np.concatenate([area_fine, area_own]), len(area_fine)  # the first rows: the measured skin's
-    tether = TENSION / level.falloff**2 * _vertex_areas(rest, faces)[idx] * tied[idx]
+    tether = TENSION / level.falloff**2 * vertex_areas(rest, faces)[idx] * tied[idx]
     first = (fixed_part + b @ start[idx]).reshape(-1, 2, 3).transpose(0, 2, 1)
     # no triangle compressed below FLOOR by the sliding, nor more than it is (a crease's skin stays as short)
     floor = np.minimum(_svd(first)[1][:, 1], FLOOR)

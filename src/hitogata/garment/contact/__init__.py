@@ -1,0 +1,23 @@
+"""A stretch garment as a membrane of its fabric, in contact (IPC) with the rigid or soft body.
+
+- `membrane`: the fabric's tensile curve along course and wale on a triangle mesh;
+- `tube`: a tubular garment's rings along a segment;
+- `spec`: garment files (TOML) and the shipped examples;
+- `equilibrium`: the garment's (and a soft body's) equilibrium with the barrier;
+- `pressure`: the contact forces as pressure on the skin;
+- `verify`: bodies with known answers (cylinders, ellipses, Lamé's thick-walled cylinder);
+- `segments`: the levels and stations of a body segment;
+- `dressing`: a garment put on the body; `answers`: its pressure at the levels and on the skin;
+  `files`: the tables, GLB and picture of `hitogata dress`.
+
+`dress_garment(body, "legging")` is the one call from a body and a garment to its answers.
+"""
+
+from hitogata.garment.contact.answers import GarmentContact, LevelContact, dress_garment
+from hitogata.garment.contact.equilibrium import ContactBody, Equilibrium, settle
+from hitogata.garment.contact.membrane import Membrane
+from hitogata.garment.contact.spec import GarmentSpec, load_garment, shipped_garments
+from hitogata.garment.contact.tube import Stations, Tube, build_tube
+
+__all__ = ["ContactBody", "Equilibrium", "GarmentContact", "GarmentSpec", "LevelContact", "dress_garment", "Membrane", "Stations", "Tube", "build_tube", "load_garment",
+           "settle", "shipped_garments"]

@@ -1,0 +1,245 @@
+"""A garment's equilibrium in contact with a body: one barrier problem (IPC) solved by Newton.
+
+The unknowns are the garment's in-plane coordinates (`tube.Tube.in_plane`)
+and, for a soft body given its linear stiffness K, the body's free nodal
+displacements u. Their energy
+
+    E = W_garment(x) + ½ uᵀ K u + κ Σ b(d),
+
+b the IPC log barrier of the squared distances d² between garment and body
+surface within `DHAT` (the IPC Toolkit, `ipctk`, as the skin's self-contact
+in `hitogata.geometry.barrier_contact`), is minimised by Newton: the
+Hessian's barrier part projected to be positive semi-definite, every step
+cut by continuous collision detection (the garment never passes through the
+skin, nor the skin through the garment) and backtracked to decrease E. At
+the minimum the barrier's forces are the contact forces: on the body's
+surface nodes they are the interface pressure's resultant (`pressure`
+divides them by each node's share of the skin's area).
+
+The barrier's stiffness κ is set from the garment's own forces at the
+start, so contact settles at about half the reach (within a knit's
+thickness of the skin).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.sparse as sp
+
+from hitogata.errors import HitogataError
+from hitogata.garment.contact.tube import Tube
+
+DHAT = 1e-3  # m: the barrier's reach, about a knit's thickness; the garment ends up within it of the skin
+SETTLE = 0.5  # share of DHAT at which the start's garment forces would be balanced (sets κ)
+CCD_GAP = 0.01 * DHAT  # m: CCD keeps garment and skin this far apart along a step
+MAX_STEP = 0.005  # m: the longest vertex move of one Newton step (a trust region: CCD sees contact coming)
+NEWTON = 200  # most Newton iterations
+TOLERANCE = 1e-5  # m: a Newton step whose largest vertex move is below this has converged
+# the Newton decrement −gᵀΔ below this share of the energy has converged (slow sliding into the facets of the
+# skin's mesh then changes nothing a user reads)
+DECREMENT = 1e-5
+DAMPING = 1e-7  # Levenberg–Marquardt: × the Hessian's mean diagonal, for the garment's free sliding round a limb
+
+
+@dataclass(frozen=True, eq=False)
+class ContactBody:
+    """The body a garment presses on: nodes (N, 3), outward surface triangles (S, 3) into them, and for a
+    soft body its stiffness K (3N × 3N, node-major) with the held dofs (3N,) bool; rigid when K is None."""
+
+    points: np.ndarray
+    faces: np.ndarray
+    stiffness: sp.csr_matrix | None = None
+    fixed: np.ndarray | None = None
+
+    @property
+    def surface(self) -> np.ndarray:
+        """The nodes on the surface (sorted)."""
+        return np.unique(self.faces)
+
+
+@dataclass(frozen=True, eq=False)
+class Equilibrium:
+    """The garment (V, 3) and body nodes (N, 3) at equilibrium, the contact force on each body node (N, 3)
+    and on each garment vertex (V, 3) (N), the force holding each garment vertex in its plane (V, 3) (N: what
+    friction on the skin must supply), Newton iterations, the least garment–skin distance (m)."""
+
+    garment: np.ndarray
+    body: np.ndarray
+    body_force: np.ndarray
+    garment_force: np.ndarray
+    held: np.ndarray  # (V, 3) N: the force holding each garment vertex in its ring's plane (along the tube)
+    iterations: int
+    min_distance: float
+    converged: bool
+
+
+class _Problem:
+    """The collision mesh (garment's vertices, then the body's surface nodes) and the unknowns' maps."""
+
+    def __init__(self, tube: Tube, start: np.ndarray, body: ContactBody) -> None:
+        import ipctk
+
+        self.tube, self.body = tube, body
+        self.n_garment = len(start)
+        self.surface = body.surface
+        local = np.full(len(body.points), -1)
+        local[self.surface] = self.n_garment + np.arange(len(self.surface))
+        faces = np.concatenate([tube.faces, local[body.faces]]).astype(np.int32)
+        rest = np.concatenate([start, body.points[self.surface]])
+        self.mesh = ipctk.CollisionMesh(rest, np.asarray(ipctk.edges(faces), dtype=np.int32), faces)
+        patch = np.concatenate([np.zeros(self.n_garment), np.ones(len(self.surface))]).astype(np.int32)
+        self.mesh.can_collide = ipctk.make_vertex_patches_filter(patch)
+        self.ccd = ipctk.AdditiveCCD()
+        # unknowns: in-plane garment coordinates (2V), then the body's free dofs
+        self.garment_map = tube.in_plane()
+        self.origin = start - (self.garment_map @ tube.stations.coordinates(
+            start.reshape(tube.n_rings, tube.per_ring, 3)).reshape(-1)).reshape(-1, 3)
+        n_dofs = 3 * len(body.points)
+        if body.stiffness is None:
+            self.free = np.zeros(0, dtype=np.int64)
+        else:
+            fixed = np.zeros(n_dofs, dtype=bool) if body.fixed is None else np.asarray(body.fixed, dtype=bool)
+            self.free = np.flatnonzero(~fixed)
+        self.stiffness = None if body.stiffness is None else body.stiffness[self.free][:, self.free].tocsr()
+        # the collision vertices' positions for the unknowns: garment rows by the in-plane map, body rows by
+        # picking the surface nodes' free dofs
+        dof_column = np.full(n_dofs, -1)
+        dof_column[self.free] = 2 * self.n_garment + np.arange(len(self.free))
+        surface_dofs = (3 * self.surface[:, None] + np.arange(3)).ravel()
+        picked = dof_column[surface_dofs] >= 0
+        body_rows = sp.csr_matrix((np.ones(int(picked.sum())), (np.flatnonzero(picked), dof_column[surface_dofs][picked])),
+                                  shape=(len(surface_dofs), 2 * self.n_garment + len(self.free)))
+        garment_rows = sp.hstack([self.garment_map, sp.csr_matrix((3 * self.n_garment, len(self.free)))])
+        self.jacobian = sp.vstack([garment_rows, body_rows]).tocsr()
+
+    def positions(self, z: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """The garment (V, 3) and the body's nodes (N, 3) for unknowns z."""
+        garment = self.origin + (self.garment_map @ z[:2 * self.n_garment]).reshape(-1, 3)
+        body = self.body.points.copy().ravel()
+        body[self.free] += z[2 * self.n_garment:]
+        return garment, body.reshape(-1, 3)
+
+    def collision_vertices(self, garment: np.ndarray, body: np.ndarray) -> np.ndarray:
+        return np.concatenate([garment, body[self.surface]])
+
+
+def settle(tube: Tube, start: np.ndarray, body: ContactBody, dhat: float = DHAT, stiffness: float | None = None,
+           iterations: int = NEWTON, tolerance: float = TOLERANCE, body_start: np.ndarray | None = None
+           ) -> Equilibrium:
+    """The garment's equilibrium from `start` (V, 3: on its rings' planes, free of crossings with the body,
+    e.g. outside it) on `body` (its nodes from `body_start`, default their rest). stiffness: the barrier's κ
+    (default: from the garment's forces at the start, see the module note)."""
+    import ipctk
+
+    problem = _Problem(tube, np.asarray(start, dtype=float), body)
+    coords = tube.stations.coordinates(np.asarray(start, dtype=float).reshape(tube.n_rings, tube.per_ring, 3))
+    z = np.concatenate([coords.reshape(-1), np.zeros(len(problem.free))])
+    if body_start is not None:
+        z[2 * problem.n_garment:] = (np.asarray(body_start, dtype=float) - body.points).ravel()[problem.free]
+    garment, nodes = problem.positions(z)
+    v = problem.collision_vertices(garment, nodes)
+    if ipctk.has_intersections(problem.mesh, v):
+        raise HitogataError("garment: its start crosses the body's surface; allowed a start outside the body")
+    membrane = tube.membrane
+    if stiffness is None:
+        forces = np.linalg.norm((problem.garment_map.T @ membrane.derivatives(garment)[1].ravel()).reshape(-1, 2), axis=1)
+        typical = max(float(np.median(forces)), 1e-9)
+        d = SETTLE * dhat
+        stiffness = typical / (2 * d * abs(ipctk.barrier_first_derivative(d * d, dhat * dhat)))
+    barrier = ipctk.BarrierPotential(dhat, stiffness)
+
+    def collisions(v: np.ndarray) -> ipctk.NormalCollisions:
+        c = ipctk.NormalCollisions()
+        c.build(problem.mesh, v, dhat)
+        return c
+
+    def energy(z: np.ndarray, contacts: ipctk.NormalCollisions) -> float:
+        garment, nodes = problem.positions(z)
+        e = membrane.energy(garment) + barrier(contacts, problem.mesh, problem.collision_vertices(garment, nodes))
+        if problem.stiffness is not None:
+            u = z[2 * problem.n_garment:]
+            e += 0.5 * float(u @ (problem.stiffness @ u))
+        return e
+
+    contacts = collisions(v)
+    e0 = energy(z, contacts)
+    n_g = 2 * problem.n_garment
+    converged, taken = False, 0
+    while taken < iterations:
+        taken += 1
+        garment, nodes = problem.positions(z)
+        v = problem.collision_vertices(garment, nodes)
+        _, g_membrane, h_membrane = membrane.derivatives(garment)
+        gradient = problem.jacobian.T @ barrier.gradient(contacts, problem.mesh, v)
+        gradient[:n_g] += problem.garment_map.T @ g_membrane.ravel()
+        h_barrier = barrier.hessian(contacts, problem.mesh, v, ipctk.PSDProjectionMethod.CLAMP)
+        hessian = problem.jacobian.T @ h_barrier @ problem.jacobian
+        blocks = [problem.garment_map.T @ h_membrane @ problem.garment_map]
+        if problem.stiffness is not None:
+            u = z[n_g:]
+            gradient[n_g:] += problem.stiffness @ u
+            blocks.append(problem.stiffness)
+        hessian = (hessian + sp.block_diag(blocks)).tocsc()
+        hessian = hessian + DAMPING * float(np.mean(np.abs(hessian.diagonal()))) * sp.identity(len(z), format="csc")
+        step = -_solve(hessian, gradient)
+        move = (problem.jacobian @ step).reshape(-1, 3)
+        longest = float(np.linalg.norm(move, axis=1).max())
+        if longest < tolerance or -float(gradient @ step) < DECREMENT * abs(e0):
+            converged = True
+            break
+        scale = min(1.0, MAX_STEP / longest)
+        step, move = step * scale, move * scale
+        alpha = min(1.0, _collision_free(problem, v, v + move))
+        slope = float(gradient @ step)
+        while True:
+            trial = z + alpha * step
+            tg, tn = problem.positions(trial)
+            contacts_trial = collisions(problem.collision_vertices(tg, tn))
+            e = energy(trial, contacts_trial)
+            if alpha <= 1e-8 or e <= e0 + 1e-4 * alpha * slope:
+                break
+            alpha *= 0.5
+        z, e0, contacts = trial, e, contacts_trial
+        if alpha * longest * scale < tolerance:
+            converged = True
+            break
+    garment, nodes = problem.positions(z)
+    v = problem.collision_vertices(garment, nodes)
+    force = -barrier.gradient(contacts, problem.mesh, v).reshape(-1, 3)
+    body_force = np.zeros_like(body.points)
+    body_force[problem.surface] = force[problem.n_garment:]
+    gap = float(np.sqrt(contacts.compute_minimum_distance(problem.mesh, v))) if len(contacts) else dhat
+    held = membrane.derivatives(garment)[1] - force[:problem.n_garment]  # balances the fabric's and the skin's pull
+    return Equilibrium(garment, nodes, body_force, force[:problem.n_garment], held, taken, gap, converged)
+
+
+def _collision_free(problem: _Problem, v0: np.ndarray, v1: np.ndarray) -> float:
+    """The share (0…1) of the way v0 → v1 free of crossings, garment and skin kept CCD_GAP apart."""
+    import ipctk
+
+    c = ipctk.Candidates()
+    c.build(problem.mesh, v0, v1, CCD_GAP)
+    return float(c.compute_collision_free_stepsize(problem.mesh, v0, v1, CCD_GAP, problem.ccd))
+
+
+def _solve(a: sp.csc_matrix, b: np.ndarray) -> np.ndarray:
+    from hitogata.fem.factor import factorize
+
+    return np.asarray(factorize(a, "auto")(b))
+
+
+def crossings(garment: np.ndarray, garment_faces: np.ndarray, skin: np.ndarray, skin_faces: np.ndarray) -> bool:
+    """Whether any garment triangle and skin triangle intersect (exact: the IPC Toolkit's test)."""
+    import ipctk
+
+    used = np.unique(skin_faces)
+    local = np.full(len(skin), -1)
+    local[used] = len(garment) + np.arange(len(used))
+    faces = np.concatenate([garment_faces, local[skin_faces]]).astype(np.int32)
+    vertices = np.concatenate([garment, skin[used]])
+    mesh = ipctk.CollisionMesh(vertices, np.asarray(ipctk.edges(faces), dtype=np.int32), faces)
+    patch = np.concatenate([np.zeros(len(garment)), np.ones(len(used))]).astype(np.int32)
+    mesh.can_collide = ipctk.make_vertex_patches_filter(patch)
+    return bool(ipctk.has_intersections(mesh, vertices))
