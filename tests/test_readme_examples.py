@@ -2,9 +2,9 @@
 
 Always: the order is checked (every file an example reads was made by an
 earlier one, each `measure` writes its own folder), and the quick examples
-run for real in a temporary folder. The long ones (`modes`, `simulate`,
-`demo`, `study`, `ease`: minutes each; `dress`, `fit`: some seconds to a minute) run with them
-when HITOGATA_README_ALL=1; `view` is a server and never runs here.
+run for real in a temporary folder. The long ones (`modes`, `simulate`, `demo`, `study`, `ease`,
+`validate`, `identify`: minutes each; `dress`, `fit`: some seconds to a minute) run with them when
+HITOGATA_README_ALL=1; `view` is a server and never runs here.
 """
 
 from __future__ import annotations
@@ -19,7 +19,7 @@ REPO = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(REPO / "tools"))
 from readme_examples import SERVERS, examples, run  # noqa: E402
 
-LONG = ("modes", "simulate", "demo", "study", "ease", "fit-report", "fit", "dress")
+LONG = ("modes", "simulate", "demo", "study", "ease", "fit-report", "fit", "dress", "validate", "identify")
 
 
 def outputs(argv: list[str]) -> str | None:
@@ -55,7 +55,8 @@ def test_the_quick_examples_run_in_order(tmp_path, worktree_python_path):
 
 
 @pytest.mark.skipif(os.environ.get("HITOGATA_README_ALL") != "1",
-                    reason="the long examples (modes, simulate, demo, study, ease, fit-report, fit, dress) take minutes: "
+                    reason="the long examples (modes, simulate, demo, study, ease, fit-report, fit, dress, validate, "
+                           "identify) take minutes: "
                            "HITOGATA_README_ALL=1")
 def test_all_examples_run_in_order(tmp_path, worktree_python_path):
     done = run(tmp_path)

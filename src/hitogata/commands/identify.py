@@ -21,7 +21,8 @@ def run(args: argparse.Namespace) -> None:
     rows, kinds = names(args.rows, "--rows"), names(args.kinds, "--kinds")
     chosen = identifiable(everything.select(rows, kinds or (() if rows else IDENTIFIABLE)))
     start_materials = load_materials(None if args.materials is None else str(args.materials))
-    rest = tuple(r for r in everything.rows if r.kind in IDENTIFIABLE and r not in chosen.rows)
+    kinds_fitted = {r.kind for r in chosen.rows}
+    rest = tuple(r for r in everything.rows if r.kind in kinds_fitted and r not in chosen.rows)
     held_out = type(everything)(everything.path, everything.sources, rest) if rest else None
     start = time.perf_counter()
     fit = identify(chosen, start_materials, held_out, None if args.quiet else print)
@@ -37,8 +38,8 @@ def register(sub: argparse._SubParsersAction) -> None:
                                              "and write them as a materials file")
     parser.add_argument("--data", type=input_path("file", suffixes=(".toml",)), default=None,
                         help="a validation file (TOML); default the shipped set")
-    parser.add_argument("--rows", default=None, help="fit these row ids only (comma-separated); the file's other "
-                                                     "stiffness, frequency and damping rows are held out and predicted")
+    parser.add_argument("--rows", default=None, help="fit these row ids only (comma-separated); the file's other rows "
+                                                     "of the same kinds are held out and predicted")
     parser.add_argument("--kinds", default=None,
                         help="fit rows of these kinds only (comma-separated; default stiffness,frequency,damping)")
     parser.add_argument("--materials", type=input_path("file", suffixes=(".toml",)), default=None,
