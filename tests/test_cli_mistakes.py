@@ -151,7 +151,8 @@ def test_ease_writes_through_a_staging_folder(here, capsys, monkeypatch):
     import hitogata.commands.ease as ease
 
     def stop(args):
-        assert [p.name for p in here.iterdir()] == [args.workdir.name] and args.workdir.name.startswith(".out.partial")
+        assert sorted(p.name for p in here.iterdir()) == [".out.lock", args.workdir.name]  # the lock held meanwhile
+        assert args.workdir.name.startswith(".out.partial")
         raise HitogataError("stopped in the middle")
 
     monkeypatch.setattr(ease, "body_from_args", stop)

@@ -13,15 +13,19 @@ module (and the library under it) is imported only when that command runs.
 from __future__ import annotations
 
 import argparse
+import contextlib
+import errno
 import importlib
 import os
 import re
 import signal
 import sys
-from collections.abc import Sequence
+import threading
+import warnings
+from collections.abc import Iterator, Sequence
 from typing import NoReturn
 
-from hitogata.errors import HitogataError
+from hitogata.errors import HitogataError, one_line, warnings_as_lines
 
 # name → (module, one-line help); the module's `register(subparsers)` adds the full parser.
 COMMANDS = {
@@ -44,10 +48,15 @@ NEGATIVE_VALUE = re.compile(r"^-\.?\d")  # '-5kg', '-.5': a value, not an option
 
 
 class OneLineParser(argparse.ArgumentParser):
-    """argparse, but a mistake is one line (no usage block) and exit status 2."""
+    """argparse, but a mistake is one line (no usage block) and exit status 2; options are spelt out
+    in full (`--stat` is not taken for `--stature`: a later option could make it mean another)."""
+
+    def __init__(self, *args, **kwargs) -> None:
+        kwargs.setdefault("allow_abbrev", False)
+        super().__init__(*args, **kwargs)
 
     def error(self, message: str) -> NoReturn:
-        self.exit(2, f"hitogata: error: {message}\n")
+        self.exit(2, f"hitogata: error: {one_line(message)}\n")
 
 
 def version() -> str:
@@ -103,24 +112,56 @@ def main(argv: Sequence[str] | None = None) -> int:
     from hitogata.commands.paths import prepared_output
 
     try:
-        try:
-            args = build_parser(command).parse_args(argv)
-        except SystemExit as done:  # --help, --version, or argparse's one-line error (OneLineParser)
-            return int(done.code or 0)
-        with prepared_output(args):
-            args.run(args)
+        with warnings.catch_warnings(), terminate_as_interrupt():
+            warnings_as_lines()
+            try:
+                args = build_parser(command).parse_args(argv)
+            except SystemExit as done:  # --help, --version, or argparse's one-line error (OneLineParser)
+                return int(done.code or 0)
+            with prepared_output(args):
+                args.run(args)
     except HitogataError as err:
         print(f"hitogata: error: {err}", file=sys.stderr)
         return 2
-    except KeyboardInterrupt:
-        # A second Ctrl-C while the interpreter winds down would kill it by the signal (status
-        # -2, no message): from here on the command is only exiting, so let it finish.
+    except KeyboardInterrupt as stop:
+        # A second signal while the interpreter winds down would kill it (no message): from here
+        # on the command is only exiting, so let it finish.
         signal.signal(signal.SIGINT, signal.SIG_IGN)
-        print("hitogata: interrupted; nothing written", file=sys.stderr)
-        return 130
+        signal.signal(signal.SIGTERM, signal.SIG_IGN)
+        terminated = isinstance(stop, Terminated)
+        print(f"hitogata: {'terminated' if terminated else 'interrupted'}; nothing written", file=sys.stderr)
+        return 128 + (signal.SIGTERM if terminated else signal.SIGINT)
     except BrokenPipeError:  # output piped into `head` and the like: not an error
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+    except OSError as err:
+        if err.errno not in (errno.ENOSPC, errno.EDQUOT, errno.EROFS, errno.EIO):
+            raise
+        # the disk filled (or failed) while writing: the writers have removed what they staged
+        print(f"hitogata: error: {err.filename or 'output'}: cannot write ({err.strerror}); nothing written",
+              file=sys.stderr)
+        return 2
     return 0
+
+
+class Terminated(KeyboardInterrupt):
+    """SIGTERM (what `timeout`, systemd and CI send), taken like Ctrl-C: the command stops, nothing left behind."""
+
+
+@contextlib.contextmanager
+def terminate_as_interrupt() -> Iterator[None]:
+    """SIGTERM raises `Terminated` in the main thread while the command runs (elsewhere it is left alone)."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+
+    def stop(signum: int, frame: object) -> None:
+        raise Terminated()
+
+    previous = signal.signal(signal.SIGTERM, stop)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGTERM, previous)
 
 
 if __name__ == "__main__":

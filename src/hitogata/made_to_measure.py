@@ -47,6 +47,7 @@ from hitogata.body import (
 from hitogata.errors import HitogataError
 from hitogata.measure.measurements import measure
 from hitogata.measure.values import MEASUREMENT_NAMES, aliases
+from hitogata.units import shown
 from hitogata.measurement_rates import measurement_rows
 from hitogata.shape import MODIFIER_NAMES, ShapeParameters, blend
 
@@ -170,7 +171,7 @@ def checked_request(measurements: Mapping[str, float]) -> dict[str, float]:
     requested = dict(sorted(requested.items(), key=lambda item: order.index(item[0])))
     lo, hi = STATURE_RANGE
     if "stature" in requested and not lo <= requested["stature"] <= hi:
-        raise HitogataError(f"stature {requested['stature'] * 100:.1f} cm: allowed {lo * 100:.0f}–{hi * 100:.0f} cm")
+        raise HitogataError(f"stature {shown(requested['stature'] * 100)} cm: allowed {lo * 100:.0f}–{hi * 100:.0f} cm")
     return requested
 
 

@@ -17,7 +17,7 @@ from pathlib import Path
 from typing import Any, Literal
 
 from hitogata import units
-from hitogata.body import STATURE_RANGE, WHOLE_BODY_DENSITY
+from hitogata.body import STATURE_RANGE, WHOLE_BODY_DENSITY, check_density
 from hitogata.dynamics.scenario import load_scenario, shipped_scenarios
 from hitogata.config import Entry
 from hitogata.errors import HitogataError
@@ -268,5 +268,6 @@ def _folder(t: Entry, path: Path) -> tuple[tuple[BodyDef, ...], str]:
         shape = {**shape, "race": tuple(shape.get("race", (1 / 3,) * 3))}
         sex = "male" if float(shape.get("sex", 0.0)) >= 0.5 else "female"
         bodies.append(BodyDef(file.stem, sex, sex, float(shape.get("age", 30.0)), shape=tuple(sorted(shape.items())),
-                              density=float(extras.get("density", WHOLE_BODY_DENSITY))))
+                              density=check_density(extras.get("density", WHOLE_BODY_DENSITY),
+                                                            f"{file}: extras 'density'")))
     return tuple(bodies), f"{len(bodies)} body files in {path}"
