@@ -106,3 +106,28 @@ def test_messages_quote_a_short_escaped_excerpt():
     long = one_line("start " + "y" * 10_000_000 + "\nend")
     assert len(long) <= 280 and long.startswith("start yyy") and long.endswith("y end")
     assert len(str(HitogataError("z" * 100_000))) <= 280
+
+
+def test_a_warning_is_said_once_as_one_line_without_source(capsys):
+    import warnings
+
+    from hitogata.errors import warnings_as_lines
+    from hitogata.muscles.geometry import MuscleGeometryWarning
+
+    with warnings.catch_warnings():
+        warnings_as_lines()
+        for _ in range(3):  # the same warning for every body of a run
+            warnings.warn("a muscle's path crosses the bone", MuscleGeometryWarning, stacklevel=1)
+        warnings.warn("another one", MuscleGeometryWarning, stacklevel=1)
+    assert capsys.readouterr().err == ("hitogata: warning: a muscle's path crosses the bone\n"
+                                       "hitogata: warning: another one\n")
+
+
+def test_a_request_no_person_could_have_is_refused_before_the_search(monkeypatch):
+    import hitogata.made_to_measure as mtm
+
+    monkeypatch.setattr(mtm, "_Problem", lambda *_, **__: pytest.fail("the search began"))
+    message = one_line_error(lambda: mtm.body_to_measure("female", {"stature": 1.65, "chest": 0.80, "waist": 1.40,
+                                                                     "hip": 0.85}))
+    assert message == ("waist_girth 140.0 cm with hip_girth 85.0 cm: waist_girth 1.65 times the hip_girth; allowed "
+                       "0.55–1.3 (beyond every adult's proportions)")

@@ -278,3 +278,21 @@ def test_a_finished_run_renames_its_staging_folder(here, capsys):
             (staging / "b.txt").write_text("b")
             raise HitogataError("stop")
     assert files_in(here) == ["out", "out/a.txt"]
+
+
+@pytest.mark.parametrize("out", ["up.ply", "up.glb"])
+def test_the_elastic_options_pick_dual_quaternion_skinning_themselves(here, capsys, monkeypatch, out):
+    """`pose … --elastic --out up.ply` (the README's line) needs no --skinning: its checks pass and the
+    elastic body is asked for (stopped here, before the minutes it takes)."""
+    import hitogata.commands.pose as pose
+
+    def stop(*_, **__):
+        raise HitogataError("the elastic body is built now")
+
+    monkeypatch.setattr(pose, "elastic_dynamics", stop)
+    line = mistake(["pose", "--angle", "shoulder.flexion=150deg", "--elastic", "--out", out], capsys)
+    assert line == "hitogata: error: the elastic body is built now"
+    line = mistake(["pose", "--angle", "elbow.flexion=20deg", "--elastic", "--skinning", "lbs", "--out", "up.ply"],
+                   capsys)
+    assert line.startswith("hitogata: error: --elastic --skinning lbs: the elastic body stands on dual-quaternion")
+    assert files_in(here) == []

@@ -27,7 +27,7 @@ import pyarrow as pa
 import pyarrow.parquet as pq
 from distributed import WorkerPlugin
 
-from hitogata.errors import HitogataError
+from hitogata.errors import HitogataError, warnings_as_lines
 from hitogata.export.atomic import write_bytes_atomically
 from hitogata.study.spec import StudySpec
 from hitogata.study.tasks import COLUMNS, Outcome, Task, execute, warm
@@ -167,11 +167,13 @@ def _out_dir(out: str | os.PathLike) -> Path:
 
 
 class WarmWorker(WorkerPlugin):
-    """Worker plugin: load the body-independent data once when a worker starts (and when it restarts)."""
+    """Worker plugin: load the body-independent data once when a worker starts (and when it restarts); warnings
+    as one line each, once."""
 
     idempotent = True
 
     def setup(self, worker) -> None:
+        warnings_as_lines()  # a warning raised for every body is said once per worker, as one line
         warm()
 
 
