@@ -106,6 +106,12 @@ CASES: dict[str, tuple[dict[str, object], list[str], list[str]]] = {
     "scenario-joint-map-absolute": ({"s.toml": SCENARIO_HEAD + '[timeline]\nbvh = "m.bvh"\njoint_map = "/x/map.toml"\n',
                                      "m.bvh": GOOD_BVH}, ["simulate", "s.toml", "--out", "r"],
                                     ["s.toml: [timeline].joint_map: '/x/map.toml'"]),
+    "toml-nested-100000": ({"s.toml": "a = " + "[" * 100_000 + "]" * 100_000 + "\n"}, ["simulate", "s.toml", "--out", "r"],
+                           ["s.toml: not valid TOML: arrays or tables nested too deep"]),
+    "toml-study-nested-100000": ({"s.toml": "a = " + "[" * 100_000 + "]" * 100_000 + "\n"},
+                                 ["study", "s.toml", "--out", "r"], ["s.toml: not valid TOML: arrays or tables nested"]),
+    "toml-5MB-line": ({"s.toml": 'title = "' + "x" * 5_000_000 + "\n"}, ["simulate", "s.toml", "--out", "r"],
+                      ["s.toml: not valid TOML: Illegal character"]),
     # GLB body files (measure, pose --body)
     "glb-accessor-count-1e12": ({"b.glb": edited_body_glb(huge_count)}, ["measure", "b.glb", "--out", "r"],
                                 ["b.glb: not a readable GLB file", "accessor 0", "1000000000000 items"]),
@@ -146,6 +152,15 @@ CASES: dict[str, tuple[dict[str, object], list[str], list[str]]] = {
     "scan-mm-declared-m": ({"s.ply": lambda folder: scan_ply(1000.0)}, ["fit", "s.ply", "--sex", "female", "--units", "m",
                                                                         "--out", "f.glb"],
                            ["s.ply: --units m: the scan spans 1", "is the file in mm?"]),
+    "scan-random-bytes": ({"s.ply": bytes(range(256)) * 40}, ["fit", "s.ply", "--sex", "female", "--out", "f.glb"],
+                          ["s.ply: not a readable scan"]),
+    "scan-ply-claims-1e12-vertices": ({"s.ply": b"ply\nformat binary_little_endian 1.0\nelement vertex 1000000000000\n"
+                                                b"property float x\nproperty float y\nproperty float z\nend_header\n"
+                                                + b"\0" * 1200},
+                                      ["fit", "s.ply", "--sex", "female", "--out", "f.glb"], ["s.ply: "]),
+    "scan-obj-nan-and-few-points": ({"s.obj": "v nan nan nan\n" * 10 + "v 0 0 0\nv 0 1.7 0\nv 0.3 0 0.2\n"},
+                                    ["fit", "s.obj", "--sex", "female", "--out", "f.glb"],
+                                    ["s.obj: 3 points; allowed a scan of at least 2000 points"]),
     # command arguments
     "stature-1e308cm": ({}, ["body", "--stature", "1e308cm", "--mass", "60kg", "--out", "b.glb"], ["stature 1e+308 cm"]),
     "option-abbreviated": ({}, ["body", "--stat", "170cm", "--out", "b.glb"], ["unrecognized arguments: --stat 170cm"]),

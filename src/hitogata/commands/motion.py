@@ -7,6 +7,7 @@ from pathlib import Path
 
 from hitogata import units
 from hitogata.commands.paths import add_output, input_path
+from hitogata.config import MAX_BYTES as MAX_TOML_BYTES
 from hitogata.dynamics.scenario import BodySpec, load_scenario, shipped_scenarios
 from hitogata.errors import HitogataError
 from hitogata.export.atomic import write_bytes_atomically
@@ -30,6 +31,10 @@ def run_import(args: argparse.Namespace) -> None:
     joint_map = choose_joint_map(bvh.names, skeleton, args.map, bvh.source)
     result = retarget(bvh, skeleton, joint_map, args.units)
     text = scenario_text(result, skeleton, body, Path(args.bvh).stem, Path(args.bvh).name, Path(joint_map.source).stem)
+    if len(text.encode()) > MAX_TOML_BYTES:  # `simulate` would not read it
+        raise HitogataError(f"{args.bvh}: {bvh.frames} frames make a scenario of {len(text.encode()) / 2**20:.0f} MiB; "
+                            f"allowed at most {MAX_TOML_BYTES / 2**20:.0f} MiB (the largest scenario read); "
+                            "nothing written")
     write_bytes_atomically(out, text.encode())
     print(f"{out}: {bvh.frames} frames at {1 / bvh.frame_time:.4g} /s, {len(result.mapped)} BVH joints mapped "
           f"({Path(joint_map.source).stem}), skeleton {result.height:.4g} {result.unit or '(unit unknown)'} tall; "
