@@ -50,11 +50,16 @@ def warnings_as_lines(stream: TextIO | None = None) -> None:
     """Show each distinct warning once, as one line `hitogata: warning: …` (no Python source line).
 
     For the command line and a study's worker processes: the same warning raised for every body of
-    a run is said once, and a user sees what happened, not where in the code.
+    a run is said once, and a user sees what happened, not where in the code. Which warnings are
+    shown is left to the filters (Python's defaults hide the developers' ones).
     """
+    said: set[tuple[type[Warning], str]] = set()
+
     def show(message: Warning | str, category: type[Warning], filename: str, lineno: int,
              file: TextIO | None = None, line: str | None = None) -> None:
-        print(f"hitogata: warning: {one_line(str(message))}", file=file or stream or sys.stderr)
+        text = one_line(str(message))
+        if (category, text) not in said:
+            said.add((category, text))
+            print(f"hitogata: warning: {text}", file=file or stream or sys.stderr)
 
-    warnings.simplefilter("once")
     warnings.showwarning = show
