@@ -110,6 +110,8 @@ CASES: dict[str, tuple[dict[str, object], list[str], list[str]]] = {
                            ["s.toml: not valid TOML: arrays or tables nested too deep"]),
     "toml-study-nested-100000": ({"s.toml": "a = " + "[" * 100_000 + "]" * 100_000 + "\n"},
                                  ["study", "s.toml", "--out", "r"], ["s.toml: not valid TOML: arrays or tables nested"]),
+    "toml-5000-digit-integer": ({"s.toml": "title = " + "9" * 5000 + "\n"}, ["simulate", "s.toml", "--out", "r"],
+                                ["s.toml: not a usable TOML file", "4300 digits"]),
     "toml-5MB-line": ({"s.toml": 'title = "' + "x" * 5_000_000 + "\n"}, ["simulate", "s.toml", "--out", "r"],
                       ["s.toml: not valid TOML: Illegal character"]),
     # GLB body files (measure, pose --body)

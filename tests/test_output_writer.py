@@ -131,3 +131,39 @@ def test_files_written_together_are_both_there_or_neither(tmp_path):
     with pytest.raises(HitogataError):  # the second cannot be written: the first is not renamed in either
         write_files_together({tmp_path / "g.glb": b"body", tmp_path / "missing" / "g.json": b"{}"})
     assert files_in(tmp_path) == ["f.glb", "f.json"]
+
+
+@pytest.mark.parametrize("argv", [
+    ["body", "--size-chart", "women_example"],
+    ["ease", "--motions", "reach,sit,squat"],
+    ["fit-report", "--motions", "reach,sit"],
+    ["modes", "--pictures", "0"],
+], ids=lambda argv: argv[0])
+def test_sigterm_during_a_folder_command_leaves_nothing(tmp_path, argv):
+    """SIGTERM while the command works (its staging folder made, seconds of work ahead): exit 143, nothing left."""
+    proc = start([*argv, "--out", "results"], tmp_path)
+    try:
+        assert wait_for(lambda: staging_exists(tmp_path, proc))
+        proc.send_signal(signal.SIGTERM)
+        _, err = proc.communicate()
+    finally:
+        proc.kill()
+    assert proc.returncode == 143, err
+    assert err.strip().splitlines()[-1] == "hitogata: terminated; nothing written"
+    assert files_in(tmp_path) == []
+
+
+def test_a_later_run_removes_what_a_killed_one_left(tmp_path):
+    """SIGKILL cannot be caught: its staging folder stays, and the next run of the same output removes it."""
+    (tmp_path / "s.toml").write_text(LONG_SCENARIO)
+    proc = start(["simulate", "s.toml", "--out", "results"], tmp_path)
+    try:
+        assert wait_for(lambda: staging_exists(tmp_path, proc))
+        proc.kill()
+        proc.wait()
+    finally:
+        proc.kill()
+    assert any(p.name.startswith(".results.partial") for p in tmp_path.iterdir())  # and its lock file
+    with output_lock(tmp_path / "results"):
+        pass
+    assert files_in(tmp_path) == ["s.toml"]

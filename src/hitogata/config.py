@@ -16,7 +16,7 @@ from pathlib import Path
 from typing import Any, NoReturn, TypeVar, overload
 
 from hitogata import units
-from hitogata.errors import HitogataError
+from hitogata.errors import HitogataError, excerpt
 
 Option = TypeVar("Option", bound=str)  # one of a Literal alias's words (hitogata.options)
 
@@ -51,6 +51,8 @@ def read_toml(path: str | Path) -> tuple[str, dict[str, Any]]:
         raise HitogataError(f"{source}: not valid TOML: {err}") from None  # tomllib names line and column
     except RecursionError:
         raise HitogataError(f"{source}: not valid TOML: arrays or tables nested too deep") from None
+    except ValueError as err:  # an integer of more than 4300 digits (Python's limit on reading one)
+        raise HitogataError(f"{source}: not a usable TOML file ({excerpt(str(err), 60)})") from None
 
 
 class Entry:

@@ -20,6 +20,8 @@ EXCERPT = 40  # characters of an input quoted in a message
 
 def excerpt(value: object, limit: int = EXCERPT) -> str:
     """`value` quoted as Python writes it (escaped, so control characters show), cut to `limit` characters."""
+    if isinstance(value, int) and not isinstance(value, bool) and abs(value) >= 10**limit:
+        return f"an integer of {len(str(abs(value))) if abs(value) < 10**4000 else 'over 4000'} digits"
     if not isinstance(value, str):
         text = repr(value)
         return text if len(text) <= limit else f"{text[:limit]}… ({len(text):,} characters)"

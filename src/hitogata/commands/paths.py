@@ -29,7 +29,6 @@ import argparse
 import contextlib
 import difflib
 import errno
-import fcntl
 import glob
 import os
 import secrets
@@ -40,6 +39,11 @@ from pathlib import Path
 from typing import Callable, Literal
 
 from hitogata.errors import HitogataError, excerpt
+
+try:
+    import fcntl
+except ImportError:  # not POSIX
+    fcntl = None  # type: ignore[assignment]
 from hitogata.export.atomic import DISK_ERRORS, DiskError, disk_error, stale_temporaries
 
 PathKind = Literal["file", "folder"]
@@ -191,7 +195,8 @@ def output_lock(target: Path) -> Iterator[None]:
     while True:
         fd = os.open(lock, os.O_RDWR | os.O_CREAT, 0o666)
         try:
-            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+            if fcntl is not None:  # POSIX; elsewhere the lock file is made but not locked
+                fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
         except BlockingIOError:
             os.close(fd)
             raise HitogataError(f"--out {target}: another hitogata command is writing it now; wait for it to "
