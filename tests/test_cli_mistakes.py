@@ -296,3 +296,15 @@ def test_the_elastic_options_pick_dual_quaternion_skinning_themselves(here, caps
                    capsys)
     assert line.startswith("hitogata: error: --elastic --skinning lbs: the elastic body stands on dual-quaternion")
     assert files_in(here) == []
+
+
+def test_a_stop_inside_an_import_waits_for_the_import():
+    """Ctrl-C raised inside an import can be swallowed (trimesh's optional imports catch BaseException) or break
+    the import machinery: there the stop is sent again a moment later instead of raised."""
+    from types import SimpleNamespace
+
+    def frame(filename, back=None):
+        return SimpleNamespace(f_code=SimpleNamespace(co_filename=filename), f_back=back)
+
+    importing = frame("/lib/trimesh/exchange/load.py", frame("<frozen importlib._bootstrap>", frame("cli.py")))
+    assert cli._importing(importing) and not cli._importing(frame("/lib/numpy/core.py", frame("cli.py")))

@@ -13,7 +13,6 @@ module (and the library under it) is imported only when that command runs.
 from __future__ import annotations
 
 import argparse
-import contextlib
 import errno
 import importlib
 import os
@@ -22,7 +21,8 @@ import signal
 import sys
 import threading
 import warnings
-from collections.abc import Iterator, Sequence
+from collections.abc import Sequence
+from types import FrameType
 from typing import NoReturn
 
 from hitogata.errors import HitogataError, one_line, warnings_as_lines
@@ -44,6 +44,7 @@ COMMANDS = {
     "study": ("hitogata.commands.study", "run a population study (bodies x motions) on dask.distributed"),
     "view": ("hitogata.commands.view", "open the interactive web viewer: pose the body by its muscles"),
 }
+RESEND_SECONDS = 0.05  # a stop that came inside an import is tried again this much later
 NEGATIVE_VALUE = re.compile(r"^-\.?\d")  # '-5kg', '-.5': a value, not an option
 
 
@@ -111,8 +112,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     command = command if command in COMMANDS else None
     from hitogata.commands.paths import prepared_output
 
+    stops = StopSignals()
     try:
-        with warnings.catch_warnings(), terminate_as_interrupt():
+        with warnings.catch_warnings(), stops:
             warnings_as_lines()
             try:
                 args = build_parser(command).parse_args(argv)
@@ -120,6 +122,11 @@ def main(argv: Sequence[str] | None = None) -> int:
                 return int(done.code or 0)
             with prepared_output(args):
                 args.run(args)
+                if stops.received and getattr(args, "workdir", None) is not None:
+                    raise stops.exception()  # a library swallowed the stop: the folder is not kept
+            if stops.received:  # the same, for a command whose files were already in place
+                print(f"hitogata: {stops.word()} after the output was written", file=sys.stderr)
+                return 128 + stops.received
     except HitogataError as err:
         print(f"hitogata: error: {err}", file=sys.stderr)
         return 2
@@ -147,21 +154,52 @@ class Terminated(KeyboardInterrupt):
     """SIGTERM (what `timeout`, systemd and CI send), taken like Ctrl-C: the command stops, nothing left behind."""
 
 
-@contextlib.contextmanager
-def terminate_as_interrupt() -> Iterator[None]:
-    """SIGTERM raises `Terminated` in the main thread while the command runs (elsewhere it is left alone)."""
-    if threading.current_thread() is not threading.main_thread():
-        yield
-        return
+class StopSignals:
+    """While the command runs (main thread): Ctrl-C raises KeyboardInterrupt and SIGTERM `Terminated`.
 
-    def stop(signum: int, frame: object) -> None:
-        raise Terminated()
+    Not inside an import: an exception raised there can be swallowed (trimesh's optional imports
+    catch BaseException) or break the import machinery itself; the signal is sent again 50 ms later
+    until the import is done. And the stop is remembered, so one a library swallowed all the same
+    still ends the command as stopped once its work returns.
+    """
 
-    previous = signal.signal(signal.SIGTERM, stop)
-    try:
-        yield
-    finally:
-        signal.signal(signal.SIGTERM, previous)
+    def __init__(self) -> None:
+        self.received: int = 0
+        self.previous: dict[int, object] = {}
+
+    def __enter__(self) -> "StopSignals":
+        if threading.current_thread() is threading.main_thread():
+            for signum in (signal.SIGINT, signal.SIGTERM):
+                self.previous[signum] = signal.signal(signum, self._stop)
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        for signum, handler in self.previous.items():
+            signal.signal(signum, handler)  # type: ignore[arg-type]
+
+    def _stop(self, signum: int, frame: FrameType | None) -> None:
+        self.received = signum
+        if _importing(frame):
+            again = threading.Timer(RESEND_SECONDS, os.kill, (os.getpid(), signum))
+            again.daemon = True
+            again.start()
+            return
+        raise self.exception()
+
+    def exception(self) -> KeyboardInterrupt:
+        return Terminated() if self.received == signal.SIGTERM else KeyboardInterrupt()
+
+    def word(self) -> str:
+        return "terminated" if self.received == signal.SIGTERM else "interrupted"
+
+
+def _importing(frame: FrameType | None) -> bool:
+    """Whether the interrupted code runs inside an import (importlib's frames on the stack)."""
+    while frame is not None:
+        if frame.f_code.co_filename.startswith("<frozen importlib"):
+            return True
+        frame = frame.f_back
+    return False
 
 
 if __name__ == "__main__":
