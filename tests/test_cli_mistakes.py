@@ -308,3 +308,19 @@ def test_a_stop_inside_an_import_waits_for_the_import():
 
     importing = frame("/lib/trimesh/exchange/load.py", frame("<frozen importlib._bootstrap>", frame("cli.py")))
     assert cli._importing(importing) and not cli._importing(frame("/lib/numpy/core.py", frame("cli.py")))
+
+
+def test_a_fit_that_comes_no_closer_than_25_mm_writes_no_body(here, capsys, monkeypatch, female):
+    """A scan shaped like a person that the model cannot follow (median 466 mm, as a ball gave) is refused."""
+    from types import SimpleNamespace
+
+    import trimesh
+
+    import hitogata.fit as fit
+
+    trimesh.Trimesh(female.vertices, female.faces, process=False).export(here / "s.ply")
+    monkeypatch.setattr(fit, "fit_scan", lambda *_, **__: SimpleNamespace(model_error=SimpleNamespace(median=0.466)))
+    line = mistake(["fit", "s.ply", "--sex", "female", "--out", "f.glb"], capsys)
+    assert line == ("hitogata: error: s.ply: the body model comes no closer than a median 466 mm to the scan; allowed "
+                    "a scan of a standing person (a fit comes within 25 mm); nothing written")
+    assert files_in(here) == ["s.ply"]
