@@ -151,7 +151,8 @@ def test_ease_writes_through_a_staging_folder(here, capsys, monkeypatch):
     import hitogata.commands.ease as ease
 
     def stop(args):
-        assert [p.name for p in here.iterdir()] == [args.workdir.name] and args.workdir.name.startswith(".out.partial")
+        assert sorted(p.name for p in here.iterdir()) == [".out.lock", args.workdir.name]  # the lock held meanwhile
+        assert args.workdir.name.startswith(".out.partial")
         raise HitogataError("stopped in the middle")
 
     monkeypatch.setattr(ease, "body_from_args", stop)
@@ -277,3 +278,49 @@ def test_a_finished_run_renames_its_staging_folder(here, capsys):
             (staging / "b.txt").write_text("b")
             raise HitogataError("stop")
     assert files_in(here) == ["out", "out/a.txt"]
+
+
+@pytest.mark.parametrize("out", ["up.ply", "up.glb"])
+def test_the_elastic_options_pick_dual_quaternion_skinning_themselves(here, capsys, monkeypatch, out):
+    """`pose … --elastic --out up.ply` (the README's line) needs no --skinning: its checks pass and the
+    elastic body is asked for (stopped here, before the minutes it takes)."""
+    import hitogata.commands.pose as pose
+
+    def stop(*_, **__):
+        raise HitogataError("the elastic body is built now")
+
+    monkeypatch.setattr(pose, "elastic_dynamics", stop)
+    line = mistake(["pose", "--angle", "shoulder.flexion=150deg", "--elastic", "--out", out], capsys)
+    assert line == "hitogata: error: the elastic body is built now"
+    line = mistake(["pose", "--angle", "elbow.flexion=20deg", "--elastic", "--skinning", "lbs", "--out", "up.ply"],
+                   capsys)
+    assert line.startswith("hitogata: error: --elastic --skinning lbs: the elastic body stands on dual-quaternion")
+    assert files_in(here) == []
+
+
+def test_a_stop_inside_an_import_waits_for_the_import():
+    """Ctrl-C raised inside an import can be swallowed (trimesh's optional imports catch BaseException) or break
+    the import machinery: there the stop is sent again a moment later instead of raised."""
+    from types import SimpleNamespace
+
+    def frame(filename, back=None):
+        return SimpleNamespace(f_code=SimpleNamespace(co_filename=filename), f_back=back)
+
+    importing = frame("/lib/trimesh/exchange/load.py", frame("<frozen importlib._bootstrap>", frame("cli.py")))
+    assert cli._importing(importing) and not cli._importing(frame("/lib/numpy/core.py", frame("cli.py")))
+
+
+def test_a_fit_that_comes_no_closer_than_25_mm_writes_no_body(here, capsys, monkeypatch, female):
+    """A scan shaped like a person that the model cannot follow (median 466 mm, as a ball gave) is refused."""
+    from types import SimpleNamespace
+
+    import trimesh
+
+    import hitogata.fit as fit
+
+    trimesh.Trimesh(female.vertices, female.faces, process=False).export(here / "s.ply")
+    monkeypatch.setattr(fit, "fit_scan", lambda *_, **__: SimpleNamespace(model_error=SimpleNamespace(median=0.466)))
+    line = mistake(["fit", "s.ply", "--sex", "female", "--out", "f.glb"], capsys)
+    assert line == ("hitogata: error: s.ply: the body model comes no closer than a median 466 mm to the scan; allowed "
+                    "a scan of a standing person (a fit comes within 25 mm); nothing written")
+    assert files_in(here) == ["s.ply"]

@@ -40,9 +40,14 @@ def test_the_deep_squat_on_the_elastic_body(request, sex):
     for surface in (skinned_surface(body), elastic_surface(body)):
         for row in motion_ease(body, "deep_squat", clip, surface, rate=2.0).largest():
             rows.setdefault(row["measurement"], []).append(row["increase_cm"])
-    # to 0.3 cm: the contact's Newton steps end within 1 mm, where round-off can move them
-    assert {name: tuple(rows[name]) for name in SQUAT[sex]} == {
-        name: pytest.approx(values, abs=0.3) for name, values in SQUAT[sex].items()}
+    # skinned: to 0.05 cm (no contact, the same on every machine); elastic: to 1 cm of the 1-10 cm the contact
+    # adds, as the tape round the folded knee, calf and belly passes skin the barrier holds apart at its
+    # Newton tolerance (1 mm), where another machine's round-off holds other pairs
+    assert {name: rows[name][0] for name in SQUAT[sex]} == {
+        name: pytest.approx(values[0], abs=0.05) for name, values in SQUAT[sex].items()}
+    assert {name: rows[name][1] for name in SQUAT[sex]} == {
+        name: pytest.approx(values[1], abs=1.0) for name, values in SQUAT[sex].items()}
+    assert rows["calf_girth"][1] > rows["calf_girth"][0] and rows["waist_girth"][1] > rows["waist_girth"][0]
 
 
 def test_a_rigid_motion_moves_the_elastic_skin_as_the_skinned(female):

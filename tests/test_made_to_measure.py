@@ -100,11 +100,12 @@ def test_judge_warns_near_and_raises_far() -> None:
 @pytest.mark.slow
 def test_impossible_request_names_what_cannot_be_met() -> None:
     with pytest.raises(HitogataError) as err:
-        body_to_measure("female", {"stature": 1.65, "chest": 0.80, "waist": 1.40, "hip": 0.85})
+        body_to_measure("female", {"stature": 1.65, "chest": 0.80, "waist": 1.05, "hip": 0.85})
     message = str(err.value)
     assert "\n" not in message
-    assert re.match(r"^stature 165.0 cm, chest_girth 80.0 cm, waist_girth 140.0 cm, hip_girth 85.0 cm: cannot be met "
-                    r"together; the nearest body has .*waist_girth 1[01]\d.\d cm.* \(at the limit of .*weight.*\)$", message), message
+    assert re.match(r"^stature 165.0 cm, chest_girth 80.0 cm, waist_girth 105.0 cm, hip_girth 85.0 cm: cannot be met "
+                    r"together; the nearest body has .*waist_girth \d+.\d cm.* \(at the limit of [^)]+\)$", message), message
+    assert "measure-" not in message  # MakeHuman's target names are counted, not listed
     # which other bounds hold the nearest body differs with the platform's solver (measure-waist-circ or not)
 
 

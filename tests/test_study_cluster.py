@@ -158,7 +158,8 @@ def test_cli_runs_a_study_writes_its_tables_and_a_rerun_computes_nothing(tmp_pat
                      '[model]\nframes = 2\n', encoding="utf-8")
     out = tmp_path / "out"
     with dask.config.set({"distributed.comm.timeouts.connect": "300s"}):
-        assert main(["study", str(study), "--out", str(out), "--workers", "1", "--memory-limit", "1GiB"]) == 0
+        assert main(["study", str(study), "--out", str(out), "--workers", "1", "--memory-limit", "1GiB",
+                     "--dashboard", "127.0.0.1:0"]) == 0  # a free port: 8787 may be another's on a shared machine
     printed = capsys.readouterr()
     assert printed.out.startswith("one body: 1 bodies × 1 motions = 1 tasks, 0 done before; size chart chart.csv")
     assert "dask: 1 workers on tcp://" in printed.out and "memory limit per worker 1.0 GiB; dashboard http" in printed.out

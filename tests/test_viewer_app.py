@@ -1,10 +1,13 @@
 """The viewer app on a real viser server, driven through its actions (the browser test drives the page)."""
 
 import re
+import signal
 import socket
 import subprocess
 import sys
 import time
+import urllib.error
+import urllib.request
 
 import numpy as np
 import pytest
@@ -17,7 +20,10 @@ from hitogata.garment.fabric import Fabric  # noqa: E402
 from hitogata.garment.pressure import Garment  # noqa: E402
 from hitogata.viewer.colouring import SKIN_RGB  # noqa: E402
 from hitogata.viewer.player import RESULT_FILE  # noqa: E402
+from hitogata.viewer.origin import refusal  # noqa: E402
 from waiting import PATIENCE, wait_for  # noqa: E402
+from websockets.exceptions import InvalidStatus  # noqa: E402
+from websockets.sync.client import connect  # noqa: E402
 
 
 @pytest.fixture(scope="module")
@@ -204,16 +210,18 @@ def test_the_command_prints_its_url_and_rejects_a_bad_port():
     assert bad.returncode == 2 and "port 'http': allowed a whole number 1–65535" in bad.stderr
     port = free_port()
     proc = subprocess.Popen([sys.executable, "-m", "hitogata.cli", "view", "--port", str(port)],
-                            stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True)
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     try:
         line = ""
         end = time.monotonic() + PATIENCE
         while "hitogata viewer:" not in line and time.monotonic() < end:
             line = proc.stdout.readline()
         assert f"hitogata viewer: http://127.0.0.1:{port}" in line
+        proc.send_signal(signal.SIGINT)  # Ctrl-C: stopped as every command is, exit 130
+        _, err = proc.communicate(timeout=PATIENCE)
     finally:
-        proc.terminate()
-        proc.wait(timeout=10)
+        proc.kill()
+    assert proc.returncode == 130 and err.strip() == "hitogata: interrupted; nothing written", err
 
 
 def test_the_skeleton_layer_stays_under_the_skin(app):
@@ -249,3 +257,57 @@ def test_the_parts_ending_on_the_skin_are_drawn_short(female):
         "head": 0.95, "jaw": 0.95, "thumb_phalanges_l": 0.975, "thumb_phalanges_r": 0.975,
         **{f"{finger}_distal_{side}": 0.925 for finger in ("index", "middle", "ring") for side in "lr"},
         "little_distal_l": 0.725, "little_distal_r": 0.725}
+
+
+# Only the viewer's own page may connect: another origin (a site the user visits) is refused with 403.
+
+def websocket_status(url: str, origin: str | None) -> int:
+    """101 when the handshake succeeds, else the HTTP status of the refusal."""
+    try:
+        with connect(url.replace("http://", "ws://"), origin=origin, open_timeout=60,
+                     additional_headers={}) as ws:
+            ws.close()
+            return 101
+    except InvalidStatus as refused:
+        return refused.response.status_code
+
+
+def test_a_websocket_from_another_page_is_refused(app):
+    port = app.server.get_port()
+    assert websocket_status(app.url, f"http://evil.example:{port}") == 403
+    assert websocket_status(app.url, "http://evil.example") == 403
+    assert websocket_status(app.url, "null") == 403  # a sandboxed page or a file
+    assert websocket_status(app.url, f"http://127.0.0.1:{port + 1}") == 403  # another local port is another page
+
+
+def test_the_viewers_own_page_and_a_program_may_connect(app):
+    port = app.server.get_port()
+    assert websocket_status(app.url, f"http://127.0.0.1:{port}") == 101
+    assert websocket_status(app.url, None) == 101
+
+
+def test_a_foreign_host_name_is_refused_on_a_local_viewer(app):
+    """DNS rebinding: evil.example resolving to 127.0.0.1 sends Host: evil.example; the page is not served."""
+    request = urllib.request.Request(app.url, headers={"Host": "evil.example"})
+    with pytest.raises(urllib.error.HTTPError) as refused:
+        urllib.request.urlopen(request, timeout=60)
+    assert refused.value.code == 403
+    with urllib.request.urlopen(app.url, timeout=60) as page:
+        assert page.status == 200
+
+
+@pytest.mark.parametrize("origin, host, local, refused", [
+    (None, "127.0.0.1:8080", True, False),
+    ("http://127.0.0.1:8080", "127.0.0.1:8080", True, False),
+    ("http://localhost:8080", "localhost:8080", True, False),
+    ("http://[::1]:8080", "[::1]:8080", True, False),
+    ("http://LOCALHOST:8080", "localhost:8080", True, False),
+    ("http://localhost:8080", "127.0.0.1:8080", True, True),
+    ("https://evil.example", "127.0.0.1:8080", True, True),
+    ("http://evil.example:8080", "evil.example:8080", True, True),
+    ("http://studio:8080", "studio:8080", False, False),  # --host 0.0.0.0, reached by the machine's name
+    ("http://evil.example", "studio:8080", False, True),
+    (None, None, True, True),
+])
+def test_the_origin_rule(origin, host, local, refused):
+    assert (refusal(origin, host, local) is not None) == refused

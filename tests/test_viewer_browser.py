@@ -230,3 +230,32 @@ def test_a_held_arrow_key_moves_a_focused_slider_and_not_the_camera(app, page):
     page.keyboard.up("ArrowRight")
     click(page.get_by_role("button", name="Reset pose"))
     assert wait_for(lambda: app.state.drivers == {})
+
+
+TRY_SOCKET = ('const socket = new WebSocket("URL"); socket.onopen = () => { document.title = "opened"; }; '
+              'socket.onerror = () => { document.title = "refused"; };')
+
+
+def test_a_page_from_another_origin_cannot_open_the_viewers_websocket(app, page, browser, tmp_path):
+    """A site the user visits tries ws://127.0.0.1:PORT: Chromium reports the refusal; the viewer's own page works."""
+    import http.server
+    import threading
+
+    script = TRY_SOCKET.replace("URL", app.url.replace("http://", "ws://"))
+    (tmp_path / "index.html").write_text(f"<!doctype html><title>waiting</title><script>{script}</script>")
+    handler = lambda *a, **k: http.server.SimpleHTTPRequestHandler(*a, directory=str(tmp_path), **k)  # noqa: E731
+    foreign = http.server.ThreadingHTTPServer(("127.0.0.1", 0), handler)
+    threading.Thread(target=foreign.serve_forever, daemon=True).start()
+    visited = browser.new_page()
+    try:
+        visited.goto(f"http://127.0.0.1:{foreign.server_address[1]}/index.html")
+        visited.wait_for_function("document.title !== 'waiting'", timeout=TIMEOUT_MS)
+        assert visited.title() == "refused"
+        visited.goto(app.url)  # the same script on the viewer's own page connects
+        visited.evaluate(f"document.title = 'waiting'; {script}")
+        visited.wait_for_function("document.title !== 'waiting'", timeout=TIMEOUT_MS)
+        assert visited.title() == "opened"
+    finally:
+        visited.close()
+        foreign.shutdown()
+    assert page.get_by_text("stature", exact=True).is_visible()  # the viewer's page is still served

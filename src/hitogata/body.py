@@ -18,10 +18,11 @@ import numpy as np
 import scipy.sparse as sp
 
 from hitogata.assets import Assets, load_assets, skin_points
-from hitogata.errors import HitogataError
+from hitogata.errors import HitogataError, excerpt
 from hitogata.geometry.mesh_checks import enclosed_volume
 from hitogata.rig import Rig, place_rig
 from hitogata.shape import BilinearShape, ShapeParameters, blend
+from hitogata.units import shown
 
 if TYPE_CHECKING:
     from hitogata.dynamics.motion import BodyDynamics
@@ -35,6 +36,10 @@ if TYPE_CHECKING:
 # about 3 L in an adult: ICRP Publication 89, 2002), which brings a 70 L body to
 # about 1.00 g/cm³ — the near-neutral buoyancy of a person in water.
 WHOLE_BODY_DENSITY = 1000.0
+# Densities a body may have, kg/m³: from fat (0.90 g/cm³) to fat-free tissue (1.10 g/cm³), the two
+# compartments of every body composition model (Siri 1961; Brožek et al. 1963); a whole body, with
+# its lung gas, lies between them.
+DENSITY_RANGE = (900.0, 1100.0)
 
 # Statures a body may be asked for: the MakeHuman height targets reach further
 # (1.22–2.45 m) but distort the body far outside the range of adult surveys.
@@ -76,6 +81,9 @@ class Body:
     all_vertices: np.ndarray
     density: float = WHOLE_BODY_DENSITY
 
+    def __post_init__(self) -> None:
+        check_density(self.density, "density")
+
     @classmethod
     def from_parameters(cls, params: ShapeParameters, density: float = WHOLE_BODY_DENSITY) -> "Body":
         """The body of MakeHuman shape parameters, standing on the floor."""
@@ -105,7 +113,7 @@ class Body:
         range. With other measurements, `hitogata.made_to_measure.body_to_measure`
         solves the shape (its report of asked against made is there).
         """
-        _check_positive("density", density, "kg/m³")
+        check_density(density, "density")
         if measurements:
             from hitogata.made_to_measure import body_to_measure
 
@@ -122,7 +130,7 @@ class Body:
         lo, hi = STATURE_RANGE
         if not lo <= stature <= hi:
             raise HitogataError(
-                f"stature {stature * 100:.1f} cm: allowed {lo * 100:.0f}–{hi * 100:.0f} cm"
+                f"stature {shown(stature * 100)} cm: allowed {lo * 100:.0f}–{hi * 100:.0f} cm"
             )
         params = ShapeParameters(
             sex=sex_value(sex), age=age, muscle=AVERAGE if muscle is None else muscle,
@@ -250,6 +258,16 @@ def default_body(sex: float | str = "female") -> Body:
     return Body.from_measurements(sex_value(sex), 30.0, stature, mass)
 
 
+def check_density(value: object, where: str) -> float:
+    """A whole-body density in kg/m³ (`where`: the file and entry it came from), within `DENSITY_RANGE`."""
+    low, high = DENSITY_RANGE
+    number = isinstance(value, (int, float, np.number)) and not isinstance(value, bool)
+    if not (number and math.isfinite(float(value)) and low <= float(value) <= high):  # type: ignore[arg-type]
+        raise HitogataError(f"{where} {excerpt(value)} kg/m³: allowed a whole-body density {low:g}–{high:g} kg/m³ "
+                            "(fat 900, fat-free tissue 1100)")
+    return float(value)  # type: ignore[arg-type]
+
+
 def _check_positive(name: str, value: float, unit: str) -> None:
     if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
         raise HitogataError(f"{name} {value!r} {unit}: allowed a finite positive number")
@@ -314,7 +332,7 @@ def _solve_build(
     short, tall = _stature(assets, middle.vertices(0.5, 0.0)), _stature(assets, middle.vertices(0.5, 1.0))
     if not short <= stature <= tall:
         raise HitogataError(
-            f"stature {stature * 100:.1f} cm: allowed {short * 100:.1f}–{tall * 100:.1f} cm for this sex and age"
+            f"stature {shown(stature * 100)} cm: allowed {short * 100:.1f}–{tall * 100:.1f} cm for this sex and age"
         )
     height = brentq(lambda h: _stature(assets, middle.vertices(0.5, h)) - stature, 0.0, 1.0, xtol=1e-6)
     masses = []
@@ -328,7 +346,7 @@ def _solve_build(
             return shape.at(x, h)
     lightest, heaviest = min(masses), max(masses)
     raise HitogataError(
-        f"mass {mass:.1f} kg at stature {stature * 100:.1f} cm: allowed {lightest:.1f}–{heaviest:.1f} kg "
+        f"mass {shown(mass)} kg at stature {shown(stature * 100)} cm: allowed {lightest:.1f}–{heaviest:.1f} kg "
         f"(BMI {lightest / stature**2:.1f}–{heaviest / stature**2:.1f}) for this sex and age"
     )
 

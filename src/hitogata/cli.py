@@ -13,15 +13,19 @@ module (and the library under it) is imported only when that command runs.
 from __future__ import annotations
 
 import argparse
+import errno
 import importlib
 import os
 import re
 import signal
 import sys
+import threading
+import warnings
 from collections.abc import Sequence
+from types import FrameType
 from typing import NoReturn
 
-from hitogata.errors import HitogataError
+from hitogata.errors import HitogataError, one_line, warnings_as_lines
 
 # name → (module, one-line help); the module's `register(subparsers)` adds the full parser.
 COMMANDS = {
@@ -45,14 +49,20 @@ COMMANDS = {
                  "every published measurement of the validation set beside the model's answer"),
     "view": ("hitogata.commands.view", "open the interactive web viewer: pose the body by its muscles"),
 }
+RESEND_SECONDS = 0.05  # a stop that came inside an import is tried again this much later
 NEGATIVE_VALUE = re.compile(r"^-\.?\d")  # '-5kg', '-.5': a value, not an option
 
 
 class OneLineParser(argparse.ArgumentParser):
-    """argparse, but a mistake is one line (no usage block) and exit status 2."""
+    """argparse, but a mistake is one line (no usage block) and exit status 2; options are spelt out
+    in full (`--stat` is not taken for `--stature`: a later option could make it mean another)."""
+
+    def __init__(self, *args, **kwargs) -> None:
+        kwargs.setdefault("allow_abbrev", False)
+        super().__init__(*args, **kwargs)
 
     def error(self, message: str) -> NoReturn:
-        self.exit(2, f"hitogata: error: {message}\n")
+        self.exit(2, f"hitogata: error: {one_line(message)}\n")
 
 
 def version() -> str:
@@ -107,25 +117,94 @@ def main(argv: Sequence[str] | None = None) -> int:
     command = command if command in COMMANDS else None
     from hitogata.commands.paths import prepared_output
 
+    stops = StopSignals()
     try:
-        try:
-            args = build_parser(command).parse_args(argv)
-        except SystemExit as done:  # --help, --version, or argparse's one-line error (OneLineParser)
-            return int(done.code or 0)
-        with prepared_output(args):
-            args.run(args)
+        with warnings.catch_warnings(), stops:
+            warnings_as_lines()
+            try:
+                args = build_parser(command).parse_args(argv)
+            except SystemExit as done:  # --help, --version, or argparse's one-line error (OneLineParser)
+                return int(done.code or 0)
+            with prepared_output(args):
+                args.run(args)
+                if stops.received and getattr(args, "workdir", None) is not None:
+                    raise stops.exception()  # a library swallowed the stop: the folder is not kept
+            if stops.received:  # the same, for a command whose files were already in place
+                print(f"hitogata: {stops.word()} after the output was written", file=sys.stderr)
+                return 128 + stops.received
     except HitogataError as err:
         print(f"hitogata: error: {err}", file=sys.stderr)
         return 2
-    except KeyboardInterrupt:
-        # A second Ctrl-C while the interpreter winds down would kill it by the signal (status
-        # -2, no message): from here on the command is only exiting, so let it finish.
+    except KeyboardInterrupt as stop:
+        # A second signal while the interpreter winds down would kill it (no message): from here
+        # on the command is only exiting, so let it finish.
         signal.signal(signal.SIGINT, signal.SIG_IGN)
-        print("hitogata: interrupted; nothing written", file=sys.stderr)
-        return 130
+        signal.signal(signal.SIGTERM, signal.SIG_IGN)
+        terminated = isinstance(stop, Terminated)
+        print(f"hitogata: {'terminated' if terminated else 'interrupted'}; nothing written", file=sys.stderr)
+        return 128 + (signal.SIGTERM if terminated else signal.SIGINT)
     except BrokenPipeError:  # output piped into `head` and the like: not an error
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+    except OSError as err:
+        if err.errno not in (errno.ENOSPC, errno.EDQUOT, errno.EROFS, errno.EIO):
+            raise
+        # the disk filled (or failed) while writing: the writers have removed what they staged
+        print(f"hitogata: error: {err.filename or 'output'}: cannot write ({err.strerror}); nothing written",
+              file=sys.stderr)
+        return 2
     return 0
+
+
+class Terminated(KeyboardInterrupt):
+    """SIGTERM (what `timeout`, systemd and CI send), taken like Ctrl-C: the command stops, nothing left behind."""
+
+
+class StopSignals:
+    """While the command runs (main thread): Ctrl-C raises KeyboardInterrupt and SIGTERM `Terminated`.
+
+    Not inside an import: an exception raised there can be swallowed (trimesh's optional imports
+    catch BaseException) or break the import machinery itself; the signal is sent again 50 ms later
+    until the import is done. And the stop is remembered, so one a library swallowed all the same
+    still ends the command as stopped once its work returns.
+    """
+
+    def __init__(self) -> None:
+        self.received: int = 0
+        self.previous: dict[int, object] = {}
+
+    def __enter__(self) -> "StopSignals":
+        if threading.current_thread() is threading.main_thread():
+            for signum in (signal.SIGINT, signal.SIGTERM):
+                self.previous[signum] = signal.signal(signum, self._stop)
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        for signum, handler in self.previous.items():
+            signal.signal(signum, handler)  # type: ignore[arg-type]
+
+    def _stop(self, signum: int, frame: FrameType | None) -> None:
+        self.received = signum
+        if _importing(frame):
+            again = threading.Timer(RESEND_SECONDS, os.kill, (os.getpid(), signum))
+            again.daemon = True
+            again.start()
+            return
+        raise self.exception()
+
+    def exception(self) -> KeyboardInterrupt:
+        return Terminated() if self.received == signal.SIGTERM else KeyboardInterrupt()
+
+    def word(self) -> str:
+        return "terminated" if self.received == signal.SIGTERM else "interrupted"
+
+
+def _importing(frame: FrameType | None) -> bool:
+    """Whether the interrupted code runs inside an import (importlib's frames on the stack)."""
+    while frame is not None:
+        if frame.f_code.co_filename.startswith("<frozen importlib"):
+            return True
+        frame = frame.f_back
+    return False
 
 
 if __name__ == "__main__":

@@ -16,15 +16,22 @@ from pathlib import Path
 from typing import Any, NoReturn, TypeVar, overload
 
 from hitogata import units
-from hitogata.errors import HitogataError
+from hitogata.errors import HitogataError, excerpt
 
 Option = TypeVar("Option", bound=str)  # one of a Literal alias's words (hitogata.options)
+
+
+MAX_BYTES = 128 * 2**20  # the largest TOML read: a scenario of BVH keyframes takes about 2.5 kB a frame
 
 
 def read_toml(path: str | Path) -> tuple[str, dict[str, Any]]:
     """(source, document) of a TOML file; anything that keeps it from being read is a one-line error."""
     source = str(path)
     try:
+        size = Path(path).stat().st_size
+        if size > MAX_BYTES:
+            raise HitogataError(f"{source}: {size / 2**20:.0f} MiB; allowed a TOML file of at most "
+                                f"{MAX_BYTES / 2**20:.0f} MiB")
         data = Path(path).read_bytes()
     except FileNotFoundError:
         raise HitogataError(f"{source}: no such file") from None
@@ -42,6 +49,10 @@ def read_toml(path: str | Path) -> tuple[str, dict[str, Any]]:
         return source, tomllib.loads(text)
     except tomllib.TOMLDecodeError as err:
         raise HitogataError(f"{source}: not valid TOML: {err}") from None  # tomllib names line and column
+    except RecursionError:
+        raise HitogataError(f"{source}: not valid TOML: arrays or tables nested too deep") from None
+    except ValueError as err:  # an integer of more than 4300 digits (Python's limit on reading one)
+        raise HitogataError(f"{source}: not a usable TOML file ({excerpt(str(err), 60)})") from None
 
 
 class Entry:

@@ -47,6 +47,7 @@ from hitogata.body import (
 from hitogata.errors import HitogataError
 from hitogata.measure.measurements import measure
 from hitogata.measure.values import MEASUREMENT_NAMES, aliases
+from hitogata.units import shown
 from hitogata.measurement_rates import measurement_rows
 from hitogata.shape import MODIFIER_NAMES, ShapeParameters, blend
 
@@ -54,6 +55,17 @@ from hitogata.shape import MODIFIER_NAMES, ShapeParameters, blend
 GIRTH_ALLOWANCE, SMALL_GIRTH_ALLOWANCE, LENGTH_ALLOWANCE = 0.009, 0.004, 0.005
 SMALL_GIRTHS = ("neck", "wrist", "ankle")  # name prefixes of the small girths
 MASS_ALLOWANCE = 0.01  # relative: 1 % of the asked mass
+# Ratios of asked measurements no adult has, checked before the search: an adult's waist-to-hip ratio lies in
+# 0.65–1.15 and waist-to-height ratio in 0.38–0.8 (WHO 2008, "Waist circumference and waist-hip ratio",
+# Ashwell & Hsieh 2005); the bounds are wider still, so only a request no person could have is refused
+# here, and the search judges the rest (`judge`).
+PROPORTIONS = {
+    ("waist_girth", "hip_girth"): (0.55, 1.3),
+    ("waist_girth", "stature"): (0.3, 1.0),
+    ("hip_girth", "stature"): (0.4, 1.1),
+    ("chest_girth", "stature"): (0.4, 1.0),
+    ("chest_girth", "waist_girth"): (0.65, 2.0),
+}
 IMPOSSIBLE = 3.0  # allowances: a residual beyond this is an error, between 1 and this a warning
 REGULARISATION = 3.0  # residual units per unit of a parameter's distance from the plain body
 # Without an asked stature, the default body's is asked softly: a miss of this much (m) counts as
@@ -170,7 +182,12 @@ def checked_request(measurements: Mapping[str, float]) -> dict[str, float]:
     requested = dict(sorted(requested.items(), key=lambda item: order.index(item[0])))
     lo, hi = STATURE_RANGE
     if "stature" in requested and not lo <= requested["stature"] <= hi:
-        raise HitogataError(f"stature {requested['stature'] * 100:.1f} cm: allowed {lo * 100:.0f}–{hi * 100:.0f} cm")
+        raise HitogataError(f"stature {shown(requested['stature'] * 100)} cm: allowed {lo * 100:.0f}–{hi * 100:.0f} cm")
+    for (a, b), (low, high) in PROPORTIONS.items():  # no person is shaped so: said before the long search
+        if a in requested and b in requested and not low <= requested[a] / requested[b] <= high:
+            raise HitogataError(f"{_quantity(a, requested[a])} with {_quantity(b, requested[b])}: {a} "
+                                f"{requested[a] / requested[b]:.2f} times the {b}; allowed {low:g}–{high:g} "
+                                "(beyond every adult's proportions)")
     return requested
 
 
@@ -181,15 +198,24 @@ def judge(fit: MadeToMeasure, limits: list[str] | tuple[str, ...] = ()) -> None:
     if far:
         asked = ", ".join(_quantity(n, fit.requested[n]) for n in fit.requested)
         nearest = ", ".join(_quantity(n, fit.achieved[n]) for n in far)
-        raise HitogataError(
-            f"{asked}: cannot be met together; the nearest body has {nearest}"
-            + (f" (at the limit of {', '.join(limits)})" if limits else "")
-        )
+        raise HitogataError(f"{asked}: cannot be met together; the nearest body has {nearest}" + _at_limits(limits))
     near = fit.outside()
     if near:
         text = ", ".join(f"{n} {r * (1 if n == 'mass' else 100):+.1f} {'kg' if n == 'mass' else 'cm'}"
                          for n, r in near.items())
         warnings.warn(MeasurementWarning(f"met outside the allowance: {text}"), stacklevel=3)
+
+
+def _at_limits(limits: list[str] | tuple[str, ...]) -> str:
+    """' (at the limit of weight, muscle and 3 of the 20 shape modifiers)': the build parameters by name,
+    MakeHuman's `measure-*` modifiers counted (their target names mean nothing to a user)."""
+    named = [n for n in limits if n not in MODIFIER_NAMES]
+    modifiers = len(limits) - len(named)
+    if modifiers:
+        named.append(f"{modifiers} of the {len(MODIFIER_NAMES)} shape modifiers")
+    if not named:
+        return ""
+    return f" (at the limit of {', '.join(named[:-1]) + ' and ' + named[-1] if len(named) > 1 else named[0]})"
 
 
 def _quantity(name: str, value: float) -> str:

@@ -11,7 +11,7 @@ the anatomical position (the TOML's convention); names are 'part.dof'.
 from __future__ import annotations
 
 import warnings
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from functools import cache, cached_property
 from pathlib import Path
@@ -19,13 +19,14 @@ from pathlib import Path
 import numpy as np
 
 from hitogata.body import Body
-from hitogata.errors import HitogataError
+from hitogata.errors import HitogataError, excerpt
 from hitogata.muscles.activation import (
     MuscleLimitWarning,
     angles_from_muscles,
     muscle_lengths,
 )
 from hitogata.muscles.geometry import MuscleSet, place_muscles
+from hitogata.names import dof_candidates, suggestion
 from hitogata.muscles.spec import MuscleListSpec, load_muscle_spec
 from hitogata.options import ON_LIMIT, OnLimit, Skinning
 from hitogata.skeleton.combined import clamp_combined, combined_violation
@@ -149,6 +150,10 @@ class Poser:
         """
         if on_limit not in ON_LIMIT:
             raise HitogataError(f"on_limit = {on_limit!r}: allowed {', '.join(ON_LIMIT)}")
+        for what, values, unit in (("contractions", contractions, "a fraction of the rest length"),
+                                   ("lengths", lengths, "metres"), ("angles", angles, "radians"),
+                                   ("clinical", clinical, "radians")):
+            checked_numbers(what, values, unit, self.skeleton.dof_names if what in ("angles", "clinical") else None)
         sk, ms = self.skeleton, self.muscles
         complex_given = {k: v for k, v in (clinical or {}).items() if k in channel_names(sk)}
         single = {k: v for k, v in (clinical or {}).items() if k not in complex_given}
@@ -188,6 +193,14 @@ class Poser:
                     raise HitogataError(message)
                 warnings.warn(f"clamped onto the range of motion: {message}", MuscleLimitWarning, stacklevel=4)
                 mine[motion] = float(np.clip(value, lo, hi))
+            flexion, abduction = mine.get("flexion", 0.0), mine.get("abduction", 0.0)
+            if abs(flexion) > np.pi / 2 and abs(abduction) > np.pi / 2:
+                elevation = np.degrees(np.arccos(np.clip(np.cos(flexion) * np.cos(abduction), -1.0, 1.0)))
+                raise HitogataError(
+                    f"shoulder_{side}.flexion {np.degrees(flexion):.0f}° with shoulder_{side}.abduction "
+                    f"{np.degrees(abduction):.0f}°: the two turns past 90° undo each other (the arm ends "
+                    f"{elevation:.0f}° from hanging); allowed at most one of them beyond 90° (the arm overhead: "
+                    "flexion 180° or abduction 180° alone)")
             dofs = set(girdle_dofs(sk, side))
             if dofs & given:
                 clash = sk.dof_names[min(dofs & given)]
@@ -277,8 +290,29 @@ class Poser:
         return skin_vertices(self.skin, pose.rotations, pose.translations, skinning)
 
 
+def checked_numbers(what: str, values: object, unit: str, dofs: Sequence[str] | None) -> None:
+    """A mapping name → finite number (SI), or one line naming the entry; for joint angles, a name
+    the command line accepts (`knee_r.flexion`) points to the skeleton's (`shank_r.flexion`)."""
+    if values is None or isinstance(values, np.ndarray) and what == "angles":
+        return
+    if not isinstance(values, Mapping):
+        raise HitogataError(f"{what} {excerpt(type(values).__name__)}: allowed a mapping name → {unit}")
+    for name, value in values.items():
+        if not isinstance(value, (int, float, np.number)) or isinstance(value, bool) or not np.isfinite(value):
+            shown = excerpt(value) if isinstance(value, str) else repr(value)[:40]
+            raise HitogataError(f"{what}[{excerpt(name)}] = {shown}: allowed a finite number in {unit} "
+                                "(the API takes SI; units like '60deg' are for the command line and scenario files)")
+        if dofs is not None and name not in dofs and not name.startswith("shoulder_"):
+            meant = dof_candidates(str(name), dofs)
+            hint = f"did you mean {', '.join(meant)} (the skeleton's name)?" if meant else suggestion(str(name), dofs)
+            raise HitogataError(f"{what}[{excerpt(name)}]: no joint angle of that name; {hint}")
+
+
 def poser_for(body: Body) -> Poser:
     """The body's Poser with the shipped lists, prepared once per body (`Body.poser`)."""
+    if not isinstance(body, Body):
+        raise HitogataError(f"body {excerpt(type(body).__name__)}: allowed a Body "
+                            "(e.g. Body.from_measurements(sex='female'))")
     return body.poser
 
 

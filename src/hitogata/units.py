@@ -50,3 +50,8 @@ def mass(text: str | float, what: str = "mass") -> float:
 def angle(text: str | float, what: str = "angle") -> float:
     """Radians from '90deg', '90°' or '1.57rad'."""
     return parse_quantity(text, ANGLE_UNITS, what)
+
+
+def shown(value: float, decimals: int = 1) -> str:
+    """A value as a message quotes it: fixed decimals for a person's figures, 3 significant digits beyond."""
+    return f"{value:.{decimals}f}" if abs(value) < 1e6 else f"{value:.3g}"

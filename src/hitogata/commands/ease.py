@@ -76,8 +76,10 @@ def garment_from_args(args: argparse.Namespace) -> tuple[Garment, Fabric] | None
 def checked_inputs(args: argparse.Namespace) -> tuple[dict[str, Scenario], tuple[Garment, Fabric] | None]:
     """The motions and the garment of the shared options, checked before any long work."""
     scenarios = load_motions(args.motions)
-    if not (args.rate > 0):
-        raise HitogataError(f"--rate {args.rate}: allowed frames per second > 0")
+    fastest = min(s.rate for s in scenarios.values())
+    if not 0 < args.rate <= fastest:
+        raise HitogataError(f"--rate {args.rate:g}: allowed frames per second > 0 and at most {fastest:g} "
+                            "(the motions' own frame rate)")
     if args.surface == "elastic" and args.skinning != "dqs":
         raise HitogataError(f"--surface elastic: the elastic body stands on dual-quaternion skinning; "
                             f"drop --skinning {args.skinning}")

@@ -16,14 +16,19 @@ from hitogata.errors import HitogataError
 from hitogata.export.scans import SCAN_SUFFIXES
 from hitogata.fit.scan import UNITS
 
+# m: a scan the model cannot come this close to (median, scan to body) is not of a standing person;
+# a scan of a person in the model's pose is fitted within 2 mm (tests/test_fit_scan.py)
+MAX_MEDIAN = 0.025
+
 
 def run(args: argparse.Namespace) -> None:
     from hitogata.body import sex_value
     from hitogata.commands.body import figures_line
-    from hitogata.export.body_files import write_body
+    from hitogata.export.atomic import write_files_together
+    from hitogata.export.body_files import body_glb_bytes
     from hitogata.export.scans import read_scan
     from hitogata.fit import fit_scan
-    from hitogata.report.scan_fit import fit_summary, fit_text, write_summary
+    from hitogata.report.scan_fit import fit_summary, fit_text, summary_bytes
 
     sex_value(args.sex)
     report = Path(args.out).with_suffix(".json")
@@ -31,9 +36,13 @@ def run(args: argparse.Namespace) -> None:
         raise HitogataError(f"--out {args.out}: the report {report} exists; pass --force to write over it")
     scan = read_scan(args.scan, args.units)
     fit = fit_scan(scan, args.sex, detail=not args.no_detail)
-    path = write_body(args.out, fit.body)
+    if fit.model_error.median > MAX_MEDIAN:
+        raise HitogataError(f"{args.scan}: the body model comes no closer than a median {fit.model_error.median * 1000:.0f} "
+                            f"mm to the scan; allowed a scan of a standing person (a fit comes within "
+                            f"{MAX_MEDIAN * 1000:.0f} mm); nothing written")
     summary = fit_summary(fit, str(args.scan), scan.unit)
-    write_summary(report, summary)
+    path = Path(args.out)
+    write_files_together({path: body_glb_bytes(fit.body), report: summary_bytes(summary)})  # both or neither
     print(f"{args.scan}: {len(scan.points)} points{' (mesh)' if scan.faces is not None else ''}, in {scan.unit}")
     print(fit_text(summary))
     print(figures_line(str(path), fit.body))

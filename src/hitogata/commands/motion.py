@@ -6,6 +6,8 @@ import argparse
 from pathlib import Path
 
 from hitogata import units
+from hitogata.commands.paths import add_output, input_path
+from hitogata.config import MAX_BYTES as MAX_TOML_BYTES
 from hitogata.dynamics.scenario import BodySpec, load_scenario, shipped_scenarios
 from hitogata.errors import HitogataError
 from hitogata.export.atomic import write_bytes_atomically
@@ -18,8 +20,6 @@ from hitogata.motion.timeline import body_skeleton, scenario_text
 
 def run_import(args: argparse.Namespace) -> None:
     out = Path(args.out)
-    if out.suffix != ".toml":
-        raise HitogataError(f"--out {args.out}: allowed a .toml scenario file")
     if (args.stature is None) != (args.mass is None):
         raise HitogataError("--stature and --mass: give both or neither (the default body)")
     body = BodySpec(args.sex, 30.0, None if args.stature is None else units.length(args.stature, "--stature"),
@@ -28,9 +28,13 @@ def run_import(args: argparse.Namespace) -> None:
         raise HitogataError(f"--sex {args.sex!r}: allowed female or male")
     bvh = read_bvh(args.bvh)
     skeleton = body_skeleton(body)
-    joint_map = choose_joint_map(bvh.names, skeleton, args.map)
+    joint_map = choose_joint_map(bvh.names, skeleton, args.map, bvh.source)
     result = retarget(bvh, skeleton, joint_map, args.units)
     text = scenario_text(result, skeleton, body, Path(args.bvh).stem, Path(args.bvh).name, Path(joint_map.source).stem)
+    if len(text.encode()) > MAX_TOML_BYTES:  # `simulate` would not read it
+        raise HitogataError(f"{args.bvh}: {bvh.frames} frames make a scenario of {len(text.encode()) / 2**20:.0f} MiB; "
+                            f"allowed at most {MAX_TOML_BYTES / 2**20:.0f} MiB (the largest scenario read); "
+                            "nothing written")
     write_bytes_atomically(out, text.encode())
     print(f"{out}: {bvh.frames} frames at {1 / bvh.frame_time:.4g} /s, {len(result.mapped)} BVH joints mapped "
           f"({Path(joint_map.source).stem}), skeleton {result.height:.4g} {result.unit or '(unit unknown)'} tall; "
@@ -42,10 +46,7 @@ def run_export(args: argparse.Namespace) -> None:
     from hitogata.pose import poser_for
 
     out = Path(args.out)
-    if out.suffix != ".bvh":
-        raise HitogataError(f"--out {args.out}: allowed a .bvh file")
-    shipped = shipped_scenarios()
-    scenario = load_scenario(shipped.get(args.scenario, args.scenario))
+    scenario = load_scenario(args.scenario)
     poser = poser_for(make_body(scenario.body))
     clip = scenario_clip(scenario, poser, args.rate)
     write_bytes_atomically(out, write_bvh(export_bvh(poser.skeleton, clip, str(out))).encode())
@@ -56,8 +57,8 @@ def register(sub: argparse._SubParsersAction) -> None:
     parser = sub.add_parser("motion", help="BVH motion files: import onto the skeleton, export a scenario's motion")
     verbs = parser.add_subparsers(dest="verb", required=True)
     imp = verbs.add_parser("import", help="retarget a BVH file onto the 65-part skeleton and write a scenario")
-    imp.add_argument("bvh", help="a .bvh file")
-    imp.add_argument("--out", required=True, help="the scenario to write (.toml)")
+    imp.add_argument("bvh", type=input_path("file", suffixes=(".bvh",)), help="a .bvh file")
+    add_output(imp, "file", "the scenario to write (.toml)", (".toml",))
     imp.add_argument("--map", default=None,
                      help="joint map: cmu, mixamo, hitogata or a TOML file; default: the one matching the most names")
     imp.add_argument("--units", choices=tuple(UNITS), default=None,
@@ -67,7 +68,8 @@ def register(sub: argparse._SubParsersAction) -> None:
     imp.add_argument("--mass", default=None, help="e.g. 65kg, with --stature")
     imp.set_defaults(run=run_import)
     exp = verbs.add_parser("export", help="write a scenario's skeleton motion as BVH")
-    exp.add_argument("scenario", help=f"a scenario file or a shipped one ({', '.join(sorted(shipped_scenarios()))})")
-    exp.add_argument("--out", required=True, help="the .bvh file to write")
+    exp.add_argument("scenario", type=input_path("file", suffixes=(".toml",), names=shipped_scenarios),
+                     help=f"a scenario file or a shipped one ({', '.join(sorted(shipped_scenarios()))})")
+    add_output(exp, "file", "the .bvh file to write", (".bvh",))
     exp.add_argument("--rate", type=float, default=None, help="frames per second; default: the scenario's")
     exp.set_defaults(run=run_export)

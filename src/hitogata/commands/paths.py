@@ -7,18 +7,29 @@ One mechanism for every sub-command:
 - the output is declared once with `add_output` (a file or a folder, the
   allowed suffixes, `--force`); `cli.main` checks it (`check_output`) before
   the command runs: a name is given, it is the right kind, its place can be
-  written (probed by creating a file there), and an existing file or a
-  non-empty folder is not replaced without `--force`;
+  written (probed by creating a file there), and an existing file, a
+  non-empty folder or a symbolic link (even a dangling one or a loop) is not
+  replaced without `--force`;
+- while the command runs it holds a lock on its output (`output_lock`, a
+  hidden `.NAME.lock` beside it, locked with flock): a second run writing the
+  same output at the same time stops at once with one line; the holder
+  removes the staging folders and temporary files an earlier, killed run of
+  its own left beside the target;
 - a folder output is written into a temporary folder beside the target
   (`args.workdir`) and renamed to the target only when the command has
-  finished (`staged_folder`): an error or Ctrl-C leaves nothing behind. A
-  file output is written atomically by `hitogata.export.atomic`.
+  finished (`staged_folder`): an error, Ctrl-C or SIGTERM leaves nothing
+  behind, and a target that another program filled meanwhile is not merged
+  into (unless `--force`). A file output is written atomically by
+  `hitogata.export.atomic`.
 """
 
 from __future__ import annotations
 
 import argparse
 import contextlib
+import difflib
+import errno
+import glob
 import os
 import secrets
 import shutil
@@ -27,9 +38,17 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Callable, Literal
 
-from hitogata.errors import HitogataError
+from hitogata.errors import HitogataError, excerpt
+
+try:
+    import fcntl
+except ImportError:  # not POSIX
+    fcntl = None  # type: ignore[assignment]
+from hitogata.export.atomic import DISK_ERRORS, DiskError, disk_error, stale_temporaries
 
 PathKind = Literal["file", "folder"]
+# what the commands write as files: a new folder named like one is a mistake (`--size-chart … --out sizes.glb`)
+FILE_SUFFIXES = (".glb", ".obj", ".ply", ".csv", ".json", ".png", ".html", ".toml", ".bvh", ".npz", ".vtu", ".txt")
 
 
 @dataclass(frozen=True)
@@ -69,6 +88,12 @@ def input_path(*kinds: PathKind, suffixes: tuple[str, ...] = (), names: Callable
                               for k in kinds)
         if not text:
             raise argparse.ArgumentTypeError(f"'': allowed {allowed}")
+        if not path.exists() and names is not None:
+            shipped = sorted(known)
+            close = [n for n in shipped if text and text in n] or difflib.get_close_matches(text, shipped, n=1)
+            hint = f"did you mean {close[0]}? " if close else ""
+            raise argparse.ArgumentTypeError(f"{excerpt(text)}: no such file; {hint}allowed {allowed} or a shipped name: "
+                                             f"{listing(shipped, 150)}")
         if not path.exists():
             raise argparse.ArgumentTypeError(f"{text}: no such file or folder; allowed {allowed}")
         kind: PathKind = "folder" if path.is_dir() else "file"
@@ -81,6 +106,16 @@ def input_path(*kinds: PathKind, suffixes: tuple[str, ...] = (), names: Callable
         return path
 
     return check
+
+
+def listing(names: list[str], room: int) -> str:
+    """`names` comma-separated within about `room` characters, the rest counted."""
+    shown: list[str] = []
+    for name in names:
+        if shown and len(", ".join([*shown, name])) > room:
+            return f"{', '.join(shown)} and {len(names) - len(shown)} more"
+        shown.append(name)
+    return ", ".join(shown)
 
 
 def _probe(folder: Path, what: str) -> None:
@@ -105,6 +140,8 @@ def check_output(out: str | None, spec: Output, force: bool) -> Path:
     if out is None or not str(out).strip():
         raise HitogataError(f"--out {out!r}: allowed {spec.allowed()} name")
     path = Path(out)
+    if path.is_symlink() and not force:
+        raise HitogataError(f"--out {out}: is a symbolic link ({link_state(path)}); pass --force to replace the link")
     if spec.kind == "file":
         if spec.suffixes and path.suffix.lower() not in spec.suffixes:
             allowed = ", ".join(spec.suffixes)
@@ -120,6 +157,9 @@ def check_output(out: str | None, spec: Output, force: bool) -> Path:
         return path
     if path.exists() and not path.is_dir():
         raise HitogataError(f"--out {out}: is a file; allowed a folder (new, empty, or with --force)")
+    if not path.exists() and path.suffix.lower() in FILE_SUFFIXES:
+        raise HitogataError(f"--out {out}: names a {path.suffix} file; this command writes a folder (several files): "
+                            f"allowed a folder name, e.g. {path.with_suffix('')}")
     if path.is_dir() and any(path.iterdir()) and not force:
         raise HitogataError(f"--out {out}: the folder is not empty; name a new folder or pass --force")
     ancestor = _existing_ancestor(path)
@@ -129,14 +169,82 @@ def check_output(out: str | None, spec: Output, force: bool) -> Path:
     return path
 
 
+def link_state(path: Path) -> str:
+    """Where a symbolic link leads, in words."""
+    try:
+        destination = path.resolve(strict=True)
+    except RuntimeError:
+        return "a loop"
+    except OSError as err:
+        return "a loop" if err.errno == errno.ELOOP else f"dangling, to {os.readlink(path)}"
+    return f"to {destination}"
+
+
 @contextlib.contextmanager
-def staged_folder(target: Path) -> Iterator[Path]:
-    """A temporary folder beside `target` to write into; renamed (or merged) into `target` on success only."""
+def output_lock(target: Path) -> Iterator[None]:
+    """Hold the lock on `target` (a hidden `.NAME.lock` beside it) or stop with one line if another run does.
+
+    Holding it, stale staging folders and temporary files of `target` are removed: no other run of
+    ours is writing them.
+    """
+    if target.parent.is_dir():
+        lock = target.parent / f".{target.name}.lock"
+    else:  # a folder to be made in folders not made yet: the lock goes in the nearest that exists
+        ancestor = _existing_ancestor(target)
+        lock = ancestor / f".{'%2F'.join(target.absolute().relative_to(ancestor).parts)}.lock"
+    while True:
+        fd = os.open(lock, os.O_RDWR | os.O_CREAT, 0o666)
+        try:
+            if fcntl is not None:  # POSIX; elsewhere the lock file is made but not locked
+                fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except BlockingIOError:
+            os.close(fd)
+            raise HitogataError(f"--out {target}: another hitogata command is writing it now; wait for it to "
+                                "finish or choose another --out") from None
+        try:
+            same = os.fstat(fd).st_ino == os.stat(lock).st_ino  # not a lock file its last holder removed
+        except FileNotFoundError:
+            same = False
+        if same:
+            break
+        os.close(fd)
+    try:
+        for stale in stale_staging(target):
+            shutil.rmtree(stale, ignore_errors=True)
+        for stale_file in stale_temporaries(target):
+            stale_file.unlink(missing_ok=True)
+        yield
+    finally:
+        lock.unlink(missing_ok=True)
+        os.close(fd)
+
+
+def stale_staging(target: Path) -> list[Path]:
+    """Staging folders of `target` a stopped run left (`.NAME.partial-XXXX/`)."""
+    if not target.parent.is_dir():
+        return []
+    return [p for p in target.parent.glob(f".{glob.escape(target.name)}.partial-*") if p.is_dir()]
+
+
+@contextlib.contextmanager
+def staged_folder(target: Path, force: bool = True) -> Iterator[Path]:
+    """A temporary folder beside `target` to write into; renamed (or merged, `force`) into `target` on success only.
+
+    A target another program filled while the command ran is not merged into unless `force`.
+    """
     target.parent.mkdir(parents=True, exist_ok=True)
     staging = target.parent / f".{target.name}.partial-{secrets.token_hex(4)}"
     staging.mkdir()
     try:
         yield staging
+        if target.is_dir() and any(target.iterdir()) and not force:
+            raise HitogataError(f"--out {target}: the folder was filled by another program while this command ran; "
+                                "nothing written (name a new folder or pass --force)")
+    except (OSError, DiskError) as err:  # a full disk names the output, not the staging folder
+        shutil.rmtree(staging, ignore_errors=True)
+        if isinstance(err, DiskError) or err.errno in DISK_ERRORS:
+            raise disk_error(target, err) from None
+        raise
     except BaseException:
         shutil.rmtree(staging, ignore_errors=True)
         raise
@@ -161,9 +269,10 @@ def prepared_output(args: argparse.Namespace) -> Iterator[None]:
         yield
         return
     path = check_output(args.out, spec, args.force)
-    if spec.kind == "file":
-        yield
-        return
-    with staged_folder(path) as staging:
-        args.workdir = staging
-        yield
+    with output_lock(path):
+        if spec.kind == "file":
+            yield
+            return
+        with staged_folder(path, args.force) as staging:
+            args.workdir = staging
+            yield

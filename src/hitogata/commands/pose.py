@@ -51,11 +51,14 @@ def run(args: argparse.Namespace) -> None:
         return
     if args.out is None:
         raise HitogataError("--out: give the output file (.glb, .obj or .ply), or --list")
+    elastic_mesh = args.elastic and Path(args.out).suffix.lower() != ".glb"  # a GLB holds the skinned pose beside
+    if elastic_mesh and args.skinning == "lbs":
+        raise HitogataError("--elastic --skinning lbs: the elastic body stands on dual-quaternion skinning; "
+                            "leave out --skinning (dqs is taken)")
+    args.skinning = args.skinning or ("dqs" if elastic_mesh else "lbs")
     check_posed_path(args.out, args.skinning)
     if args.contact and not args.elastic:
         raise HitogataError("--contact: the skin's self-contact is resolved on the elastic body; add --elastic")
-    if args.elastic and args.skinning != "dqs" and Path(args.out).suffix.lower() != ".glb":
-        raise HitogataError("--elastic: the elastic body stands on dual-quaternion skinning; add --skinning dqs")
     poser, request, posed = pose_from_args(args)
     extras = {
         "shape": shape_extras(poser.body.params),

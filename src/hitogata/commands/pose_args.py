@@ -53,7 +53,8 @@ def add_pose_arguments(parser: argparse.ArgumentParser) -> None:
         "elbow_l.flexion=1.57rad; joints may be called shoulder, elbow, wrist, hip, knee, ankle; "
         "shoulder_l.flexion/abduction move the whole shoulder complex (0…180°); repeatable",
     )
-    parser.add_argument("--skinning", choices=METHODS, default="lbs", help="skin deformation: lbs (default) or dqs")
+    parser.add_argument("--skinning", choices=METHODS, default=None,
+                        help="skin deformation: lbs or dqs; default lbs (dqs with --elastic, which stands on it)")
     parser.add_argument(
         "--on-limit", choices=ON_LIMIT, default="raise",
         help="beyond a muscle's reach or a joint's range: raise (default, an error) or clamp (with a note)",
@@ -121,7 +122,7 @@ def muscle_value(text: str, where: str) -> tuple[str, float]:
 
 def pose_request(args: argparse.Namespace, poser: Poser) -> PoseRequest:
     """The checked request; every name and value mistake is a one-line error."""
-    request = PoseRequest(skinning=args.skinning, on_limit=args.on_limit)
+    request = PoseRequest(skinning=args.skinning or "lbs", on_limit=args.on_limit)
     for entry in args.contract:
         name, text = split_entry(entry, "--muscle", "biceps_brachii_l=25%")
         kind, value = muscle_value(text, f"--muscle {name}")

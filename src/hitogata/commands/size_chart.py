@@ -22,11 +22,13 @@ from importlib import resources
 
 from hitogata import units
 from hitogata.commands.args import BODY_DEFAULTS
-from hitogata.errors import HitogataError
+from hitogata.errors import HitogataError, excerpt
 from hitogata.export.atomic import write_bytes_atomically
 
 SIZE_COLUMN = "size"
-SIZE_NAME = re.compile(r"^[A-Za-z0-9][A-Za-z0-9._+-]*$")  # a size's name is also its file's name
+MAX_BYTES = 2**20  # a size chart is a few kilobytes: a row per size
+MAX_ROWS = 1001  # the header and up to 1000 sizes
+SIZE_NAME = re.compile(r"^[A-Za-z0-9][A-Za-z0-9._+-]{0,39}$")  # a size's name is also its file's name
 UNITS = {**{u: (units.LENGTH_UNITS, "a length") for u in units.LENGTH_UNITS},
          **{u: (units.MASS_UNITS, "a mass") for u in units.MASS_UNITS}}
 
@@ -44,23 +46,33 @@ def read_size_chart(path: Path) -> Chart:
     from hitogata.measure.values import aliases
 
     try:
+        if path.stat().st_size > MAX_BYTES:
+            raise HitogataError(f"{path}: {path.stat().st_size / 2**20:.1f} MiB; allowed a size chart of at most "
+                                f"{MAX_BYTES / 2**20:.0f} MiB")
         text = path.read_text(encoding="utf-8-sig")
     except (OSError, UnicodeDecodeError) as err:
-        raise HitogataError(f"{path}: cannot be read as UTF-8 text ({err})") from None
-    rows = list(csv.reader(io.StringIO(text)))
+        raise HitogataError(f"{path}: cannot be read as UTF-8 text ({type(err).__name__})") from None
+    reader = csv.reader(io.StringIO(text))
+    try:
+        rows = list(reader)
+    except csv.Error as err:
+        raise HitogataError(f"{path}: row {reader.line_num}: not CSV ({err}); allowed cells of at most "
+                            f"{csv.field_size_limit():,} characters") from None
+    if len(rows) > MAX_ROWS:
+        raise HitogataError(f"{path}: {len(rows) - 1} sizes; allowed at most {MAX_ROWS - 1}")
     rows = [row for row in rows if any(cell.strip() for cell in row)]
     if not rows:
         raise HitogataError(f"{path}: empty; allowed a header 'size,<measurement>_<unit>,...' and one row per size")
     header = [cell.strip() for cell in rows[0]]
     if not header or header[0] != SIZE_COLUMN:
-        raise HitogataError(f"{path}: first column {header[0] if header else ''!r}; allowed '{SIZE_COLUMN}'")
+        raise HitogataError(f"{path}: first column {excerpt(header[0] if header else '')}; allowed '{SIZE_COLUMN}'")
     known = {**aliases(), "mass": "mass"}
     columns: list[tuple[str, float]] = []
     for column in header[1:]:
         name, _, unit = column.rpartition("_")
         if name not in known or unit not in UNITS or (name == "mass") != (UNITS[unit][1] == "a mass"):
             allowed = ", ".join(sorted({n for n in known.values() if n != "mass"}))
-            raise HitogataError(f"{path}: column {column!r}: allowed <measurement>_<unit> with a measurement of "
+            raise HitogataError(f"{path}: column {excerpt(column)}: allowed <measurement>_<unit> with a measurement of "
                                 f"{allowed} and unit m, cm or mm, or mass_kg / mass_g")
         columns.append((known[name], UNITS[unit][0][unit]))
     named = [name for name, _ in columns]
@@ -82,7 +94,8 @@ def _size_row(path: Path, number: int, header: list[str], row: list[str], column
         raise HitogataError(f"{where}: {len(row)} cells; allowed {len(header)} (one per header column)")
     size = row[0].strip()
     if not SIZE_NAME.match(size):
-        raise HitogataError(f"{where}, column {SIZE_COLUMN}: {size!r}; allowed letters, digits, '.', '_', '+', '-'")
+        raise HitogataError(f"{where}, column {SIZE_COLUMN}: {excerpt(size)}; allowed letters, digits, '.', '_', '+', "
+                            "'-' (up to 40)")
     if size in sizes:
         raise HitogataError(f"{where}, column {SIZE_COLUMN}: {size!r} is named twice; allowed once")
     asked = {}
@@ -92,9 +105,9 @@ def _size_row(path: Path, number: int, header: list[str], row: list[str], column
         try:
             value = float(cell) * scale
         except ValueError:
-            raise HitogataError(f"{where}, column {column}: {cell.strip()!r}; allowed a number") from None
+            raise HitogataError(f"{where}, column {column}: {excerpt(cell.strip())}; allowed a number") from None
         if not value > 0 or value == float("inf"):
-            raise HitogataError(f"{where}, column {column}: {cell.strip()!r}; allowed a positive number")
+            raise HitogataError(f"{where}, column {column}: {excerpt(cell.strip())}; allowed a positive number")
         asked[name] = value
     if not asked:
         raise HitogataError(f"{where}: size {size!r} has no measurement; allowed at least one")

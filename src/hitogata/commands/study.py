@@ -8,9 +8,14 @@ import sys
 from importlib import resources
 from pathlib import Path
 
-from hitogata.errors import HitogataError
+from hitogata.errors import HitogataError, excerpt
 
 SCHEDULER_TIMEOUT = "30s"
+PROBE_SECONDS = 5.0  # a scheduler's port that neither answers nor refuses within this is left to Dask's timeout
+MIN_MEMORY = 512 * 2**20  # bytes per worker
+# tasks a minute a worker, posing by skinning (docs/study.md, "Measured here"): 2 workers on a 2-core
+# machine shared with other jobs (10.7 tasks/min) and on the quiet machine (51.6 tasks/min)
+TASKS_PER_MINUTE_PER_WORKER = (5.35, 25.8)
 
 
 def shipped_studies() -> dict[str, Path]:
@@ -21,14 +26,18 @@ def shipped_studies() -> dict[str, Path]:
 
 
 def memory(text: str) -> str:
-    """A memory size as Dask reads it ('2GiB', '1500MB')."""
+    """A memory size per worker as Dask reads it ('2GiB', '1500MB'), at least what one task needs."""
     from dask.utils import parse_bytes
 
     try:
-        if parse_bytes(text) <= 0:
-            raise ValueError
+        size = parse_bytes(text)
     except (ValueError, TypeError):
-        raise argparse.ArgumentTypeError(f"memory limit {text!r}: allowed a size like 2GiB or 1500MB") from None
+        size = -1
+    if size <= 0:
+        raise argparse.ArgumentTypeError(f"memory limit {text!r}: allowed a size like 2GiB or 1500MB")
+    if size < MIN_MEMORY:
+        raise argparse.ArgumentTypeError(f"memory limit {text}: allowed at least {MIN_MEMORY / 2**20:.0f} MiB per "
+                                         "worker (a task posing by skinning peaks at 0.35 GiB)")
     return text
 
 
@@ -42,6 +51,62 @@ def workers(text: str) -> int:
     return n
 
 
+def dashboard(text: str) -> str | None:
+    """Where the Dask dashboard listens: host:port, or none."""
+    if text.lower() == "none":
+        return None
+    host, colon, port = text.rpartition(":")
+    if not colon or not host or not port.isdigit() or not 0 <= int(port) <= 65535:
+        raise argparse.ArgumentTypeError(f"dashboard {text!r}: allowed host:port (e.g. 127.0.0.1:8787) or none")
+    return text
+
+
+def capped_workers(asked: int, memory_limit: str) -> int:
+    """`asked`, or fewer: at most one worker per core and per `memory_limit` of free memory (said in a line)."""
+    from dask.utils import parse_bytes
+
+    from hitogata.machine import available_memory, cores
+
+    n_cores, free = cores(), available_memory()
+    cap = max(1, min(n_cores, free // parse_bytes(memory_limit)))
+    if asked > cap:
+        print(f"--workers {asked}: capped at {cap} ({n_cores} cores; {free / 2**30:.1f} GiB free memory, "
+              f"{memory_limit} per worker)", flush=True)
+    return min(asked, cap)
+
+
+def expected_time(tasks: int, n_workers: int, posing: str) -> str:
+    """A line saying how long `tasks` take on `n_workers` local workers, from the rates measured (docs/study.md)."""
+    if posing != "skinning":
+        return f"{tasks} tasks posed by the elastic body: minutes a body on each of {n_workers} workers"
+    slow, fast = (tasks / (n_workers * rate) for rate in TASKS_PER_MINUTE_PER_WORKER)
+    return (f"{tasks} tasks on {n_workers} workers: about {fast:.0f}–{slow:.0f} min "
+            f"({TASKS_PER_MINUTE_PER_WORKER[0]:g}–{TASKS_PER_MINUTE_PER_WORKER[1]:g} tasks/min a worker measured "
+            "on a busy and a quiet 2-core machine, docs/study.md); Ctrl-C stops, the same command resumes")
+
+
+def reachable(address: str) -> None:
+    """Fail at once when nothing listens at a tcp:// scheduler address (Dask would retry until its timeout)."""
+    import socket
+    from urllib.parse import urlsplit
+
+    if not address.startswith("tcp://"):
+        return
+    try:
+        parts = urlsplit(address)
+        host, port = parts.hostname, parts.port
+    except ValueError:
+        host, port = None, None
+    if not host or port is None:
+        raise HitogataError(f"--scheduler {excerpt(address)}: allowed an address like tcp://host:8786")
+    try:
+        socket.create_connection((host, port), timeout=PROBE_SECONDS).close()
+    except (ConnectionRefusedError, socket.gaierror) as err:
+        raise HitogataError(f"--scheduler {address}: cannot reach it ({err.strerror or err})") from None
+    except OSError:  # no answer within the probe's time: let Dask try for its own timeout
+        pass
+
+
 def connect(args: argparse.Namespace):
     """(cluster or None, client): a new LocalCluster, or the scheduler given."""
     from distributed import Client
@@ -49,9 +114,10 @@ def connect(args: argparse.Namespace):
     from hitogata.study.runner import local_cluster
 
     if args.scheduler is None:
-        return local_cluster(args.workers, args.memory_limit)
+        return local_cluster(args.workers, args.memory_limit, args.dashboard)
     if not args.scheduler.startswith(("tcp://", "tls://", "ucx://", "inproc://")):
-        raise HitogataError(f"--scheduler {args.scheduler!r}: allowed an address like tcp://host:8786")
+        raise HitogataError(f"--scheduler {excerpt(args.scheduler)}: allowed an address like tcp://host:8786")
+    reachable(args.scheduler)
     try:
         return None, Client(args.scheduler, timeout=SCHEDULER_TIMEOUT)
     except (OSError, TimeoutError) as err:
@@ -73,8 +139,12 @@ def run(args: argparse.Namespace) -> None:
     tasks = plan(spec)
     todo = pending(tasks, out, args.retry_failed) if out.is_dir() else tasks
     print(f"{spec.title}: {len(spec.bodies)} bodies × {len(spec.motions)} motions = {len(tasks)} tasks, "
-          f"{len(tasks) - len(todo)} done before; {spec.population}")
+          f"{len(tasks) - len(todo)} done before; {spec.population}", flush=True)
     if todo:
+        if args.scheduler is None:
+            args.workers = capped_workers(args.workers, args.memory_limit)
+            print(expected_time(len(todo), args.workers, spec.model.posing), flush=True)
+        created = not out.exists()
         cluster, client = connect(args)
         try:
             info = client.scheduler_info()["workers"]
@@ -92,6 +162,8 @@ def run(args: argparse.Namespace) -> None:
             client.close()
             if cluster is not None:
                 cluster.close()
+            if created and out.is_dir() and not any(out.iterdir()):
+                out.rmdir()  # nothing recorded: no empty folder left
         print(f"computed {summary.done} tasks, {summary.failed} failed, in {summary.wall_seconds:.0f} s "
               f"({summary.rate_per_minute:.1f} tasks/min)")
     bands, written = write_tables(out)
@@ -105,8 +177,13 @@ def register(sub: argparse._SubParsersAction) -> None:
     parser.add_argument("study", help="a study file (docs/study.md) or a shipped one: example")
     parser.add_argument("--out", default="results", help="results folder; a rerun computes only missing tasks")
     parser.add_argument("--workers", type=workers, default=os.cpu_count() or 1,
-                        help="local worker processes (one thread each); default: the CPU count")
-    parser.add_argument("--memory-limit", type=memory, default="2GiB", help="per local worker; default 2GiB")
+                        help="local worker processes (one thread each); default: the CPU count; capped by the "
+                             "cores and the free memory (--memory-limit each)")
+    parser.add_argument("--memory-limit", type=memory, default="2GiB",
+                        help="per local worker, at least 512MiB; default 2GiB")
+    parser.add_argument("--dashboard", type=dashboard, default="127.0.0.1:8787",
+                        help="where Dask's dashboard listens: host:port or none; default 127.0.0.1:8787 "
+                             "(this machine only; 0.0.0.0:8787 opens it to the network)")
     parser.add_argument("--scheduler", default=None,
                         help="an existing Dask scheduler, e.g. tcp://host:8786 (then --workers is not used)")
     parser.add_argument("--retry-failed", action="store_true", help="run the tasks that failed before again")

@@ -50,10 +50,8 @@ def run(args: argparse.Namespace) -> None:
     if not is_loopback(args.host):
         print(f"hitogata viewer: listening on {args.host}: other machines can reach it", flush=True)
     try:
-        while True:
+        while True:  # until Ctrl-C or SIGTERM: exit 130 or 143, as every command stopped so
             time.sleep(3600)
-    except KeyboardInterrupt:
-        pass
     finally:
         app.stop()
 

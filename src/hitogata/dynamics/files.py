@@ -18,7 +18,6 @@ from __future__ import annotations
 import io
 import json
 import os
-import zipfile
 from pathlib import Path
 from typing import Any, Self
 from xml.sax.saxutils import quoteattr
@@ -27,10 +26,11 @@ import meshio
 import numpy as np
 import pygltflib as gl
 
-from hitogata.body import Body
+from hitogata.body import WHOLE_BODY_DENSITY, Body
 from hitogata.dynamics.motion import Motion
 from hitogata.errors import HitogataError
 from hitogata.export.atomic import write_bytes_atomically
+from hitogata.export.npz_read import read_npz
 from hitogata.export.body_files import DETAIL_KEY, body_from_extras, detail_extras, shape_extras
 from hitogata.export.gltf import GlbBuilder, add_material, named_node
 from hitogata.geometry.normals import vertex_normals
@@ -353,15 +353,21 @@ def find_sequence(folder: Path) -> Path:
 
 def read_sequence_body(path: Path) -> tuple[Body, dict[str, np.ndarray]]:
     """The body a sequence file was simulated on, and its arrays (times, vertices, angles, joints)."""
-    try:
-        with np.load(path, allow_pickle=False) as data:
-            arrays = {k: data[k] for k in data.files}
-    except (OSError, ValueError, zipfile.BadZipFile, EOFError) as exc:
-        raise HitogataError(f"{path}: not a readable .npz file ({exc})") from None
+    arrays = read_npz(path)
     missing = [k for k in ("times", "vertices", "joints", "shape") if k not in arrays]
     if missing:
         raise HitogataError(f"{path}: no array {missing[0]!r}; allowed a sequence written by `hitogata simulate`")
-    extras = {"shape": json.loads(str(arrays.pop("shape"))), "density": float(arrays.pop("density", 1000.0))}
+    times, vertices = arrays["times"], arrays["vertices"]
+    if times.ndim != 1 or len(times) == 0 or times.dtype.kind not in "iuf" or not np.isfinite(times).all():
+        raise HitogataError(f"{path}: 'times' of shape {times.shape}: allowed one or more finite times (s)")
+    if vertices.shape[:1] != times.shape or vertices.ndim != 3 or vertices.shape[2] != 3:
+        raise HitogataError(f"{path}: 'vertices' of shape {vertices.shape}: allowed ({len(times)}, V, 3)")
+    try:
+        shape = json.loads(str(arrays.pop("shape")))
+    except ValueError:
+        raise HitogataError(f"{path}: 'shape': not JSON; allowed a sequence written by `hitogata simulate`") from None
+    density = arrays.pop("density", np.array(WHOLE_BODY_DENSITY))
+    extras = {"shape": shape, "density": density.item() if density.ndim == 0 else density.tolist()}
     if DETAIL_KEY in arrays:
         extras[DETAIL_KEY] = arrays.pop(DETAIL_KEY).tolist()
     return body_from_extras(path, extras), arrays

@@ -46,8 +46,9 @@ from hitogata.dynamics.contact import skin_contact
 from hitogata.dynamics.motion_contact import MotionContact, resolve_frames
 from hitogata.dynamics.quasistatic import QuasiStatic, WarmStart, rotate, unrotate
 from hitogata.dynamics.rigging import NodeRig, anchored, joint_nodes, node_rig
-from hitogata.dynamics.timeline import RootTrack, Timeline
+from hitogata.dynamics.timeline import MAX_DURATION, MAX_RATE, MAX_SUBSTEPS, RootTrack, Timeline
 from hitogata.errors import HitogataError
+from hitogata.machine import require_memory
 from hitogata.fem import advance, lumped_masses, modal_step
 from hitogata.fem.elements import P2_EDGES
 from hitogata.geometry.offset_limit import OffsetLimiter
@@ -267,13 +268,17 @@ def simulate(dynamics: BodyDynamics, timeline: Timeline, duration: float, rate: 
     rigid motion (None: it stands where it is); contact: every frame's skin with
     no part of it passing into another and its creases folded as a held pose's (`dynamics.motion_contact`,
     0.1-0.4 s a frame where skin meets)."""
-    if not (np.isfinite(duration) and duration > 0 and np.isfinite(rate) and rate > 0):
-        raise HitogataError(f"duration {duration!r} s and rate {rate!r}/s: allowed positive numbers")
-    if int(substeps) != substeps or substeps < 1:
-        raise HitogataError(f"substeps {substeps!r}: allowed a whole number >= 1")
+    if not (np.isfinite(duration) and 0 < duration <= MAX_DURATION and np.isfinite(rate) and 0 < rate <= MAX_RATE):
+        raise HitogataError(f"duration {duration!r} s and rate {rate!r}/s: allowed a duration up to "
+                            f"{MAX_DURATION:g} s and a rate up to {MAX_RATE:g} frames/s")
+    if int(substeps) != substeps or not 1 <= substeps <= MAX_SUBSTEPS:
+        raise HitogataError(f"substeps {substeps!r}: allowed a whole number 1..{MAX_SUBSTEPS}")
     n_frames = int(round(duration * rate)) + 1
     h = 1.0 / (rate * substeps)
     n_steps = (n_frames - 1) * substeps + 1
+    per_frame, per_step = dynamics.n_nodes * 15, len(dynamics.eigenvalues) * 2 + 3 * len(dynamics.poser.skeleton.names)
+    require_memory(8.0 * (n_frames * per_frame + n_steps * per_step),
+                   f"duration {duration:g} s at {rate:g} frames/s, {substeps} substeps")
     total = n_steps + (n_frames if contact else 0)  # progress: the steps, then each frame's contact
     t = np.arange(n_steps) * h
     sk = dynamics.poser.skeleton

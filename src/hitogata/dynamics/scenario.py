@@ -17,7 +17,7 @@ from typing import Any
 
 from hitogata import units
 from hitogata.config import Entry, read_toml
-from hitogata.dynamics.timeline import Keyframe, RootTrack, Timeline
+from hitogata.dynamics.timeline import MAX_DURATION, MAX_RATE, MAX_SUBSTEPS, Keyframe, RootTrack, Timeline
 from hitogata.errors import HitogataError
 from hitogata.options import (
     ELEMENTS,
@@ -125,8 +125,9 @@ def parse_scenario(data: dict, source: str) -> Scenario:
     body = _body(source, data.get("body", {}))
     model = _model(source, data.get("model", {}))
     time = Entry(source, "[time]", data.get("time", {}), {"duration", "rate", "substeps"})
-    rate = time.quantity("rate", {"": 1.0, "/s": 1.0, "hz": 1.0}, 30.0, 1.0, 240.0, "frames per second, 1..240")
-    substeps = time.integer("substeps", 1, 1, 100)
+    rate = time.quantity("rate", {"": 1.0, "/s": 1.0, "hz": 1.0}, 30.0, 1.0, MAX_RATE,
+                         f"frames per second, 1..{MAX_RATE:g}")
+    substeps = time.integer("substeps", 1, 1, MAX_SUBSTEPS)
     timeline_table = Entry(source, "[timeline]", data.get("timeline", {}),
                            {"interpolation", "on_limit", "bvh", "joint_map"})
     default_how = timeline_table.choice("interpolation", INTERPOLATIONS, "smoothstep")
@@ -139,8 +140,9 @@ def parse_scenario(data: dict, source: str) -> Scenario:
     else:
         keyframes = _keyframes(source, data.get("keyframe", []), default_how, entries)
     timeline = Timeline.from_keyframes(keyframes)
-    duration = time.quantity("duration", TIME_UNITS, None, 1e-3, 600.0, "a time in s, up to 600 s")
-    duration = duration if duration is not None else max(timeline.end + 1.0, 1.0)
+    duration = time.quantity("duration", TIME_UNITS, None, 1e-3, MAX_DURATION,
+                             f"a time in s, up to {MAX_DURATION:g} s")
+    duration = duration if duration is not None else min(max(timeline.end + 1.0, 1.0), MAX_DURATION)
     output = _output(source, data.get("output", {}), duration)
     return Scenario(source, title, body, model, duration, rate, substeps, on_limit, timeline, output, tuple(entries),
                     root)
@@ -207,7 +209,7 @@ def _keyframes(source: str, entries: Any, default_how: Interpolation, written: l
     for k, entry in enumerate(entries, start=1):
         entry_name = f"[[keyframe]] {k}"
         r = Entry(source, entry_name, entry, {"time", "interpolation", *CHANNELS})
-        t = r.quantity("time", TIME_UNITS, None, 0.0, 600.0, "a time like 0.8s")
+        t = r.quantity("time", TIME_UNITS, None, 0.0, MAX_DURATION, f"a time like 0.8s, up to {MAX_DURATION:g} s")
         if t is None:
             raise r.error("missing", "time")
         if t <= last:

@@ -24,8 +24,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from hitogata.errors import HitogataError
+from hitogata.errors import HitogataError, excerpt
 from hitogata.options import CHANNEL_KINDS as KINDS, Interpolation, INTERPOLATIONS
+
+MAX_DURATION = 600.0  # s: the longest motion simulated (a scenario's duration, a BVH timeline, the API)
+MAX_RATE = 240.0  # frames per second
+MAX_SUBSTEPS = 100  # time steps per frame
 
 
 
@@ -83,13 +87,22 @@ class Timeline:
     def from_keyframes(cls, keyframes: list[Keyframe]) -> Timeline:
         """Group keyframes (in time order) into channels, each starting at rest at t = 0."""
         times = [k.time for k in keyframes]
-        if any(b <= a for a, b in zip(times, times[1:])) or (times and times[0] < 0):
-            raise HitogataError(f"keyframe times {times}: allowed strictly increasing times from 0 s")
+        for i, when in enumerate(times, start=1):
+            if not isinstance(when, (int, float)) or isinstance(when, bool) or not 0 <= when <= MAX_DURATION:
+                raise HitogataError(f"keyframe {i}: time {excerpt(when)}; allowed a number of seconds "
+                                    f"0..{MAX_DURATION:g}")
+        if any(b <= a for a, b in zip(times, times[1:])):
+            at = next(i for i, (a, b) in enumerate(zip(times, times[1:]), start=2) if b <= a)
+            raise HitogataError(f"keyframe {at}: time {times[at - 1]:g} s after {times[at - 2]:g} s; "
+                                "allowed strictly increasing times from 0 s")
         series: dict[tuple[str, str], list[tuple[float, float, str]]] = {}
-        for k in keyframes:
+        for i, k in enumerate(keyframes, start=1):
             for key, value in k.values.items():
                 if key[0] not in KINDS:
-                    raise HitogataError(f"channel kind {key[0]!r}: allowed {', '.join(KINDS)}")
+                    raise HitogataError(f"channel kind {excerpt(key[0])}: allowed {', '.join(KINDS)}")
+                if not isinstance(value, (int, float, np.number)) or isinstance(value, bool) or not np.isfinite(value):
+                    raise HitogataError(f"keyframe {i}: {key[0]} {excerpt(key[1])} = {excerpt(value)}; "
+                                        "allowed a finite number (SI: radians, a fraction)")
                 series.setdefault(key, []).append((k.time, float(value), k.interpolation))
         channels = []
         for (kind, name), points in series.items():

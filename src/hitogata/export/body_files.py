@@ -8,9 +8,10 @@ from pathlib import Path
 
 import numpy as np
 
-from hitogata.body import WHOLE_BODY_DENSITY, Body
+from hitogata.body import WHOLE_BODY_DENSITY, Body, check_density
+from hitogata.errors import HitogataError, excerpt
+from hitogata.export.atomic import write_bytes_atomically
 from hitogata.export.meshfiles import MESH_SUFFIXES, write_mesh
-from hitogata.errors import HitogataError
 from hitogata.shape import ShapeParameters
 
 DETAIL_KEY = "detail_offsets_0.01mm"  # a fitted body's per-skin-vertex offsets along the rest normals
@@ -48,8 +49,8 @@ def body_from_extras(path: Path, extras: dict) -> Body:
     try:
         params = ShapeParameters(**{**shape, "race": tuple(shape.get("race", (1 / 3,) * 3))})
     except TypeError as err:
-        raise HitogataError(f"{path}: extras 'shape' {shape!r}: {err}") from None
-    density = float(extras.get("density", WHOLE_BODY_DENSITY))
+        raise HitogataError(f"{path}: extras 'shape' {excerpt(shape)}: {err}") from None
+    density = check_density(extras.get("density", WHOLE_BODY_DENSITY), f"{path}: extras 'density'")
     if DETAIL_KEY not in extras:
         return Body.from_parameters(params, density)
     from hitogata.fit.detail import detailed_body
@@ -77,10 +78,16 @@ def write_body(path: str | os.PathLike, body: Body) -> Path:
     path = check_body_path(path)
     if path.suffix.lower() != ".glb":
         return write_mesh(path, body.vertices, body.faces)
-    from hitogata.export.gltf import write_glb  # pygltflib: only to write a GLB (reading one needs none)
+    return write_bytes_atomically(path, body_glb_bytes(body))
 
-    return write_glb(
-        path,
+
+def body_glb_bytes(body: Body) -> bytes:
+    """The body's GLB (rig, skin weights, shape, density, figures, detail), as `write_body` writes it."""
+    from hitogata.export.gltf import GlbBuilder, add_skinned_mesh  # pygltflib: only to write a GLB
+
+    builder = GlbBuilder()
+    add_skinned_mesh(
+        builder,
         body.vertices,
         body.faces,
         joint_names=body.rig.names,
@@ -91,3 +98,4 @@ def write_body(path: str | os.PathLike, body: Body) -> Path:
         extras={"shape": shape_extras(body.params), "density": body.density, **body_figures(body),
                 **detail_extras(body)},
     )
+    return builder.to_bytes()

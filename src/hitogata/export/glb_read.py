@@ -18,7 +18,7 @@ from typing import Any
 import numpy as np
 from scipy import sparse
 
-from hitogata.errors import HitogataError
+from hitogata.errors import HitogataError, excerpt
 
 MAGIC, JSON_CHUNK, BIN_CHUNK = b"glTF", 0x4E4F534A, 0x004E4942
 COMPONENT_DTYPES: dict[int, np.dtype] = {  # glTF componentType → dtype
@@ -57,10 +57,14 @@ def read_glb_skin(path: str | os.PathLike) -> GlbSkin:
         return _read_glb_skin(path)
     except HitogataError:
         raise
-    except (OSError, ValueError, struct.error, KeyError, IndexError, TypeError, AttributeError) as err:
+    except RecursionError:
+        raise HitogataError(f"{path}: not a readable GLB file (its JSON is nested too deep); allowed a .glb written "
+                            "by hitogata") from None
+    except (OSError, ValueError, struct.error, KeyError, IndexError, TypeError, AttributeError,
+            np.linalg.LinAlgError) as err:
         reason = str(err).splitlines()[0] if str(err) else type(err).__name__
-        raise HitogataError(f"{path}: not a readable GLB file ({reason[:120]}); allowed a .glb written by hitogata"
-                            ) from None
+        raise HitogataError(f"{path}: not a readable GLB file ({excerpt(reason, 100)}); allowed a .glb written by "
+                            "hitogata") from None
 
 
 def read_glb(path: Path) -> tuple[dict[str, Any], bytes | None]:
@@ -114,7 +118,8 @@ def _read_glb_skin(path: Path) -> GlbSkin:
         ibm = _read_accessor(document, blob, skin["inverseBindMatrices"]).reshape(-1, 4, 4).transpose(0, 2, 1)
         positions = np.linalg.inv(ibm)[:, :3, 3]
 
-    n_vertices = document["accessors"][attributes["POSITION"]]["count"]
+    vertices = required(attributes.get("POSITION"), "POSITION").astype(np.float64)
+    n_vertices = len(vertices)
     joints = required(attributes.get("JOINTS_0"), "JOINTS_0")
     weights = required(attributes.get("WEIGHTS_0"), "WEIGHTS_0").astype(np.float64)
     rows = np.repeat(np.arange(n_vertices), joints.shape[1])
@@ -124,7 +129,7 @@ def _read_glb_skin(path: Path) -> GlbSkin:
     skin_weights.eliminate_zeros()
     normals = None if attributes.get("NORMAL") is None else _read_accessor(document, blob, attributes["NORMAL"])
     return GlbSkin(
-        vertices=required(attributes.get("POSITION"), "POSITION").astype(np.float64),
+        vertices=vertices,
         faces=required(primitive.get("indices"), "indices").astype(np.int64).reshape(-1, 3),
         normals=None if normals is None else normals.astype(np.float64),
         joint_names=tuple((nodes[n].get("extras") or {}).get("name", nodes[n].get("name")) for n in joint_nodes),
@@ -135,18 +140,26 @@ def _read_glb_skin(path: Path) -> GlbSkin:
     )
 
 
+def _whole(value: Any, what: str) -> int:
+    """A non-negative whole number from the document (a count, an index, a byte offset)."""
+    if not isinstance(value, int) or isinstance(value, bool) or value < 0:
+        raise ValueError(f"{what} {excerpt(value)}: allowed a whole number >= 0")
+    return value
+
+
 def _read_accessor(document: dict[str, Any], blob: bytes, index: int) -> np.ndarray:
     """An accessor's data as an array (count, width), honouring byte offsets and strides."""
-    accessor = document["accessors"][index]
-    view = document["bufferViews"][accessor["bufferView"]]
+    accessor = document["accessors"][_whole(index, "accessor index")]
+    view = document["bufferViews"][_whole(accessor["bufferView"], f"accessor {index} bufferView")]
     dtype = COMPONENT_DTYPES[accessor["componentType"]]
     width = TYPE_WIDTHS[accessor["type"]]
-    stride = view.get("byteStride") or width * dtype.itemsize
-    data = np.ndarray(
-        shape=(accessor["count"], width),
-        dtype=dtype,
-        buffer=blob,
-        offset=view.get("byteOffset", 0) + accessor.get("byteOffset", 0),
-        strides=(stride, dtype.itemsize),
-    )
+    count = _whole(accessor["count"], f"accessor {index} count")
+    stride = _whole(view.get("byteStride") or width * dtype.itemsize, f"bufferView {accessor['bufferView']} byteStride")
+    offset = _whole(view.get("byteOffset", 0), "bufferView byteOffset") + _whole(accessor.get("byteOffset", 0),
+                                                                               f"accessor {index} byteOffset")
+    end = offset + (count - 1) * stride + width * dtype.itemsize if count else offset
+    if stride < width * dtype.itemsize or end > len(blob):  # bounded by the file before anything is allocated
+        raise ValueError(f"accessor {index}: {count} items of {width * dtype.itemsize} bytes every {stride} from "
+                         f"byte {offset} need {end} bytes; the binary chunk has {len(blob)}")
+    data = np.ndarray(shape=(count, width), dtype=dtype, buffer=blob, offset=offset, strides=(stride, dtype.itemsize))
     return data.copy() if width > 1 else data[:, 0].copy()

@@ -30,11 +30,15 @@ def write_mesh(path: str | os.PathLike, vertices: np.ndarray, faces: np.ndarray)
         )
     import trimesh  # only when a mesh file is written
 
-    mesh = trimesh.Trimesh(
-        vertices=np.asarray(vertices, dtype=np.float64),
-        faces=np.asarray(faces, dtype=np.int64),
-        process=False,
-    )
+    vertices, faces = np.asarray(vertices, dtype=np.float64), np.asarray(faces)
+    if vertices.ndim != 2 or vertices.shape[1] != 3 or not np.isfinite(vertices).all():
+        bad = "" if vertices.ndim != 2 or vertices.shape[1] != 3 else \
+            f", vertex {int(np.flatnonzero(~np.isfinite(vertices).all(axis=1))[0])} not finite"
+        raise HitogataError(f"{path}: vertices of shape {vertices.shape}{bad}; allowed (V, 3) finite numbers")
+    if faces.ndim != 2 or faces.shape[1] != 3 or faces.dtype.kind not in "iu" or (
+            faces.size and not (0 <= faces.min() and faces.max() < len(vertices))):
+        raise HitogataError(f"{path}: faces of shape {faces.shape}; allowed (F, 3) vertex indices 0..{len(vertices) - 1}")
+    mesh = trimesh.Trimesh(vertices=vertices, faces=faces.astype(np.int64), process=False)
     data = mesh.export(file_type=suffix[1:])
     if isinstance(data, str):
         data = data.encode("utf-8")

@@ -17,6 +17,8 @@ from hitogata.errors import HitogataError
 UNITS = {"mm": 1e-3, "m": 1.0}
 BODY_EXTENT = (1.0, 2.6)  # m: a standing adult's stature (1.4–2.1 m) or arm span, with margin
 MIN_POINTS = 2000  # fewer cannot pin down a body's shape
+MAX_DEPTH_RATIO = 0.5  # a person's smallest principal extent over the largest (0.15–0.3), with margin
+MIN_WIDTH_RATIO = 0.1  # the middle one (shoulders or hips: 0.2–0.3; arm span in a T-pose: about 1)
 
 
 @dataclass(frozen=True)
@@ -44,13 +46,20 @@ class Scan:
 
 
 def scan_unit(points: np.ndarray, source: str, unit: str | None = None) -> str:
-    """The scan's unit: `unit` if given, else the one that makes its largest extent a person's."""
+    """The scan's unit: `unit` if given (its reading must make the scan a person's size), else the one
+    that makes its largest extent a person's."""
+    extent = float(np.ptp(points, axis=0).max())
+    lo, hi = BODY_EXTENT
     if unit is not None:
         if unit not in UNITS:
             raise HitogataError(f"--units {unit!r}: allowed {', '.join(UNITS)}")
+        metres = extent * UNITS[unit]
+        if not lo <= metres <= hi:
+            other = next((n for n, m in UNITS.items() if lo <= extent * m <= hi), None)
+            hint = f"; is the file in {other}?" if other else ""
+            raise HitogataError(f"{source}: --units {unit}: the scan spans {metres:.4g} m; a standing person spans "
+                                f"{lo:g}–{hi:g} m{hint}")
         return unit
-    extent = float(np.ptp(points, axis=0).max())
-    lo, hi = BODY_EXTENT
     for name, metres in UNITS.items():
         if lo <= extent * metres <= hi:
             return name
@@ -78,5 +87,23 @@ def make_scan(points: np.ndarray, faces: np.ndarray | None, source: str, unit: s
     if len(points) < MIN_POINTS:
         raise HitogataError(f"{source}: {len(points)} points; allowed a scan of at least {MIN_POINTS} points")
     unit = scan_unit(points, source, unit)
+    check_person_shape(points, source)
     faces = None if faces is None or len(faces) == 0 else np.asarray(faces, dtype=np.int64)
     return Scan(points * UNITS[unit], faces, unit, source)
+
+
+def check_person_shape(points: np.ndarray, source: str) -> None:
+    """One line before the fit if the points are not shaped like a standing person.
+
+    Along its principal axes a standing person is long and shallow: the depth (front to back,
+    0.2–0.5 m) is at most about a third of the stature or arm span (1.4–2.1 m) — 0.15 for a slim
+    adult, 0.3 for a very large one. A ball, a cube or a flat sheet is not a person.
+    """
+    centred = points - points.mean(axis=0)
+    axes = np.linalg.svd(centred[:: max(len(centred) // 20000, 1)], full_matrices=False)[2]
+    extents = np.sort(np.ptp(centred @ axes.T, axis=0))[::-1]
+    depth, width, length = extents[2] / extents[0], extents[1] / extents[0], extents[0]
+    if depth > MAX_DEPTH_RATIO or width < MIN_WIDTH_RATIO:
+        raise HitogataError(f"{source}: not shaped like a standing person: along its principal axes it measures "
+                            f"{extents[0] / length:.2f} : {width:.2f} : {depth:.2f}; allowed a depth of at most "
+                            f"{MAX_DEPTH_RATIO:g} and a width of at least {MIN_WIDTH_RATIO:g} of its length")

@@ -14,7 +14,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from hitogata.body import Body
-from hitogata.errors import HitogataError
+from hitogata.errors import HitogataError, excerpt
 from hitogata.measure.armpits import FOLD_ABOVE
 from hitogata.measure.axes import JointSet, axis, trunk_normal, unit
 from hitogata.measure.geodesic import SurfaceGeodesics, polyline_length
@@ -52,6 +52,9 @@ def posture_of(
     """The body and its posture's arrays, from a `Body` with optional arrays or from a `PosedBody`."""
     if isinstance(body, Body):
         return body, vertices, joints
+    if not hasattr(body, "body") or not isinstance(body.body, Body):
+        raise HitogataError(f"body {excerpt(type(body).__name__)}: allowed a Body or a PosedBody "
+                            "(e.g. Body.from_measurements(sex='female'))")
     if vertices is not None or joints is not None:
         raise HitogataError("a posed body carries its vertices and joints: give the PosedBody alone")
     return body.body, body.vertices, body.rig_joints

@@ -18,10 +18,16 @@ from pathlib import Path
 import numpy as np
 from scipy.spatial.transform import Rotation
 
-from hitogata.errors import HitogataError
+from hitogata.dynamics.timeline import MAX_DURATION, MAX_RATE
+from hitogata.errors import HitogataError, excerpt
 
 CHANNELS = ("Xposition", "Yposition", "Zposition", "Xrotation", "Yrotation", "Zrotation")
-MAX_FRAMES = 1_000_000
+MAX_FRAMES = int(MAX_DURATION * MAX_RATE)  # the longest motion at the fastest scenario rate
+MAX_BYTES = 512 * 2**20  # a file of MAX_FRAMES frames of a 65-joint skeleton is about 300 MiB
+MAX_DEPTH = 64  # nesting: a human skeleton with fingers is about 25 deep
+MAX_JOINTS = 1000
+MAX_NAME = 100  # characters of a joint name
+MAX_OFFSET = 1e5  # |OFFSET| in file units: 100 m in mm
 
 
 @dataclass(frozen=True)
@@ -97,29 +103,39 @@ def _local_translation(channels: tuple[str, ...], values: np.ndarray) -> np.ndar
 
 
 class _Tokens:
-    """Whitespace tokens with their line numbers, for one-line errors."""
+    """Whitespace tokens with their line numbers, split line by line as they are asked for (one-line errors).
+
+    Only the hierarchy is read word by word; the motion's lines are taken whole (`rest`), so a long
+    file is refused by its frame count before its values are read.
+    """
 
     def __init__(self, source: str, text: str) -> None:
         self.source = source
-        self.items = [(word, k) for k, line in enumerate(text.splitlines(), start=1) for word in line.split()]
-        self.at = 0
+        self.lines = text.splitlines()
+        self.row = 0  # lines split so far
+        self.pending: list[tuple[str, int]] = []  # the current line's words not yet taken, last first
+        self.line = 1  # the line of the word taken last
+
+    def _fill(self) -> bool:
+        while not self.pending and self.row < len(self.lines):
+            self.row += 1
+            self.pending = [(word, self.row) for word in reversed(self.lines[self.row - 1].split())]
+        return bool(self.pending)
 
     def fail(self, message: str, line: int | None = None) -> HitogataError:
-        if line is None:
-            line = self.items[min(self.at, len(self.items) - 1)][1] if self.items else 1
-        return HitogataError(f"{self.source}: line {line}: {message}")
+        return HitogataError(f"{self.source}: line {self.line if line is None else line}: {message}")
 
     def next(self, what: str) -> tuple[str, int]:
-        if self.at >= len(self.items):
-            last = self.items[-1][1] if self.items else 1
-            raise HitogataError(f"{self.source}: line {last}: the file ends where {what} was expected")
-        self.at += 1
-        return self.items[self.at - 1]
+        if not self._fill():
+            raise HitogataError(f"{self.source}: line {max(len(self.lines), 1)}: the file ends where {what} "
+                                "was expected")
+        word, self.line = self.pending.pop()
+        return word, self.line
 
     def expect(self, word: str) -> int:
         got, line = self.next(f"{word!r}")
         if got != word:
-            raise self.fail(f"expected {word!r}, found {got!r}", line)
+            raise self.fail(f"expected {word!r}, found {excerpt(got)}", line)
         return line
 
     def number(self, what: str) -> float:
@@ -129,17 +145,29 @@ class _Tokens:
         except ValueError:
             value = float("nan")
         if not np.isfinite(value):
-            raise self.fail(f"{what}: {got!r}; allowed a finite number", line)
+            raise self.fail(f"{what}: {excerpt(got)}; allowed a finite number", line)
         return value
 
     def peek(self) -> str | None:
-        return self.items[self.at][0] if self.at < len(self.items) else None
+        return self.pending[-1][0] if self._fill() else None
+
+    def rest(self) -> list[tuple[int, list[str]]]:
+        """The lines not yet read, as (line number, words), empty lines left out."""
+        out = [(self.line, [w for w, _ in reversed(self.pending)])] if self.pending else []
+        self.pending = []
+        out += [(k, words) for k in range(self.row + 1, len(self.lines) + 1) if (words := self.lines[k - 1].split())]
+        self.row = len(self.lines)
+        return out
 
 
 def read_bvh(path: str | Path) -> Bvh:
     """Read and check a BVH file."""
     path = Path(path)
     try:
+        size = path.stat().st_size
+        if size > MAX_BYTES:
+            raise HitogataError(f"{path}: {size / 2**20:.0f} MiB; allowed a BVH file of at most "
+                                f"{MAX_BYTES / 2**20:.0f} MiB ({MAX_DURATION:g} s of motion)")
         text = path.read_text(encoding="utf-8-sig")
     except FileNotFoundError:
         raise HitogataError(f"{path}: no such BVH file") from None
@@ -151,6 +179,8 @@ def read_bvh(path: str | Path) -> Bvh:
 def parse_bvh(text: str, source: str = "<bvh>") -> Bvh:
     """Parse BVH text (HIERARCHY, then MOTION)."""
     tokens = _Tokens(source, text)
+    if tokens.peek() != "HIERARCHY":  # not a BVH file: nothing of it is quoted
+        raise tokens.fail("not a BVH file; allowed a file beginning with HIERARCHY")
     tokens.expect("HIERARCHY")
     tokens.expect("ROOT")
     joints: list[BvhJoint] = []
@@ -161,61 +191,68 @@ def parse_bvh(text: str, source: str = "<bvh>") -> Bvh:
     tokens.expect("Frames:")
     frames = tokens.number("the frame count")
     if frames != int(frames) or not 1 <= frames <= MAX_FRAMES:
-        raise tokens.fail(f"frame count {frames:g}; allowed a whole number 1..{MAX_FRAMES}",
-                          tokens.items[tokens.at - 1][1])
+        raise tokens.fail(f"frame count {frames:g}; allowed a whole number 1..{MAX_FRAMES}")
     tokens.expect("Frame")
     tokens.expect("Time:")
     frame_time = tokens.number("the frame time")
     if not 1e-4 <= frame_time <= 10.0:
-        raise tokens.fail(f"frame time {frame_time:g} s; allowed 0.0001..10 s", tokens.items[tokens.at - 1][1])
+        raise tokens.fail(f"frame time {frame_time:g} s; allowed 0.0001..10 s")
+    if (int(frames) - 1) * frame_time > MAX_DURATION:
+        raise tokens.fail(f"{int(frames)} frames of {frame_time:g} s = {(int(frames) - 1) * frame_time:.0f} s of "
+                          f"motion; allowed at most {MAX_DURATION:g} s (the longest scenario `simulate` runs)")
     width = sum(len(j.channels) for j in joints)
-    data = tokens.items[tokens.at:]
-    if len(data) != int(frames) * width:
-        line = data[-1][1] if data else tokens.items[-1][1]
-        raise tokens.fail(f"{len(data)} channel values for {int(frames)} frames of {width} channels; "
+    data = tokens.rest()
+    count = sum(len(words) for _, words in data)
+    if count != int(frames) * width:
+        line = data[-1][0] if data else max(len(tokens.lines), 1)
+        raise tokens.fail(f"{count} channel values for {int(frames)} frames of {width} channels; "
                           f"allowed {int(frames) * width}", line)
+    wrong = [(line, len(words)) for line, words in data if len(words) != width]
     try:
-        values = np.array([float(w) for w, _ in data], dtype=float)
+        values = np.array([w for _, words in data for w in words], dtype=float)
     except ValueError:
         values = None
     if values is None or not np.isfinite(values).all():
-        for word, line in data:
-            try:
-                ok = np.isfinite(float(word))
-            except ValueError:
-                ok = False
-            if not ok:
-                raise tokens.fail(f"channel value {word!r}; allowed a finite number", line)
-        raise tokens.fail("channel values: allowed finite numbers", data[0][1])  # the loop above names the bad one
-    lines: dict[int, int] = {}
-    for _word, line in data:  # one frame per line, as every BVH writer does
-        lines[line] = lines.get(line, 0) + 1
-    wrong = [line for line, count in lines.items() if count != width]
-    if wrong:
-        raise tokens.fail(f"{lines[wrong[0]]} values on this frame line; allowed {width} (one frame per line)",
-                          wrong[0])
+        for line, words in data:
+            for word in words:
+                try:
+                    ok = np.isfinite(float(word))
+                except ValueError:
+                    ok = False
+                if not ok:
+                    raise tokens.fail(f"channel value {excerpt(word)}; allowed a finite number", line)
+    if wrong:  # one frame per line, as every BVH writer does
+        raise tokens.fail(f"{wrong[0][1]} values on this frame line; allowed {width} (one frame per line)",
+                          wrong[0][0])
+    assert values is not None  # every word was a finite number (the loop above)
     return Bvh(source, tuple(joints), frame_time, values.reshape(int(frames), width))
 
 
-def _joint(tokens: _Tokens, joints: list[BvhJoint], parent: int) -> None:
+def _joint(tokens: _Tokens, joints: list[BvhJoint], parent: int, depth: int = 1) -> None:
     name, line = tokens.next("a joint name")
     if name in ("{", "}"):
-        raise tokens.fail(f"expected a joint name, found {name!r}", line)
+        raise tokens.fail(f"expected a joint name, found {excerpt(name)}", line)
+    if len(name) > MAX_NAME or not name.isprintable():
+        raise tokens.fail(f"joint name {excerpt(name)}; allowed up to {MAX_NAME} printable characters", line)
     if any(j.name == name for j in joints):
-        raise tokens.fail(f"joint {name!r} named twice; allowed unique names", line)
+        raise tokens.fail(f"joint {excerpt(name)} named twice; allowed unique names", line)
+    if depth > MAX_DEPTH or len(joints) >= MAX_JOINTS:
+        raise tokens.fail(f"joint {name!r}: {'nested ' + str(depth) + ' deep' if depth > MAX_DEPTH else 'one joint too many'}"
+                          f"; allowed at most {MAX_DEPTH} levels and {MAX_JOINTS} joints", line)
     tokens.expect("{")
     tokens.expect("OFFSET")
-    offset = np.array([tokens.number(f"{name} OFFSET") for _ in range(3)])
+    offset = _offset(tokens, f"{name} OFFSET")
     tokens.expect("CHANNELS")
     count = tokens.number(f"{name} channel count")
     if count != int(count) or not 0 <= count <= 6:
-        raise tokens.fail(f"{name}: {count:g} channels; allowed 0..6", tokens.items[tokens.at - 1][1])
+        raise tokens.fail(f"{name}: {count:g} channels; allowed 0..6")
     channels = []
     for _ in range(int(count)):
         word, at = tokens.next("a channel name")
         word = word.capitalize()  # 'zrotation' and 'ZROTATION' are seen in the wild
         if word not in CHANNELS or word in channels:
-            raise tokens.fail(f"{name}: channel {word!r}; allowed each of {', '.join(CHANNELS)} at most once", at)
+            raise tokens.fail(f"{name}: channel {excerpt(word)}; allowed each of {', '.join(CHANNELS)} at most once",
+                              at)
         channels.append(word)
     index = len(joints)
     joints.append(BvhJoint(name, parent, offset, tuple(channels)))
@@ -225,18 +262,27 @@ def _joint(tokens: _Tokens, joints: list[BvhJoint], parent: int) -> None:
         if word == "}":
             break
         if word == "JOINT":
-            _joint(tokens, joints, index)
+            _joint(tokens, joints, index, depth + 1)
         elif word == "End":
             tokens.expect("Site")
             tokens.expect("{")
             tokens.expect("OFFSET")
-            end_site = np.array([tokens.number(f"{name} End Site OFFSET") for _ in range(3)])
+            end_site = _offset(tokens, f"{name} End Site OFFSET")
             tokens.expect("}")
         else:
-            raise tokens.fail(f"expected JOINT, End Site or '}}', found {word!r}", at)
+            raise tokens.fail(f"expected JOINT, End Site or '}}', found {excerpt(word)}", at)
     if end_site is not None:
         j = joints[index]
         joints[index] = BvhJoint(j.name, j.parent, j.offset, j.channels, end_site)
+
+
+def _offset(tokens: _Tokens, what: str) -> np.ndarray:
+    """Three finite numbers within ±MAX_OFFSET (a person in any length unit, mm included)."""
+    offset = np.array([tokens.number(what) for _ in range(3)])
+    if np.abs(offset).max() > MAX_OFFSET:
+        raise tokens.fail(f"{what}: {' '.join(f'{x:g}' for x in offset)}; allowed values within "
+                          f"±{MAX_OFFSET:g} (file units)")
+    return offset
 
 
 def write_bvh(bvh: Bvh) -> str:

@@ -14,7 +14,7 @@ from dataclasses import dataclass
 from importlib import resources
 from pathlib import Path
 
-from hitogata.errors import HitogataError
+from hitogata.errors import HitogataError, excerpt
 from hitogata.skeleton.placement import Skeleton
 from hitogata.config import Entry, read_toml
 
@@ -72,8 +72,9 @@ def identity_map(skeleton: Skeleton) -> JointMap:
     return JointMap(IDENTITY, skeleton.names[0], {n: (n,) for n in skeleton.names[1:]})
 
 
-def choose_joint_map(names: tuple[str, ...], skeleton: Skeleton, requested: str | Path | None = None) -> JointMap:
-    """The requested map (a shipped name or a TOML path), or the one matching the most BVH joints."""
+def choose_joint_map(names: tuple[str, ...], skeleton: Skeleton, requested: str | Path | None = None,
+                     source: str = "BVH") -> JointMap:
+    """The requested map (a shipped name or a TOML path), or the one matching the most BVH joints (of file `source`)."""
     shipped = shipped_joint_maps()
     if requested is not None:
         if str(requested) == IDENTITY:
@@ -85,6 +86,6 @@ def choose_joint_map(names: tuple[str, ...], skeleton: Skeleton, requested: str 
     best = max(scored, key=lambda s: s[:2])
     if best[0] < 4:
         raise HitogataError(
-            f"BVH joints {', '.join(sorted(joints)[:6])}…: no joint map matches them; allowed a map "
+            f"{source}: joints {', '.join(excerpt(j, 20) for j in sorted(joints)[:4])}…: no joint map matches them; allowed a map "
             f"({', '.join([IDENTITY, *shipped])} or a TOML file like data/joint_maps/cmu.toml)")
     return best[2]

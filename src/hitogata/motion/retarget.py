@@ -79,6 +79,9 @@ def retarget(bvh: Bvh, skeleton: Skeleton, joint_map: JointMap, unit: str | None
     if unit is not None and unit not in UNITS:
         raise HitogataError(f"unit {unit!r}: allowed {', '.join(UNITS)}")
     rest = bvh.rest_positions()
+    size = float(np.ptp(np.vstack([rest, _rest_points(bvh, rest)]), axis=0).max())
+    if not size > 0:
+        raise HitogataError(f"{bvh.source}: every joint's OFFSET is zero; allowed a skeleton whose joints lie apart")
     rotations, positions = bvh.world()
     root = index[joint_map.root]
     part_of = {j: joint_map.chains[j] for j in mapped}
@@ -107,6 +110,10 @@ def retarget(bvh: Bvh, skeleton: Skeleton, joint_map: JointMap, unit: str | None
                 continue
             last = skeleton.index(part_of[j][-1])
             theirs, ours = [leaf], [skeleton.tails[last] - skeleton.joints[skeleton.index(part_of[j][0])]]
+        short = [k for k, v in enumerate(theirs) if np.linalg.norm(v) <= 1e-6 * size]
+        if short:
+            raise HitogataError(f"{bvh.source}: joint {j!r}: its bone at rest has zero length (OFFSET 0 0 0); "
+                                "allowed joints that lie apart from their mapped children")
         q[j] = _align(np.array(ours) @ g.T, np.array(theirs)) @ g
 
     # wanted world rotations of the mapped joints, in our world

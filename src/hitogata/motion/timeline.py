@@ -16,8 +16,8 @@ from pathlib import Path
 import numpy as np
 
 from hitogata.dynamics.scenario import BodySpec
-from hitogata.dynamics.timeline import Keyframe, RootTrack
-from hitogata.errors import HitogataError
+from hitogata.dynamics.timeline import MAX_RATE, Keyframe, RootTrack
+from hitogata.errors import HitogataError, excerpt
 from hitogata.motion.bvh import read_bvh
 from hitogata.motion.clip import MotionClip
 from hitogata.motion.joint_map import choose_joint_map
@@ -41,19 +41,31 @@ def bvh_timeline(source: str, data: dict, body: BodySpec) -> tuple[list[Keyframe
     table = data["timeline"]
     if "keyframe" in data:
         raise HitogataError(f"{source}: [timeline].bvh: give a BVH file or [[keyframe]] entries, not both")
-    name = table["bvh"]
-    if not isinstance(name, str) or not name:
-        raise HitogataError(f"{source}: [timeline].bvh: {name!r}; allowed a BVH file path")
-    path = Path(name) if Path(name).is_absolute() else Path(source).parent / name
+    path = beside(source, "[timeline].bvh", table["bvh"])
     mapping = table.get("joint_map")
     if mapping is not None and not isinstance(mapping, str):
-        raise HitogataError(f"{source}: [timeline].joint_map: {mapping!r}; allowed a map name or a TOML path")
-    if mapping is not None and mapping.endswith(".toml") and not Path(mapping).is_absolute():
-        mapping = str(Path(source).parent / mapping)
+        raise HitogataError(f"{source}: [timeline].joint_map: {excerpt(mapping)}; allowed a map name or a TOML path")
+    if mapping is not None and mapping.endswith(".toml"):
+        mapping = str(beside(source, "[timeline].joint_map", mapping))
     skeleton = body_skeleton(body)
     bvh = read_bvh(path)
-    result = retarget(bvh, skeleton, choose_joint_map(bvh.names, skeleton, mapping))
+    result = retarget(bvh, skeleton, choose_joint_map(bvh.names, skeleton, mapping, bvh.source))
     return clip_keyframes(result.clip, skeleton), RootTrack(result.clip.times, result.clip.root)
+
+
+def beside(source: str, entry: str, name: object) -> Path:
+    """A file a scenario names: a path relative to the scenario's folder that stays inside it.
+
+    A scenario may come from someone else: it must not make the program read (and quote in
+    an error) a file elsewhere on the machine, by an absolute path, `..` or a symbolic link.
+    """
+    allowed = "allowed a path relative to the scenario's folder, inside it (no absolute path, no '..')"
+    if not isinstance(name, str) or not name or Path(name).is_absolute() or ".." in Path(name).parts:
+        raise HitogataError(f"{source}: {entry}: {excerpt(name)}; {allowed}")
+    folder = Path(source).parent
+    if not (folder / name).resolve().is_relative_to(folder.resolve()):
+        raise HitogataError(f"{source}: {entry}: {excerpt(name)} leads outside the scenario's folder; {allowed}")
+    return folder / name
 
 
 def clip_keyframes(clip: MotionClip, skeleton: Skeleton) -> list[Keyframe]:
@@ -85,7 +97,7 @@ def scenario_text(result: Retargeted, skeleton: Skeleton, body: BodySpec, title:
     if body.stature is not None:
         lines += [f'stature = "{body.stature * 100:.1f}cm"', f'mass = "{body.mass:.1f}kg"']
     lines += ["", "[model]", 'extent = "body"', "", "[time]", f'duration = "{clip.times[-1]:.6g}s"',
-              f"rate = {min(max(round(clip.rate), 1), 240)}", "", "[timeline]", 'interpolation = "linear"',
+              f"rate = {min(max(round(clip.rate), 1), int(MAX_RATE))}", "", "[timeline]", 'interpolation = "linear"',
               f'on_limit = "{"clamp" if outside else "raise"}"']
     for t, row in zip(clip.times, clip.angles):
         values = ", ".join(f'"{skeleton.dof_names[d]}" = {np.degrees(row[d]):.4f}' for d in moving)

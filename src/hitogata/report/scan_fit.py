@@ -81,4 +81,9 @@ def fit_text(summary: dict) -> str:
 
 def write_summary(path: str | os.PathLike, summary: dict) -> Path:
     """The summary as JSON, atomically."""
-    return write_bytes_atomically(path, (json.dumps(summary, indent=1, allow_nan=False) + "\n").encode())
+    return write_bytes_atomically(path, summary_bytes(summary))
+
+
+def summary_bytes(summary: dict) -> bytes:
+    """The summary's JSON file."""
+    return (json.dumps(summary, indent=1, allow_nan=False) + "\n").encode()

@@ -16,6 +16,8 @@ from __future__ import annotations
 import json
 import os
 import secrets
+import signal
+import threading
 import time
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass
@@ -25,7 +27,7 @@ import pyarrow as pa
 import pyarrow.parquet as pq
 from distributed import WorkerPlugin
 
-from hitogata.errors import HitogataError
+from hitogata.errors import HitogataError, warnings_as_lines
 from hitogata.export.atomic import write_bytes_atomically
 from hitogata.study.spec import StudySpec
 from hitogata.study.tasks import COLUMNS, Outcome, Task, execute, warm
@@ -165,20 +167,35 @@ def _out_dir(out: str | os.PathLike) -> Path:
 
 
 class WarmWorker(WorkerPlugin):
-    """Worker plugin: load the body-independent data once when a worker starts (and when it restarts)."""
+    """Worker plugin: load the body-independent data once when a worker starts (and when it restarts); warnings
+    as one line each, once."""
 
     idempotent = True
 
     def setup(self, worker) -> None:
+        warnings_as_lines()  # a warning raised for every body is said once per worker, as one line
         warm()
 
 
-def local_cluster(workers: int, memory_limit: str = MEMORY_LIMIT, dashboard: str | None = ":8787"):
-    """A LocalCluster of `workers` single-threaded processes, started and waited for (not a fixed sleep)."""
+def local_cluster(workers: int, memory_limit: str = MEMORY_LIMIT, dashboard: str | None = "127.0.0.1:8787"):
+    """A LocalCluster of `workers` single-threaded processes, started and waited for (not a fixed sleep).
+
+    Everything listens on this machine only: the scheduler and workers on 127.0.0.1, the dashboard
+    where `dashboard` says (host:port; None: no dashboard). The worker processes start with Ctrl-C
+    ignored: the terminal sends it to the whole process group, and the command, not each worker,
+    answers it (the cluster is closed, no worker prints a traceback).
+    """
     from distributed import Client, LocalCluster
 
-    cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, memory_limit=memory_limit,
-                           dashboard_address=dashboard, silence_logs=40)
+    main = threading.current_thread() is threading.main_thread()  # signals are set in the main thread only
+    previous = signal.signal(signal.SIGINT, signal.SIG_IGN) if main else None
+    try:
+        cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, memory_limit=memory_limit,
+                               host="127.0.0.1", dashboard_address=dashboard, silence_logs=40)
+    finally:
+        if main:
+            signal.signal(signal.SIGINT, previous)
     client = Client(cluster)
     client.wait_for_workers(workers)
     return cluster, client
+

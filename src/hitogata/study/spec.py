@@ -11,15 +11,14 @@ from __future__ import annotations
 
 import csv
 import math
-import tomllib
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Literal
 
 from hitogata import units
-from hitogata.body import STATURE_RANGE, WHOLE_BODY_DENSITY
+from hitogata.body import STATURE_RANGE, WHOLE_BODY_DENSITY, check_density
 from hitogata.dynamics.scenario import load_scenario, shipped_scenarios
-from hitogata.config import Entry
+from hitogata.config import Entry, read_toml
 from hitogata.errors import HitogataError
 from hitogata.options import Skinning
 from hitogata.study.sampling import SEXES, Joint, clusters, sample_stature_mass, sex_counts
@@ -88,12 +87,7 @@ def _need(entry: Entry, key: str, value: float | None) -> float:
 def load_study(path: str | Path) -> StudySpec:
     """Read and check a study file; bodies, charts and motions named in it are read too."""
     path = Path(path)
-    try:
-        data = tomllib.loads(path.read_text(encoding="utf-8"))
-    except (FileNotFoundError, IsADirectoryError):
-        raise HitogataError(f"{path}: no such study file") from None
-    except (tomllib.TOMLDecodeError, UnicodeDecodeError) as err:
-        raise HitogataError(f"{path}: not valid TOML ({err})") from None
+    _, data = read_toml(path)
     return parse_study(data, path)
 
 
@@ -268,5 +262,6 @@ def _folder(t: Entry, path: Path) -> tuple[tuple[BodyDef, ...], str]:
         shape = {**shape, "race": tuple(shape.get("race", (1 / 3,) * 3))}
         sex = "male" if float(shape.get("sex", 0.0)) >= 0.5 else "female"
         bodies.append(BodyDef(file.stem, sex, sex, float(shape.get("age", 30.0)), shape=tuple(sorted(shape.items())),
-                              density=float(extras.get("density", WHOLE_BODY_DENSITY))))
+                              density=check_density(extras.get("density", WHOLE_BODY_DENSITY),
+                                                            f"{file}: extras 'density'")))
     return tuple(bodies), f"{len(bodies)} body files in {path}"

@@ -392,6 +392,11 @@ def serve(body: Body, host: str = "127.0.0.1", port: int = 8080,
         import viser
     except ImportError:
         raise HitogataError("the viewer needs viser: pip install viser") from None
+    from viser.infra import _infra
+
+    from hitogata.viewer.origin import guard
+
     check_host(host)
+    guard(_infra)  # only the viewer's own page may connect
     server = viser.ViserServer(host=host, port=port, label="hitogata", verbose=False)
     return ViewerApp(server, body, garment)

@@ -20,7 +20,6 @@ Every mistake is a one-line `HitogataError` naming the file.
 from __future__ import annotations
 
 import math
-import zipfile
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
@@ -32,6 +31,7 @@ from hitogata.dynamics.motion import simulate
 from hitogata.dynamics.run import build_dynamics
 from hitogata.dynamics.scenario import load_scenario
 from hitogata.errors import HitogataError
+from hitogata.export.npz_read import read_npz
 from hitogata.pose import Poser
 from hitogata.config import Entry, read_toml
 
@@ -88,11 +88,7 @@ def check_sequence(seq: Sequence, n_vertices: int, n_dofs: int, n_bones: int) ->
 
 def load_npz(path: Path, poser: Poser) -> Sequence:
     """A sequence saved with numpy: `times`, `vertices`, optional `angles` and `joints`."""
-    try:
-        with np.load(path, allow_pickle=False) as data:
-            arrays = {k: np.asarray(data[k], dtype=np.float64) for k in data.files}
-    except (OSError, ValueError, zipfile.BadZipFile, EOFError) as exc:
-        raise HitogataError(f"{path}: not a readable .npz file ({exc})") from None
+    arrays = {k: np.asarray(v, dtype=np.float64) for k, v in read_npz(path).items() if v.dtype.kind in "biuf"}
     missing = [k for k in ("times", "vertices") if k not in arrays]
     if missing:
         raise HitogataError(f"{path}: no array {missing[0]!r}; a sequence has times, vertices (and angles, joints)")
