@@ -10,13 +10,21 @@ from __future__ import annotations
 
 import os
 import secrets
+from collections.abc import Callable
 from pathlib import Path
+from typing import BinaryIO
 
 from hitogata.errors import HitogataError
 
 
 def write_bytes_atomically(path: str | os.PathLike, data: bytes) -> Path:
     """Write ``data`` to ``path`` via a temporary sibling file; return the path."""
+    return write_atomically(path, lambda handle: handle.write(data))
+
+
+def write_atomically(path: str | os.PathLike, write: Callable[[BinaryIO], object]) -> Path:
+    """Call ``write(handle)`` on a temporary sibling of ``path``, flushed to disk, then rename it over
+    ``path``; return the path. Two writers of one path each rename a whole file: the last one stays."""
     path = Path(path)
     if not path.parent.is_dir():
         raise HitogataError(f"{path}: cannot write, directory {path.parent} does not exist")
@@ -25,7 +33,7 @@ def write_bytes_atomically(path: str | os.PathLike, data: bytes) -> Path:
         # os.open with mode 0o666 lets the umask decide permissions, as open() would.
         fd = os.open(temporary, os.O_WRONLY | os.O_CREAT | os.O_EXCL | getattr(os, "O_BINARY", 0), 0o666)
         with os.fdopen(fd, "wb") as handle:
-            handle.write(data)
+            write(handle)
             handle.flush()
             os.fsync(handle.fileno())
         os.replace(temporary, path)
