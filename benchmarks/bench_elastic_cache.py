@@ -1,5 +1,6 @@
 """The elastic answer's speed: a held pose on the command line, cold and with its model cached, and a warm
-elastic posture with contact in the library, each beside a baseline tree's (default: main) in the same run.
+elastic posture with contact in the library, each beside a baseline tree's in the same run (default: the commit
+where this branch left main, so that the skins compared differ by this branch's changes only).
 
 1. `hitogata pose --elastic --contact --skinning dqs --angle knee_r.flexion=135deg --out x.ply`: the
    baseline tree's run (it builds the whole-body model every time, or reads its own cache if it has one:
@@ -79,11 +80,15 @@ def library_run(src: Path, cache: Path, count: int, sexes: str, work: Path, name
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--baseline", default="main", help="the commit to compare with (default main)")
+    parser.add_argument("--baseline", default=None, help="the commit to compare with (default: where this branch "
+                                                          "left main, so that only its own changes are compared)")
     parser.add_argument("--poses", type=int, default=10, help="extreme poses per body in the library part (default "
                                                               "all 10)")
     parser.add_argument("--sexes", default="female,male", help="bodies of the library part (default female,male)")
     args = parser.parse_args()
+    if args.baseline is None:
+        args.baseline = subprocess.run(["git", "-C", str(REPO), "merge-base", "HEAD", "main"], check=True,
+                                       capture_output=True, text=True).stdout.strip()[:10]
     with tempfile.TemporaryDirectory() as scratch:
         root = Path(scratch)
         base, work, ours_cache, base_cache = root / "base", root / "work", root / "cache", root / "base_cache"
