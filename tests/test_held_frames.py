@@ -3,11 +3,13 @@
 import numpy as np
 import pytest
 
+from hitogata.dynamics import held_frames
 from hitogata.dynamics.held_frames import HeldFrames
 
 
 @pytest.mark.slow
-def test_frames_held_on_two_workers_are_the_frames_held_here(female):
+def test_frames_held_on_two_workers_are_the_frames_held_here(female, monkeypatch):
+    monkeypatch.setattr(held_frames, "MIN_FRAMES", 2)  # two frames are enough to go to the workers here
     hold = HeldFrames(female, contact=False, workers=2)
     skeleton = hold.dynamics.poser.skeleton
     angles = np.zeros((2, skeleton.n_dofs))

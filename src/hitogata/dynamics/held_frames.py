@@ -6,8 +6,9 @@ elastic model from the disk cache (`dynamics.model_cache`: the caller built and
 stored it, so a worker starts in a second or two instead of building it again)
 and holds the frames it is handed. The answers are the serial ones: the same
 model, the same code, each frame on its own. Without the cache (off), with one
-core or one frame, or inside a daemonic process (a Dask worker may not start
-processes of its own), the frames are held in this process.
+core, with fewer than `MIN_FRAMES` frames to hold (a worker takes ~2 s of CPU to
+start: imports, the body, the model read), or inside a daemonic process (a Dask
+worker may not start processes of its own), the frames are held in this process.
 """
 
 from __future__ import annotations
@@ -16,14 +17,17 @@ import multiprocessing
 import os
 import weakref
 from concurrent.futures import ProcessPoolExecutor
+from concurrent.futures.process import BrokenProcessPool
 
 import numpy as np
 
 from hitogata import disk_cache
 from hitogata.body import Body
 from hitogata.dynamics.motion import BodyDynamics
-from hitogata.dynamics.single_pose import elastic_dynamics, elastic_pose
+from hitogata.dynamics import single_pose
+from hitogata.dynamics.single_pose import elastic_dynamics
 
+MIN_FRAMES = 10  # fewer frames than this are held here: starting the workers would cost more than they save
 _WORKER: dict[str, object] = {}  # a worker process's model and options (`_start`)
 
 
@@ -49,16 +53,20 @@ class HeldFrames:
     def __call__(self, angles: np.ndarray) -> list[np.ndarray]:
         """The held skin of each posture (F, D)."""
         angles = np.atleast_2d(np.asarray(angles, dtype=float))
-        if not self._parallel(len(angles)):
-            return [self._hold(q) for q in angles]
-        return list(self._workers().map(_held, list(angles)))
+        if self._parallel(len(angles)):
+            try:
+                return list(self._workers().map(_held, list(angles)))
+            except BrokenProcessPool as err:  # a worker died (out of memory, killed): hold them here
+                disk_cache.note(f"the worker processes stopped ({err}); the frames are held in this process")
+                self.workers, self._pool = 1, None
+        return [self._hold(q) for q in angles]
 
     def _parallel(self, frames: int) -> bool:
-        return (frames > 1 and self.workers > 1 and disk_cache.enabled()
+        return (frames >= MIN_FRAMES and self.workers > 1 and disk_cache.enabled()
                 and not multiprocessing.current_process().daemon)
 
     def _hold(self, q: np.ndarray) -> np.ndarray:
-        return elastic_pose(self.dynamics, angles=q, contact=self.contact, on_limit="clamp").vertices
+        return single_pose.elastic_pose(self.dynamics, angles=q, contact=self.contact, on_limit="clamp").vertices
 
     def _workers(self) -> ProcessPoolExecutor:
         if self._pool is None:
@@ -87,4 +95,4 @@ def _start(params, all_vertices: np.ndarray, density: float, contact: bool) -> N
 def _held(q: np.ndarray) -> np.ndarray:
     dynamics = _WORKER["dynamics"]
     assert isinstance(dynamics, BodyDynamics)
-    return elastic_pose(dynamics, angles=q, contact=bool(_WORKER["contact"]), on_limit="clamp").vertices
+    return single_pose.elastic_pose(dynamics, angles=q, contact=bool(_WORKER["contact"]), on_limit="clamp").vertices
