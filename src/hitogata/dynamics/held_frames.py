@@ -1,7 +1,7 @@
 """Held postures of one body on every core: each frame is solved from rest, so the frames are independent.
 
-A pool of worker processes, each with BLAS held to one thread (two cores run two
-solves, not two solves fighting over four threads), reads the body's whole-body
+A pool of worker processes, each with BLAS and the contact's TBB held to one thread
+(two cores run two solves, not two solves fighting over four threads), reads the body's whole-body
 elastic model from the disk cache (`dynamics.model_cache`: the caller built and
 stored it, so a worker starts in a second or two instead of building it again)
 and holds the frames it is handed. The answers are the serial ones: the same
@@ -84,10 +84,13 @@ class HeldFrames:
 
 
 def _start(params, all_vertices: np.ndarray, density: float, contact: bool) -> None:
-    """A worker's start: BLAS on one thread, the body's model read from the disk cache."""
+    """A worker's start: BLAS and the contact's TBB on one thread (the workers are the parallelism), the
+    body's model read from the disk cache."""
+    import ipctk
     from threadpoolctl import threadpool_limits
 
     threadpool_limits(1)
+    ipctk.set_num_threads(1)
     _WORKER["dynamics"] = elastic_dynamics(Body(params, all_vertices, density))
     _WORKER["contact"] = contact
 
