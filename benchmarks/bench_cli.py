@@ -16,14 +16,14 @@ from __future__ import annotations
 
 import argparse
 import os
-import resource
 import shutil
 import statistics
 import subprocess
 import sys
 import tempfile
-import time
 from pathlib import Path
+
+from timing import timed_process
 
 REPO = Path(__file__).resolve().parents[1]
 COMMANDS = {  # label → (arguments, goal in s)
@@ -40,13 +40,8 @@ def timed_run(src: Path, argv: list[str], work: Path) -> tuple[float, float]:
         shutil.rmtree(target, ignore_errors=True) if target.is_dir() else target.unlink(missing_ok=True)
     env = {**os.environ, "PYTHONPATH": str(src)}
     args = [a.format(work=work) for a in argv]
-    before = resource.getrusage(resource.RUSAGE_CHILDREN)
-    start = time.perf_counter()
-    subprocess.run([sys.executable, "-m", "hitogata.cli", *args], env=env, check=True,
-                   stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-    wall = time.perf_counter() - start
-    after = resource.getrusage(resource.RUSAGE_CHILDREN)
-    return wall, (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+    return timed_process([sys.executable, "-m", "hitogata.cli", *args], env, stdout=subprocess.DEVNULL,
+                         stderr=subprocess.DEVNULL)
 
 
 def main() -> None:

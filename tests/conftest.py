@@ -6,9 +6,14 @@ Chromium or node can deselect what it cannot run: `-m "not render"`,
 through `gltf_validator.needs_validator`), and `-m "not slow"` for a quick run.
 """
 
+import os
+import shutil
+import tempfile
+
 import pytest
 
 from hitogata.body import Body, default_body
+from hitogata.disk_cache import CACHE_ENV
 
 # Modules whose tests need these, by the module's name.
 NEEDS: dict[str, tuple[str, ...]] = {
@@ -31,6 +36,24 @@ NEEDS: dict[str, tuple[str, ...]] = {
     "test_untangle": ("slow",),
     "test_pose_population": ("slow",),
 }
+
+
+_CACHE_FOLDER = pytest.StashKey[str]()
+
+
+def pytest_configure(config: pytest.Config) -> None:
+    """The model cache in a folder of this run, never the user's: set before pytest-xdist starts its workers
+    (they inherit it and share it), and by each process its own when run alone."""
+    if CACHE_ENV not in os.environ or not os.environ.get("PYTEST_XDIST_WORKER"):
+        folder = tempfile.mkdtemp(prefix="hitogata-test-cache-")
+        os.environ[CACHE_ENV] = folder
+        config.stash[_CACHE_FOLDER] = folder
+
+
+def pytest_unconfigure(config: pytest.Config) -> None:
+    folder = config.stash.get(_CACHE_FOLDER, None)
+    if folder is not None:
+        shutil.rmtree(folder, ignore_errors=True)
 
 
 def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:

@@ -68,7 +68,7 @@ def no_model(monkeypatch):
     import hitogata.commands.modes as modes
     import hitogata.dynamics.run as run
 
-    monkeypatch.setattr(modes, "build_elastic_model", refuse)
+    monkeypatch.setattr(modes, "cached_elastic_model", refuse)
     monkeypatch.setattr(run, "build_dynamics", refuse)
 
 

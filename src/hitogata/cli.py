@@ -30,6 +30,7 @@ from hitogata.errors import HitogataError, one_line, warnings_as_lines
 # name → (module, one-line help); the module's `register(subparsers)` adds the full parser.
 COMMANDS = {
     "body": ("hitogata.commands.body", "build a body from sex, age, stature and mass, and write it"),
+    "cache": ("hitogata.commands.cache", "the elastic models kept on disk between runs: --info or --clear"),
     "demo": ("hitogata.commands.demo", "run the main job on the built-in default bodies"),
     "dress": ("hitogata.commands.dress", "put a stretch garment on the body: its contact pressure on the skin"),
     "ease": ("hitogata.commands.ease", "dynamic ease and fabric stretch of a body through mobility motions"),
@@ -125,6 +126,10 @@ def main(argv: Sequence[str] | None = None) -> int:
                 args = build_parser(command).parse_args(argv)
             except SystemExit as done:  # --help, --version, or argparse's one-line error (OneLineParser)
                 return int(done.code or 0)
+            if getattr(args, "no_cache", False):  # `add_cache_argument`: for this run and the processes it starts
+                from hitogata.disk_cache import NO_CACHE_ENV
+
+                os.environ[NO_CACHE_ENV] = "1"
             with prepared_output(args):
                 args.run(args)
                 if stops.received and getattr(args, "workdir", None) is not None:

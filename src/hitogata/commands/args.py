@@ -58,3 +58,10 @@ def refuse_body_options(args: argparse.Namespace, why: str) -> None:
     if given:
         value = getattr(args, BODY_DEFAULTS[given[0]][0])
         raise HitogataError(f"{given[0]} {value}: does not apply here ({why}); leave out {', '.join(given)}")
+
+
+def add_cache_argument(parser: argparse.ArgumentParser) -> None:
+    """--no-cache, on a command that builds an elastic model (`hitogata.disk_cache`; `cli.main` applies it)."""
+    parser.add_argument("--no-cache", action="store_true",
+                        help="build the elastic model afresh, neither reading nor writing the model cache "
+                             "(as HITOGATA_NO_CACHE=1)")

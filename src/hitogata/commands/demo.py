@@ -13,6 +13,7 @@ import sys
 from pathlib import Path
 
 from hitogata.body import default_body
+from hitogata.commands.args import add_cache_argument
 from hitogata.commands.body import figures_line
 from hitogata.commands.paths import add_output
 from hitogata.dynamics.demo import run_demo
@@ -37,4 +38,5 @@ def run(args: argparse.Namespace) -> None:
 def register(sub: argparse._SubParsersAction) -> None:
     parser = sub.add_parser("demo", help="run the main job on the built-in default bodies")
     add_output(parser, "folder", "output folder; default ./demo (a new or empty folder)", default="demo")
+    add_cache_argument(parser)
     parser.set_defaults(run=run)

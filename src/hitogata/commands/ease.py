@@ -7,7 +7,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from hitogata import units
-from hitogata.commands.args import add_body_arguments
+from hitogata.commands.args import add_body_arguments, add_cache_argument
 from hitogata.commands.body import body_from_args
 from hitogata.commands.paths import add_output
 from hitogata.dynamics.scenario import Scenario, load_scenario, shipped_scenarios
@@ -165,4 +165,5 @@ def register(sub: argparse._SubParsersAction) -> None:
     add_body_arguments(parser)
     add_motion_arguments(parser)
     add_output(parser, "folder", "output folder (a new or empty folder); default ./ease", default="ease")
+    add_cache_argument(parser)
     parser.set_defaults(run=run)

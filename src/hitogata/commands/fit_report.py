@@ -12,7 +12,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from hitogata.commands.args import add_body_arguments, body_options_given, refuse_body_options
+from hitogata.commands.args import add_body_arguments, body_options_given, refuse_body_options, add_cache_argument
 from hitogata.commands.body import body_from_args
 from hitogata.commands.ease import MOTION_DEFAULTS, add_motion_arguments, checked_inputs, compute, write_tables
 from hitogata.commands.paths import add_output, input_path
@@ -78,4 +78,5 @@ def register(sub: argparse._SubParsersAction) -> None:
     parser.add_argument("--study", default=None, type=input_path("folder"),
                         help="a `hitogata study` results folder: adds the population's percentile tables and bands")
     add_output(parser, "folder", "report folder: fit_report.html and its tables (a new or empty folder)")
+    add_cache_argument(parser)
     parser.set_defaults(run=run)

@@ -6,6 +6,7 @@ import argparse
 import time
 from pathlib import Path
 
+from hitogata.commands.args import add_cache_argument
 from hitogata.commands.paths import add_output, input_path
 from hitogata.commands.validate import names
 from hitogata.export.atomic import write_bytes_atomically
@@ -46,4 +47,5 @@ def register(sub: argparse._SubParsersAction) -> None:
                         help="the starting materials file; default the shipped presets")
     parser.add_argument("--quiet", action="store_true", help="no progress lines")
     add_output(parser, "file", "the materials file to write (.toml)", suffixes=(".toml",))
+    add_cache_argument(parser)
     parser.set_defaults(run=run)

@@ -9,10 +9,11 @@ import time
 from pathlib import Path
 
 from hitogata import units
-from hitogata.commands.args import add_body_arguments
+from hitogata.commands.args import add_body_arguments, add_cache_argument
 from hitogata.commands.body import body_from_args
 from hitogata.commands.paths import add_output, input_path
-from hitogata.elastic import BONE_MODES, CUT_MODES, DEFAULT_ELEMENT_SIZES, ELEMENTS, build_elastic_model, load_materials
+from hitogata.elastic import BONE_MODES, CUT_MODES, DEFAULT_ELEMENT_SIZES, ELEMENTS, load_materials
+from hitogata.elastic.cache import cached_elastic_model
 from hitogata.elastic.files import write_frequencies, write_mode_pictures, write_vtu
 from hitogata.errors import HitogataError
 from hitogata.fem.assembly import DILATATIONS
@@ -63,9 +64,9 @@ def run(args: argparse.Namespace) -> None:
         ensure_offscreen_gl()
     body = body_from_args(args)
     start = time.perf_counter()
-    model = build_elastic_model(body, extent=args.region, element_size=size, element=args.element,
-                                n_modes=args.count, materials=materials, bone=args.bone, cuts=args.cuts,
-                                dilatation=args.dilatation)
+    model = cached_elastic_model(body, extent=args.region, element_size=size, element=args.element,
+                                 n_modes=args.count, materials=materials, bone=args.bone, cuts=args.cuts,
+                                 dilatation=args.dilatation)
     built = time.perf_counter() - start
 
     out, work = Path(args.out), args.workdir
@@ -116,4 +117,5 @@ def register(sub: argparse._SubParsersAction) -> None:
                              "nearly incompressible tissue (default); full: the plain displacement element")
     parser.add_argument("--pictures", type=whole_number, default=6, help="mode pictures to draw; default 6")
     add_output(parser, "folder", "output folder (created; a new or empty folder)")
+    add_cache_argument(parser)
     parser.set_defaults(run=run)

@@ -7,7 +7,7 @@ from pathlib import Path
 
 import numpy as np
 
-from hitogata.commands.args import add_body_arguments
+from hitogata.commands.args import add_body_arguments, add_cache_argument
 from hitogata.commands.body_file import add_body_file, body_of
 from hitogata.commands.paths import add_output
 from hitogata.commands.pose_args import add_pose_arguments
@@ -133,4 +133,5 @@ def register(sub: argparse._SubParsersAction) -> None:
         "stretched beyond +95 %% (armpit, groin), its fine skin too, written as NAME_fine.ply beside the skin "
         "(`hitogata measure` reads it through the .json); see docs/elastic.md",
     )
+    add_cache_argument(parser)
     parser.set_defaults(run=run)

@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import sys
 
+from hitogata.commands.args import add_cache_argument
 from hitogata.commands.paths import add_output, input_path
 from hitogata.dynamics.scenario import load_scenario, shipped_scenarios
 
@@ -40,4 +41,5 @@ def register(sub: argparse._SubParsersAction) -> None:
     parser.add_argument("--body", type=input_path("file", suffixes=(".glb",)), default=None,
                         help="run on the body of a .glb written by `hitogata body` or `hitogata fit` "
                         "instead of the scenario's [body]")
+    add_cache_argument(parser)
     parser.set_defaults(run=run)

@@ -6,6 +6,7 @@ import argparse
 import time
 from pathlib import Path
 
+from hitogata.commands.args import add_cache_argument
 from hitogata.commands.paths import add_output, input_path
 from hitogata.errors import HitogataError
 from hitogata.export.atomic import write_bytes_atomically
@@ -90,4 +91,5 @@ def register(sub: argparse._SubParsersAction) -> None:
                         help="a materials TOML file (e.g. from hitogata identify); default the shipped presets")
     parser.add_argument("--quiet", action="store_true", help="no progress lines")
     add_output(parser, "folder", "output folder: validation.csv, validation.json, validation.md")
+    add_cache_argument(parser)
     parser.set_defaults(run=run)

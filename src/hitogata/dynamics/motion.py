@@ -34,7 +34,7 @@ centrifugal) are left out: δ is millimetres against metres of gross motion.
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, replace
 from functools import cached_property
 from typing import TYPE_CHECKING
@@ -91,13 +91,16 @@ class BodyDynamics:
 
     @classmethod
     def build(cls, body: Body, model: ElasticModel, skinning: Skinning = "dqs", poser: Poser | None = None,
-              solver: type[QuasiStatic] = QuasiStatic) -> BodyDynamics:
+              solver: type[QuasiStatic] = QuasiStatic, rig: NodeRig | None = None,
+              unit_loads: Mapping[str, np.ndarray] | None = None) -> BodyDynamics:
         """Prepare a body and its elastic model (`hitogata.elastic.build_elastic_model`).
 
         solver: the quasi-statics' class (its constructor's); another is for comparisons
-        (`benchmarks/bench_dynamics.py` runs a baseline solver this way)."""
+        (`benchmarks/bench_dynamics.py` runs a baseline solver this way); rig, unit_loads: the node rig
+        and the muscles' unit loads of this body and model already made (`dynamics.model_cache` reads
+        them from disk), else made here."""
         poser = poser or poser_for(body)
-        rig = node_rig(poser, model, skinning)
+        rig = rig or node_rig(poser, model, skinning)
         held = anchored(np.setdiff1d(model.fixed_nodes, joint_nodes(rig.weights, model.elements, model.fixed_nodes)),
                         model.fixed_nodes, model.elements[:, :4])
         soft = tuple(model.region_names.index(r) for r in SOFT_REGIONS if r in model.region_names)
@@ -109,8 +112,9 @@ class BodyDynamics:
         E = np.minimum(model.E, CARTILAGE * model.E[np.isin(model.region, soft)].max())
         statics = solver(model.points[:corners], model.elements[:, :4], E, model.nu,
                               held[held < corners], model.region, soft)
-        loads = {name: model.muscle_load(name, 1.0).reshape(-1, 3) for name in model.muscle_names
-                 if len(model.muscle_elements(name))}
+        loads = dict(unit_loads) if unit_loads is not None else {
+            name: model.muscle_load(name, 1.0).reshape(-1, 3) for name in model.muscle_names
+            if len(model.muscle_elements(name))}
         mass = lumped_masses(model.points, model.elements, model.rho)[::3]
         # A mode without stiffness (a piece of mesh hinged at one node) has no equilibrium to return
         # to: its motion is left to the quasi-statics.

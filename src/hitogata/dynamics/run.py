@@ -39,13 +39,13 @@ def make_body(spec: BodySpec) -> Body:
 
 
 def build_dynamics(body: Body, scenario: Scenario) -> BodyDynamics:
-    """The elastic model the scenario asks for, prepared for simulation."""
-    from hitogata.elastic import build_elastic_model
+    """The elastic model the scenario asks for, prepared for simulation (read from the disk cache when
+    this body's was built before: `dynamics.model_cache`)."""
+    from hitogata.dynamics.model_cache import cached_dynamics
 
     m = scenario.model
-    model = build_elastic_model(body, extent=m.extent, element_size=m.element_size, element=m.element,
-                                n_modes=m.modes, damping_ratios=m.damping_ratios, alpha_beta=m.alpha_beta)
-    return BodyDynamics.build(body, model, skinning=m.skinning)
+    return cached_dynamics(body, m.skinning, extent=m.extent, element_size=m.element_size, element=m.element,
+                           n_modes=m.modes, damping_ratios=m.damping_ratios, alpha_beta=m.alpha_beta)
 
 
 @dataclass(frozen=True)

@@ -18,6 +18,7 @@ whole-body model it needs, once per body and size.
 
 from __future__ import annotations
 
+import json
 from collections.abc import Mapping
 from dataclasses import dataclass
 
@@ -40,18 +41,22 @@ ELEMENT_SIZE = 40.0  # mm: the whole body's lattice for a held posture (as the l
 
 
 def elastic_dynamics(body: Body, element_size: float = ELEMENT_SIZE, materials: Materials | None = None,
-                     n_modes: int = 2) -> BodyDynamics:
+                     n_modes: int = 2, cache: bool | None = None) -> BodyDynamics:
     """The whole body's elastic model ready for posing, built once per body, element size and materials
-    (kept in `Body.whole_body_dynamics`; `materials` None: the shipped presets). Statics need no modes
-    (2 by default); a model built with more serves a call asking for fewer."""
-    from hitogata.elastic import build_elastic_model, load_materials
+    (kept in `Body.whole_body_dynamics`, and on disk: `dynamics.model_cache`; `cache` False: not read
+    nor written there, None: as `HITOGATA_NO_CACHE` says; `materials` None: the shipped presets).
+    Statics need no modes (2 by default); a model built with more serves a call asking for fewer."""
+    from hitogata.dynamics.model_cache import cached_dynamics
+    from hitogata.elastic import load_materials
+    from hitogata.elastic.cache import materials_values
 
     table = load_materials() if materials is None else materials
-    key = (element_size, table.source)
+    key = (element_size, json.dumps(materials_values(table)))  # by value: a file's name is not its materials
     cached = body.whole_body_dynamics.get(key)
     if cached is None or len(cached.eigenvalues) < n_modes:
-        model = build_elastic_model(body, extent="body", element_size=element_size, n_modes=n_modes, materials=table)
-        body.whole_body_dynamics[key] = cached = BodyDynamics.build(body, model)
+        body.whole_body_dynamics[key] = cached = cached_dynamics(body, cache=cache, extent="body",
+                                                                 element_size=element_size, n_modes=n_modes,
+                                                                 materials=table)
     return cached
 
 

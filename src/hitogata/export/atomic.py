@@ -18,8 +18,9 @@ import os
 import secrets
 import signal
 import threading
-from collections.abc import Iterator, Mapping
+from collections.abc import Callable, Iterator, Mapping
 from pathlib import Path
+from typing import BinaryIO
 
 from hitogata.errors import HitogataError
 
@@ -53,7 +54,8 @@ def disk_error(path: Path, err: OSError | DiskError) -> DiskError:
     return DiskError(path, err.reason if isinstance(err, DiskError) else str(err.strerror or err))
 
 
-def _write_temporary(path: Path, data: bytes) -> Path:
+def _write_temporary(path: Path, write: Callable[[BinaryIO], object]) -> Path:
+    """Call ``write(handle)`` on a new temporary sibling of ``path``, flushed to disk; return its path."""
     if not path.parent.is_dir():
         raise HitogataError(f"{path}: cannot write, directory {path.parent} does not exist")
     temporary = temporary_name(path)
@@ -61,7 +63,7 @@ def _write_temporary(path: Path, data: bytes) -> Path:
         # os.open with mode 0o666 lets the umask decide permissions, as open() would.
         fd = os.open(temporary, os.O_WRONLY | os.O_CREAT | os.O_EXCL | getattr(os, "O_BINARY", 0), 0o666)
         with os.fdopen(fd, "wb") as handle:
-            handle.write(data)
+            write(handle)
             handle.flush()
             os.fsync(handle.fileno())
     except BaseException as err:
@@ -74,8 +76,14 @@ def _write_temporary(path: Path, data: bytes) -> Path:
 
 def write_bytes_atomically(path: str | os.PathLike, data: bytes) -> Path:
     """Write ``data`` to ``path`` via a temporary sibling file; return the path."""
+    return write_atomically(path, _writer(data))
+
+
+def write_atomically(path: str | os.PathLike, write: Callable[[BinaryIO], object]) -> Path:
+    """Call ``write(handle)`` on a temporary sibling of ``path``, flushed to disk, then rename it over
+    ``path``; return the path. Two writers of one path each rename a whole file: the last one stays."""
     path = Path(path)
-    temporary = _write_temporary(path, data)
+    temporary = _write_temporary(path, write)
     try:
         os.replace(temporary, path)
     except BaseException:
@@ -84,12 +92,16 @@ def write_bytes_atomically(path: str | os.PathLike, data: bytes) -> Path:
     return path
 
 
+def _writer(data: bytes) -> Callable[[BinaryIO], object]:
+    return lambda handle: handle.write(data)
+
+
 def write_files_together(files: Mapping[Path, bytes]) -> list[Path]:
     """Write several files as one unit: all written to temporaries first, then renamed in with signals held."""
     temporaries: dict[Path, Path] = {}
     try:
         for path, data in files.items():
-            temporaries[Path(path)] = _write_temporary(Path(path), data)
+            temporaries[Path(path)] = _write_temporary(Path(path), _writer(data))
         with signals_held():
             for path, temporary in temporaries.items():
                 os.replace(temporary, path)

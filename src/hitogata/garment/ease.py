@@ -83,24 +83,25 @@ def skinned_surface(body: Body, skinning: Skinning = "dqs") -> Surface:
     return lambda angles, root: poser.pose_many(angles, skinning, root)
 
 
-def elastic_surface(body: Body, contact: bool = True) -> Surface:
+def elastic_surface(body: Body, contact: bool = True, workers: int | None = None) -> Surface:
     """The surface source of the elastic whole body (on DQS): each frame's posture held (quasi-statics from
     rest, no loads), its skin's self-contact resolved and its creases folded with `contact`
-    (`dynamics.single_pose.elastic_pose`), then moved by the frame's root. A frame asked for again (ease,
+    (`dynamics.single_pose.elastic_pose`), then moved by the frame's root. The frames are held on `workers`
+    processes (None: every core; `dynamics.held_frames`: the same answers). A frame asked for again (ease,
     stretch and pressure each ask for the same frames) is not solved again."""
-    from hitogata.dynamics.single_pose import elastic_dynamics, elastic_pose
+    from hitogata.dynamics.held_frames import HeldFrames
 
-    dynamics = elastic_dynamics(body)
+    hold = HeldFrames(body, contact, workers)
     held: dict[bytes, np.ndarray] = {}
 
     def surface(angles: np.ndarray, root: np.ndarray) -> np.ndarray:
         angles = np.atleast_2d(np.asarray(angles, dtype=float))
+        # a clip's angles were checked with its scenario: a clamp only rounds off a hair
+        new = {q.tobytes(): q for q in angles if q.tobytes() not in held}
+        held.update(zip(new, hold(np.array(list(new.values())).reshape(-1, angles.shape[1]))))
         out = np.empty((len(angles), len(body.vertices), 3))
         for k, (q, r) in enumerate(zip(angles, root)):
-            key = q.tobytes()
-            if key not in held:  # a clip's angles were checked with its scenario: a clamp only rounds off a hair
-                held[key] = elastic_pose(dynamics, angles=q, contact=contact, on_limit="clamp").vertices
-            out[k] = held[key] @ r[:3, :3].T + r[:3, 3]
+            out[k] = held[q.tobytes()] @ r[:3, :3].T + r[:3, 3]
         return out
 
     return surface

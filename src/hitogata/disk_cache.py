@@ -1,0 +1,202 @@
+"""A disk cache of built models, as plain arrays, shared by every process of a user.
+
+What takes tens of seconds to build and depends only on its inputs (the whole-body
+elastic model of a body) is kept as one numpy `.npz` file per entry, named by a
+digest of its key (everything it was built from). An entry holds arrays only
+(loaded with `allow_pickle=False`: no code is ever read back), and its key, which
+is compared on reading. It is written to a temporary file in the same folder and
+renamed into place, so processes and Dask workers building the same entry at once
+each put down a whole file and the last rename stays; a reader never sees half an
+entry. An entry that cannot be read whole (truncated, corrupt, another key) is
+removed with a one-line note and built again, never used.
+
+Where: `$HITOGATA_CACHE`, else the platform's user cache folder (`~/.cache/hitogata`
+on Linux). Size: at most `$HITOGATA_CACHE_LIMIT` megabytes (default `DEFAULT_LIMIT_MB`);
+beyond it the entries used longest ago go (reading an entry marks it used).
+Off: `HITOGATA_NO_CACHE=1`, or the commands' `--no-cache`.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import os
+import sys
+import time
+import zipfile
+from collections.abc import Mapping
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from hitogata.errors import HitogataError
+from hitogata.export.atomic import write_atomically
+
+CACHE_ENV = "HITOGATA_CACHE"
+NO_CACHE_ENV = "HITOGATA_NO_CACHE"
+LIMIT_ENV = "HITOGATA_CACHE_LIMIT"
+DEFAULT_LIMIT_MB = 2000.0  # a default body's whole-body elastic model is ~90 MB
+STALE_WRITE = 3600.0  # s: a temporary file this old was left by a writer that died
+KEY = "__key__"  # the array holding the entry's key (JSON), checked on reading
+SUFFIX = ".npz"
+
+
+def note(text: str) -> None:
+    """One line on stderr: the cache never stops the work, it only says what it could not do."""
+    print(f"hitogata: note: {text}", file=sys.stderr)
+
+
+def cache_dir() -> Path:
+    """The cache's folder: `$HITOGATA_CACHE`, else the platform's user cache folder for hitogata."""
+    where = os.environ.get(CACHE_ENV)
+    if where:
+        return Path(where).expanduser()
+    from platformdirs import user_cache_dir
+
+    return Path(user_cache_dir("hitogata", appauthor=False))
+
+
+def enabled(cache: bool | None = None) -> bool:
+    """Whether to use the cache: `cache` if given, else on unless `HITOGATA_NO_CACHE` is set (not 0/empty)."""
+    if cache is not None:
+        return cache
+    return os.environ.get(NO_CACHE_ENV, "").strip().lower() in ("", "0", "false", "no")
+
+
+def limit_bytes() -> int:
+    """The cache's size limit in bytes (`$HITOGATA_CACHE_LIMIT` megabytes, default DEFAULT_LIMIT_MB)."""
+    text = os.environ.get(LIMIT_ENV, "").strip()
+    try:
+        megabytes = float(text) if text else DEFAULT_LIMIT_MB
+    except ValueError:
+        megabytes = -1.0
+    if not (megabytes >= 0 and np.isfinite(megabytes)):
+        raise HitogataError(f"{LIMIT_ENV}={text!r}: allowed a number of megabytes >= 0")
+    return int(megabytes * 1e6)
+
+
+def digest(key: Mapping) -> str:
+    """A short hex digest naming the entry of `key` (JSON of plain values, keys sorted)."""
+    return hashlib.sha256(_key_text(key).encode()).hexdigest()[:32]
+
+
+def entry_path(kind: str, key: Mapping) -> Path:
+    """Where the entry of `kind` ("dynamics", "elastic-model", ...) and `key` lives."""
+    return cache_dir() / f"{kind}-{digest(key)}{SUFFIX}"
+
+
+def load(kind: str, key: Mapping) -> dict[str, np.ndarray] | None:
+    """The arrays of the entry of `key`, or None when there is none; an unreadable one is removed with a note."""
+    path = entry_path(kind, key)
+    try:
+        with np.load(path, allow_pickle=False) as stored:
+            arrays = {name: stored[name] for name in stored.files}  # every member read: its CRC checked
+    except FileNotFoundError:
+        return None
+    except (OSError, ValueError, EOFError, zipfile.BadZipFile) as err:
+        discard(path, f"unreadable ({type(err).__name__}: {err})")
+        return None
+    if KEY not in arrays or str(arrays.pop(KEY)) != _key_text(key):
+        discard(path, "made for another key")
+        return None
+    try:
+        os.utime(path)  # used now: the last to go when the cache is over its limit
+    except OSError:
+        pass
+    return arrays
+
+
+def save(kind: str, key: Mapping, arrays: Mapping[str, np.ndarray]) -> Path | None:
+    """Store `arrays` as the entry of `key` (written whole, then renamed into place), then keep the cache
+    within its limit; returns the entry's path, or None (with a note) when the cache cannot be written."""
+    path = entry_path(kind, key)
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        named = {KEY: np.array(_key_text(key)), **arrays}
+        write_atomically(path, lambda handle: np.savez(handle, **named))  # type: ignore[arg-type]
+    except (OSError, HitogataError) as err:
+        note(f"the model cache {path.parent} could not be written ({err}); the model is built on every run")
+        return None
+    prune(keep=path)
+    return path
+
+
+@dataclass(frozen=True)
+class CacheInfo:
+    """What the cache holds."""
+
+    folder: Path
+    entries: int
+    size: int  # bytes
+    limit: int  # bytes
+
+    def summary(self) -> str:
+        return (f"{self.folder}: {self.entries} entries, {self.size / 1e6:.0f} MB "
+                f"(limit {self.limit / 1e6:.0f} MB, {LIMIT_ENV}; off: {NO_CACHE_ENV}=1 or --no-cache)")
+
+
+def _entries(folder: Path) -> list[Path]:
+    return sorted(folder.glob(f"*{SUFFIX}")) if folder.is_dir() else []
+
+
+def info() -> CacheInfo:
+    """The cache's folder, its entries and their size."""
+    folder = cache_dir()
+    entries = _entries(folder)
+    return CacheInfo(folder, len(entries), sum(_size(p) for p in entries), limit_bytes())
+
+
+def clear() -> tuple[int, int]:
+    """Remove every entry (and any temporary file a writer left); returns (entries, bytes) removed."""
+    folder = cache_dir()
+    removed, size = 0, 0
+    for path in _entries(folder):
+        size += _size(path)
+        path.unlink(missing_ok=True)
+        removed += 1
+    for path in folder.glob(".*.tmp") if folder.is_dir() else ():
+        path.unlink(missing_ok=True)
+    return removed, size
+
+
+def prune(keep: Path | None = None) -> None:
+    """Remove the entries used longest ago until the cache is within its limit (never `keep`), and the
+    temporary files of writers that died."""
+    folder = cache_dir()
+    now = time.time()
+    for path in folder.glob(".*.tmp"):
+        if now - _mtime(path) > STALE_WRITE:
+            path.unlink(missing_ok=True)
+    entries = sorted(_entries(folder), key=_mtime)
+    total, limit = sum(_size(p) for p in entries), limit_bytes()
+    for path in entries:
+        if total <= limit:
+            break
+        if path != keep:
+            total -= _size(path)
+            path.unlink(missing_ok=True)
+
+
+def discard(path: Path, why: str) -> None:
+    """Remove an entry that cannot be used, with a one-line note saying why."""
+    note(f"cache entry {path.name} {why}: removed, built again")
+    path.unlink(missing_ok=True)
+
+
+def _key_text(key: Mapping) -> str:
+    return json.dumps(key, sort_keys=True, separators=(",", ":"))
+
+
+def _size(path: Path) -> int:
+    try:
+        return path.stat().st_size
+    except OSError:
+        return 0
+
+
+def _mtime(path: Path) -> float:
+    try:
+        return path.stat().st_mtime
+    except OSError:
+        return 0.0

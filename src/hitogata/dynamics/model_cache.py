@@ -1,0 +1,54 @@
+"""A body's elastic dynamics read from the disk cache, else built and stored there (`hitogata.elastic.cache`).
+
+An entry holds the elastic model (mesh, K and M, modes, the skin's map) and what
+`BodyDynamics.build` makes from it at length: the FE nodes' part weights, the
+skin bound to the nodes, and the muscles' unit loads. The rest (the quasi-statics'
+factor, the mass-weighted modes, the skin's fade) is made again from those arrays
+in a fraction of a second: a factor is not an array to store.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from hitogata.body import Body
+from hitogata.dynamics.motion import BodyDynamics
+from hitogata.dynamics.rigging import NodeRig
+from hitogata.elastic.cache import cached, model_key, model_options
+from hitogata.elastic.model import build_elastic_model
+from hitogata.elastic.stored import from_arrays, to_arrays
+from hitogata.options import Skinning
+from hitogata.pose import poser_for
+from hitogata.skinning import prepare_skin
+
+DYNAMICS = "dynamics"  # the entry kind
+MODEL, PARTS = "model.", "parts."  # the entry's two values' array name prefixes
+
+
+def cached_dynamics(body: Body, skinning: Skinning = "dqs", cache: bool | None = None, **options: Any) -> BodyDynamics:
+    """`BodyDynamics.build(body, build_elastic_model(body, **options), skinning)`, read from the disk cache
+    when this body's was built before with the same options, materials and code (`cache`: see
+    `disk_cache.enabled`)."""
+    chosen = model_options(**options)
+
+    def build() -> BodyDynamics:
+        return BodyDynamics.build(body, build_elastic_model(body, **chosen), skinning)
+
+    if chosen["volume"] is not None:
+        return build()
+    key = {**model_key(body, chosen), "skinning": skinning}
+    return cached(DYNAMICS, key, build, _encode, lambda arrays: _decode(body, skinning, arrays), cache)
+
+
+def _encode(dynamics: BodyDynamics) -> dict[str, np.ndarray]:
+    parts = {"weights": dynamics.rig.weights, "skin_map": dynamics.rig.skin_map, "loads": dynamics.unit_loads}
+    return {**to_arrays(dynamics.model, MODEL), **to_arrays(parts, PARTS)}
+
+
+def _decode(body: Body, skinning: Skinning, arrays: dict[str, np.ndarray]) -> BodyDynamics:
+    model, parts = from_arrays(arrays, MODEL), from_arrays(arrays, PARTS)
+    poser = poser_for(body)
+    rig = NodeRig(prepare_skin(model.points, parts["weights"], poser.skeleton.parents), skinning, parts["skin_map"])
+    return BodyDynamics.build(body, model, skinning, poser, rig=rig, unit_loads=parts["loads"])

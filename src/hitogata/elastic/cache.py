@@ -1,0 +1,115 @@
+"""The elastic model of a body built once and kept on disk (`hitogata.disk_cache`), keyed by what it is built from.
+
+The key holds the body (a digest of its vertices, triangles, rig, skinning weights,
+density and sex: a body read from a file keys the same as one built from parameters
+when they agree), every option of `build_elastic_model` (the materials by their
+values, not their file's name), the package's version and a digest of its code
+and data (a changed model or asset never reads an old entry), and `FORMAT`.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import inspect
+from collections.abc import Callable, Mapping
+from functools import lru_cache
+from pathlib import Path
+from typing import Any, TypeVar
+
+import numpy as np
+import scipy.sparse as sp
+
+from hitogata import disk_cache
+from hitogata.body import Body
+from hitogata.elastic.materials import Materials, load_materials
+from hitogata.elastic.model import ElasticModel, build_elastic_model
+from hitogata.elastic.stored import from_arrays, to_arrays
+
+FORMAT = 1  # raised when what an entry holds, or how, changes
+MODEL = "elastic-model"  # the entry kind of a bare elastic model
+T = TypeVar("T")
+
+
+def model_options(**options: Any) -> dict[str, Any]:
+    """`build_elastic_model`'s options, every default filled in and the materials read (a `Materials`)."""
+    bound = inspect.signature(build_elastic_model).bind(None, **options)
+    bound.apply_defaults()
+    chosen = dict(bound.arguments)
+    chosen.pop("body")
+    materials = chosen["materials"]
+    chosen["materials"] = materials if isinstance(materials, Materials) else load_materials(materials)
+    return chosen
+
+
+def model_key(body: Body, options: Mapping[str, Any]) -> dict[str, Any]:
+    """The key of the elastic model of `body` built with `options` (`model_options`' form)."""
+    plain = {name: _plain(value) for name, value in options.items() if name not in ("materials", "volume")}
+    return {"format": FORMAT, "code": code_digest(), "body": body_digest(body),
+            "materials": materials_values(options["materials"]), "options": plain}
+
+
+def materials_values(table: Materials) -> dict[str, Any]:
+    """The materials by value: each region's E (Pa), nu, rho (kg/m³), and the Rayleigh damping if given."""
+    return {"regions": {name: [m.E, m.nu, m.rho] for name, m in sorted(table.regions.items())},
+            "rayleigh": None if table.rayleigh is None else list(table.rayleigh)}
+
+
+def body_digest(body: Body) -> str:
+    """A digest of what the elastic model takes from a body: skin, rig, skinning weights, density, sex."""
+    h = hashlib.sha256()
+    weights = sp.csr_matrix(body.skin_weights)
+    rig = body.rig
+    for array in (body.all_vertices, body.faces, rig.heads, rig.tails, rig.parents, weights.data, weights.indices,
+                  weights.indptr, np.array([body.density, body.params.sex])):
+        h.update(np.ascontiguousarray(array).tobytes())
+    h.update("\n".join(rig.names).encode())
+    return h.hexdigest()
+
+
+@lru_cache(maxsize=1)
+def code_digest() -> str:
+    """The package's version and a digest of its code and data files (so a changed checkout misses)."""
+    import hitogata
+
+    package = Path(hitogata.__file__).parent
+    h = hashlib.sha256(str(hitogata.__version__).encode())
+    for path in sorted(p for p in package.rglob("*") if p.is_file() and "__pycache__" not in p.parts):
+        h.update(str(path.relative_to(package)).encode())
+        h.update(path.read_bytes())
+    return f"{hitogata.__version__}+{h.hexdigest()[:16]}"
+
+
+def cached(kind: str, key: Mapping[str, Any], build: Callable[[], T], encode: Callable[[T], dict[str, np.ndarray]],
+           decode: Callable[[dict[str, np.ndarray]], T], cache: bool | None) -> T:
+    """The value of `key`: read from the disk cache, else built and stored (`cache`: see `disk_cache.enabled`).
+    An entry that reads but does not decode is removed with a note and built again."""
+    if not disk_cache.enabled(cache):
+        return build()
+    arrays = disk_cache.load(kind, key)
+    if arrays is not None:
+        try:
+            return decode(arrays)
+        except (KeyError, TypeError, ValueError) as err:
+            disk_cache.discard(disk_cache.entry_path(kind, key), f"does not hold a model ({type(err).__name__}: {err})")
+    value = build()
+    disk_cache.save(kind, key, encode(value))
+    return value
+
+
+def cached_elastic_model(body: Body, cache: bool | None = None, **options: Any) -> ElasticModel:
+    """`build_elastic_model(body, **options)` read from the disk cache when it was built before (then stored);
+    a model given its `volume` is built (a volume is not keyed)."""
+    chosen = model_options(**options)
+    if chosen["volume"] is not None:
+        return build_elastic_model(body, **chosen)
+    return cached(MODEL, model_key(body, chosen), lambda: build_elastic_model(body, **chosen), to_arrays,
+                  from_arrays, cache)
+
+
+def _plain(value: Any) -> Any:
+    """An option as JSON: tuples as lists, numbers as floats."""
+    if isinstance(value, (tuple, list)):
+        return [_plain(v) for v in value]
+    if isinstance(value, (np.integer, np.floating)):
+        return value.item()
+    return value

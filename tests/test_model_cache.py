@@ -1,0 +1,150 @@
+"""The disk cache of elastic models: keyed by all it is built from, shared safely, never read corrupt."""
+
+import os
+import subprocess
+import sys
+from dataclasses import replace
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from hitogata import disk_cache
+from hitogata.body import Body
+from hitogata.cli import main
+from hitogata.dynamics.model_cache import cached_dynamics
+from hitogata.dynamics.single_pose import elastic_pose
+from hitogata.elastic import load_materials
+from hitogata.elastic.cache import cached, model_key, model_options
+from hitogata.fem import Material
+
+
+@pytest.fixture()
+def cache_folder(tmp_path, monkeypatch) -> Path:
+    folder = tmp_path / "cache"
+    monkeypatch.setenv(disk_cache.CACHE_ENV, str(folder))
+    monkeypatch.delenv(disk_cache.NO_CACHE_ENV, raising=False)
+    monkeypatch.delenv(disk_cache.LIMIT_ENV, raising=False)
+    return folder
+
+
+def _softer_muscle(materials):
+    """The same materials file, its muscle's modulus 10 % lower: the same name, other values."""
+    muscle = materials.regions["muscle"]
+    regions = {**materials.regions, "muscle": Material(muscle.E * 0.9, muscle.nu, muscle.rho, "muscle")}
+    return replace(materials, regions=regions)
+
+
+def test_a_changed_material_element_size_or_body_misses_the_cache(female):
+    table = load_materials()
+    base = model_key(female, model_options(extent="body", element_size=40.0, n_modes=2, materials=table))
+    assert base == model_key(female, model_options(extent="body", element_size=40.0, n_modes=2,
+                                                   materials=load_materials()))
+    softer = _softer_muscle(table)
+    assert softer.source == table.source
+    other = Body.from_measurements("female", 30.0, 1.70, 62.0)
+    for changed in (model_key(female, model_options(extent="body", element_size=40.0, n_modes=2, materials=softer)),
+                    model_key(female, model_options(extent="body", element_size=35.0, n_modes=2, materials=table)),
+                    model_key(female, model_options(extent="body", element_size=40.0, n_modes=4, materials=table)),
+                    model_key(other, model_options(extent="body", element_size=40.0, n_modes=2, materials=table))):
+        assert changed != base
+        assert disk_cache.entry_path("dynamics", changed) != disk_cache.entry_path("dynamics", base)
+
+
+def test_a_stored_entry_is_read_back_and_a_miss_builds(cache_folder):
+    built = []
+
+    def build():
+        built.append(1)
+        return np.arange(5.0)
+
+    def fetch(key):
+        return cached("test", key, build, lambda v: {"v": v}, lambda a: a["v"], None)
+
+    np.testing.assert_array_equal(fetch({"n": 1}), np.arange(5.0))
+    np.testing.assert_array_equal(fetch({"n": 1}), np.arange(5.0))
+    assert len(built) == 1
+    fetch({"n": 2})
+    assert len(built) == 2
+    assert cached("test", {"n": 1}, build, lambda v: {"v": v}, lambda a: a["v"], False) is not None
+    assert len(built) == 3  # cache=False: built, not read
+
+
+def test_a_corrupt_entry_is_rebuilt_with_a_note(cache_folder, capsys):
+    key = {"n": 1}
+    disk_cache.save("test", key, {"v": np.arange(100_000.0)})
+    path = disk_cache.entry_path("test", key)
+    data = path.read_bytes()
+    path.write_bytes(data[: len(data) // 2])  # cut short, as a full disk or a killed writer would leave it
+    rebuilt = cached("test", key, lambda: np.zeros(3), lambda v: {"v": v}, lambda a: a["v"], None)
+    np.testing.assert_array_equal(rebuilt, np.zeros(3))  # the half entry never used
+    notes = [line for line in capsys.readouterr().err.splitlines() if line]
+    assert len(notes) == 1 and notes[0].startswith("hitogata: note: cache entry") and path.name in notes[0]
+    np.testing.assert_array_equal(disk_cache.load("test", key)["v"], np.zeros(3))  # and stored whole again
+
+    flipped = bytearray(path.read_bytes())
+    flipped[len(flipped) // 2] ^= 0xFF  # a damaged byte inside an array: the zip's checksum catches it
+    path.write_bytes(bytes(flipped))
+    assert disk_cache.load("test", key) is None
+    assert "hitogata: note: cache entry" in capsys.readouterr().err
+    assert not path.exists()
+
+
+WRITER = """
+import sys, time
+from pathlib import Path
+import numpy as np
+from hitogata import disk_cache
+go = Path(sys.argv[1])
+while not go.exists():
+    time.sleep(0.01)
+value = np.full(4_000_000, float(sys.argv[2]))
+for _ in range(3):
+    disk_cache.save("test", {"shared": 1}, {"v": value})
+"""
+
+
+def test_two_processes_writing_one_entry_end_with_one_valid_entry(cache_folder, tmp_path):
+    go = tmp_path / "go"
+    env = {**os.environ, "PYTHONPATH": os.pathsep.join([str(Path(disk_cache.__file__).parents[1]),
+                                                        os.environ.get("PYTHONPATH", "")])}
+    writers = [subprocess.Popen([sys.executable, "-c", WRITER, str(go), str(k)], env=env) for k in (1, 2)]
+    go.touch()  # both start together
+    assert [w.wait() for w in writers] == [0, 0]
+    assert [p.name for p in cache_folder.iterdir()] == [disk_cache.entry_path("test", {"shared": 1}).name]
+    value = disk_cache.load("test", {"shared": 1})["v"]
+    assert len(value) == 4_000_000 and value[0] in (1.0, 2.0) and np.all(value == value[0])
+
+
+def test_the_cache_keeps_within_its_limit(cache_folder, monkeypatch):
+    monkeypatch.setenv(disk_cache.LIMIT_ENV, "2")  # MB: room for two of these entries
+    for n in range(4):
+        disk_cache.save("test", {"n": n}, {"v": np.zeros(100_000)})  # 0.8 MB each
+        os.utime(disk_cache.entry_path("test", {"n": n}), (n, n))  # used in this order
+    assert disk_cache.load("test", {"n": 3}) is not None  # the newest stays
+    assert disk_cache.load("test", {"n": 0}) is None  # the oldest went
+    assert disk_cache.info().size <= 2e6
+
+
+def test_cache_command_tells_and_clears(cache_folder, capsys):
+    disk_cache.save("test", {"n": 1}, {"v": np.zeros(1000)})
+    assert main(["cache", "--info"]) == 0
+    assert f"{cache_folder}: 1 entries" in capsys.readouterr().out
+    assert main(["cache", "--clear"]) == 0
+    assert "removed 1 entries" in capsys.readouterr().out
+    assert disk_cache.info().entries == 0
+
+
+@pytest.mark.slow
+def test_the_cached_model_poses_the_same_skin_as_a_fresh_build(female, cache_folder):
+    """One build, stored; the second call reads it back: the same skin to round-off at held postures."""
+    options = {"extent": "body", "element_size": 40.0, "n_modes": 2}
+    fresh = cached_dynamics(female, **options)
+    assert len(list(cache_folder.glob("dynamics-*.npz"))) == 1
+    stored = cached_dynamics(female, **options)
+    assert stored is not fresh
+    for clinical, contact in (({"shank_r.flexion": np.radians(135)}, True), ({"forearm_l.flexion": np.radians(120)},
+                                                                            False)):
+        a = elastic_pose(fresh, clinical=clinical, contact=contact)
+        b = elastic_pose(stored, clinical=clinical, contact=contact)
+        assert np.abs(a.vertices - b.vertices).max() < 1e-9
