@@ -9,6 +9,8 @@ model, the same code, each frame on its own. Without the cache (off), with one
 core, with fewer than `MIN_FRAMES` frames to hold (a worker takes ~2 s of CPU to
 start: imports, the body, the model read), or inside a daemonic process (a Dask
 worker may not start processes of its own), the frames are held in this process.
+Workers are spawned: a script that starts them needs the `if __name__ == "__main__":`
+guard (the commands have it).
 """
 
 from __future__ import annotations
