@@ -148,3 +148,11 @@ def test_the_cached_model_poses_the_same_skin_as_a_fresh_build(female, cache_fol
         a = elastic_pose(fresh, clinical=clinical, contact=contact)
         b = elastic_pose(stored, clinical=clinical, contact=contact)
         assert np.abs(a.vertices - b.vertices).max() < 1e-9
+
+
+def test_no_cache_on_a_command_turns_the_cache_off_for_its_run(cache_folder, monkeypatch, capsys):
+    monkeypatch.setenv(disk_cache.NO_CACHE_ENV, "0")  # restored after the test
+    assert disk_cache.enabled()
+    assert main(["pose", "--no-cache", "--list"]) == 0
+    assert not disk_cache.enabled()  # and the processes it starts inherit it
+    assert "muscles" in capsys.readouterr().out

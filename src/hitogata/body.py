@@ -207,9 +207,9 @@ class Body:
 
     @cached_property
     def whole_body_dynamics(self) -> dict[tuple[float, str], BodyDynamics]:
-        """The whole-body elastic dynamics built for held postures, by element size (mm) and materials file:
-        filled by
-        `hitogata.dynamics.single_pose.elastic_dynamics`, which builds each once."""
+        """The whole-body elastic dynamics built for held postures, by element size (mm) and the materials'
+        values (JSON): filled by `hitogata.dynamics.single_pose.elastic_dynamics`, which builds each once
+        (or reads it from the disk cache)."""
         return {}
 
     @cached_property

@@ -95,7 +95,7 @@ def compute(args: argparse.Namespace, body: Body, scenarios: dict[str, Scenario]
         frames = sum(len(sampled_frames(clip, args.rate)) for clip in clips.values())
         print(f"elastic whole body: {frames} frames to hold, each with its skin's self-contact resolved "
               "(a few seconds each)", flush=True)
-        surface = elastic_surface(body)
+        surface = elastic_surface(body, workers=None)  # on the cores free of other work
     else:
         surface = skinned_surface(body, args.skinning)
     return fit_answers(body, clips, surface, args.rate, garment)

@@ -1,4 +1,4 @@
-"""Held postures of one body on every core: each frame is solved from rest, so the frames are independent.
+"""Held postures of one body on the free cores: each frame is solved from rest, so the frames are independent.
 
 A pool of worker processes, each with BLAS and the contact's TBB held to one thread
 (two cores run two solves, not two solves fighting over four threads), reads the body's whole-body
@@ -9,6 +9,8 @@ model, the same code, each frame on its own. Without the cache (off), with one
 core, with fewer than `MIN_FRAMES` frames to hold (a worker takes ~2 s of CPU to
 start: imports, the body, the model read), or inside a daemonic process (a Dask
 worker may not start processes of its own), the frames are held in this process.
+Workers are spawned: a script that starts them needs the `if __name__ == "__main__":`
+guard (the commands have it).
 """
 
 from __future__ import annotations
@@ -39,15 +41,27 @@ def available_cores() -> int:
         return os.cpu_count() or 1
 
 
+def free_cores() -> int:
+    """The cores not busy with other work (the one-minute load less this process), at least 1: a worker
+    beyond them only shares a core, and costs its start (a deep squat's 19 frames on a machine whose
+    other core was busy: 58 s on two workers against 47 s in this process)."""
+    cores = available_cores()
+    try:
+        load = os.getloadavg()[0]
+    except (OSError, AttributeError):  # no load average on this platform
+        return cores
+    return max(1, min(cores, round(cores - max(load - 1.0, 0.0))))
+
+
 class HeldFrames:
     """Held skins (V, 3) of joint-angle postures (rest-relative radians, clamped onto the range of motion),
     with the skin's self-contact resolved when `contact` (`elastic_pose`), on `workers` processes
-    (None: every available core)."""
+    (None: the cores free of other work, `free_cores`)."""
 
     def __init__(self, body: Body, contact: bool = True, workers: int | None = None) -> None:
         self.body, self.contact = body, contact
         self.dynamics: BodyDynamics = elastic_dynamics(body)  # built and stored before any worker reads it
-        self.workers = available_cores() if workers is None else max(int(workers), 1)
+        self.workers = free_cores() if workers is None else max(int(workers), 1)
         self._pool: ProcessPoolExecutor | None = None
 
     def __call__(self, angles: np.ndarray) -> list[np.ndarray]:

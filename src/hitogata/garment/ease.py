@@ -83,12 +83,14 @@ def skinned_surface(body: Body, skinning: Skinning = "dqs") -> Surface:
     return lambda angles, root: poser.pose_many(angles, skinning, root)
 
 
-def elastic_surface(body: Body, contact: bool = True, workers: int | None = None) -> Surface:
+def elastic_surface(body: Body, contact: bool = True, workers: int | None = 1) -> Surface:
     """The surface source of the elastic whole body (on DQS): each frame's posture held (quasi-statics from
     rest, no loads), its skin's self-contact resolved and its creases folded with `contact`
     (`dynamics.single_pose.elastic_pose`), then moved by the frame's root. The frames are held on `workers`
-    processes (None: every core; `dynamics.held_frames`: the same answers). A frame asked for again (ease,
-    stretch and pressure each ask for the same frames) is not solved again."""
+    processes (`dynamics.held_frames`, the same answers; None: the cores free of other work, as `hitogata ease`
+    does: a script
+    doing so needs the `if __name__ == "__main__":` guard of any spawned process pool). A frame asked for
+    again (ease, stretch and pressure each ask for the same frames) is not solved again."""
     from hitogata.dynamics.held_frames import HeldFrames
 
     hold = HeldFrames(body, contact, workers)
