@@ -174,7 +174,7 @@ def test_the_page_opens_offline_in_chromium_without_errors_or_requests(report, t
     assert problems == []
     assert requests == [url]  # the page itself; its pictures are data URIs
     assert loaded == [True] * 7
-    assert headings == ["the body", "all motions", "reach forward", "population"]
+    assert headings == ["the body", "all motions", "beside measured people", "reach forward", "population"]
 
 
 def test_a_study_alone_gives_the_population_section(study, tmp_path):

@@ -58,9 +58,10 @@ def test_identification_recovers_the_constants_that_made_its_data(tmp_path):
     pinned = {n for n, p in zip(NAMES, fit.pinned) if p}
     assert {"skin.youngs_modulus", "muscle.youngs_modulus", "damping.alpha", "damping.beta"} <= pinned
     for k, name in enumerate(NAMES):
-        if name in ("skin.youngs_modulus", "muscle.youngs_modulus", "damping.alpha", "damping.beta"):
+        if name in ("skin.youngs_modulus", "muscle.youngs_modulus"):
             assert fit.constants[k] == pytest.approx(true[k], rel=0.02), name  # what the rows pin directly
-        elif fit.pinned[k]:  # pinned loosely (the abdomen's frequency alone speaks to the viscera): within its interval
+        elif fit.pinned[k]:  # pinned together with others (alpha and beta by damping at 5-8 Hz, the viscera by
+            # the abdomen's frequency alone): within its 95 % interval
             low, high = fit.interval[k]
             assert low <= true[k] <= high, (name, fit.constants[k], fit.interval[k])
         else:

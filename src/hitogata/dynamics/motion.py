@@ -101,8 +101,7 @@ class BodyDynamics:
         them from disk), else made here."""
         poser = poser or poser_for(body)
         rig = rig or node_rig(poser, model, skinning)
-        held = anchored(np.setdiff1d(model.fixed_nodes, joint_nodes(rig.weights, model.elements, model.fixed_nodes)),
-                        model.fixed_nodes, model.elements[:, :4])
+        held = np.setdiff1d(model.fixed_nodes, joint_nodes(rig.weights, model.elements, model.fixed_nodes))
         soft = tuple(model.region_names.index(r) for r in SOFT_REGIONS if r in model.region_names)
         soft = tuple(r for r in soft if np.any(model.region == r))
         corners = len(model.volume.nodes)
@@ -110,8 +109,13 @@ class BodyDynamics:
         # they act as cartilage, so no stiffer than CARTILAGE x the stiffest soft tissue (GPa bone
         # against kPa tissue would stall the iteration).
         E = np.minimum(model.E, CARTILAGE * model.E[np.isin(model.region, soft)].max())
-        statics = solver(model.points[:corners], model.elements[:, :4], E, model.nu,
-                              held[held < corners], model.region, soft)
+        try:
+            statics = solver(model.points[:corners], model.elements[:, :4], E, model.nu,
+                             held[held < corners], model.region, soft)
+        except RuntimeError:  # SuperLU: "exactly singular": a piece of mesh hangs on released joint nodes alone
+            held = anchored(held, model.fixed_nodes, model.elements[:, :4])
+            statics = solver(model.points[:corners], model.elements[:, :4], E, model.nu,
+                             held[held < corners], model.region, soft)
         loads = dict(unit_loads) if unit_loads is not None else {
             name: model.muscle_load(name, 1.0).reshape(-1, 3) for name in model.muscle_names
             if len(model.muscle_elements(name))}

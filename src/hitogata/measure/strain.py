@@ -56,11 +56,11 @@ def _frames(vertices: np.ndarray, faces: np.ndarray) -> tuple[np.ndarray, np.nda
             0.5 * np.sqrt(nx * nx + ny * ny + nz * nz))
 
 
-def skin_strain(rest: np.ndarray, deformed: np.ndarray, faces: np.ndarray) -> SkinStrain:
-    """Principal stretches of every triangle from `rest` to `deformed` (both (V, 3), metres).
-
-    A triangle of zero rest area has no defined strain: its values are NaN.
-    """
+def deformation(rest: np.ndarray, deformed: np.ndarray, faces: np.ndarray
+                ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Each triangle's in-plane deformation gradient F = [[a, c], [0, d]] (from its rest frame to its
+    deformed one, first edge along the first axis) as (a, c, d), with the rest frame's axes t, b (F, 3)
+    and the rest area (F,). A triangle of zero rest area gives NaN."""
     rest, deformed = np.asarray(rest, dtype=np.float64), np.asarray(deformed, dtype=np.float64)
     if rest.shape != deformed.shape:
         raise HitogataError(f"deformed vertices: shape {deformed.shape}, allowed {rest.shape} (the rest shape)")
@@ -70,8 +70,15 @@ def skin_strain(rest: np.ndarray, deformed: np.ndarray, faces: np.ndarray) -> Sk
     # D = [[l, p], [0, h]] (columns: edges 1 and 2); F = D1 D0⁻¹, upper triangular.
     with np.errstate(invalid="ignore", divide="ignore"):
         a = l1 / l0
-        c = (p1 - a * p0) / h0  # F[0, 1]
-        d = h1 / h0
+        return a, (p1 - a * p0) / h0, h1 / h0, t, b, area
+
+
+def skin_strain(rest: np.ndarray, deformed: np.ndarray, faces: np.ndarray) -> SkinStrain:
+    """Principal stretches of every triangle from `rest` to `deformed` (both (V, 3), metres).
+
+    A triangle of zero rest area has no defined strain: its values are NaN.
+    """
+    a, c, d, t, b, area = deformation(rest, deformed, faces)
     mean_part = np.hypot(a + d, c)
     diff_part = np.hypot(a - d, c)
     stretch_max = 0.5 * (mean_part + diff_part)
@@ -94,15 +101,9 @@ def directional_stretch(rest: np.ndarray, deformed: np.ndarray, faces: np.ndarra
     of skin drawn that way has now over its rest length (what marks on the skin, a tape between two
     dots, measure). The direction is projected into the triangle's rest plane first; a direction
     normal to the triangle, or a triangle of zero area, gives NaN."""
-    rest, deformed = np.asarray(rest, dtype=np.float64), np.asarray(deformed, dtype=np.float64)
-    if rest.shape != deformed.shape:
-        raise HitogataError(f"deformed vertices: shape {deformed.shape}, allowed {rest.shape} (the rest shape)")
-    rest_coords, t, b, _ = _frames(rest, faces)
-    l0, p0, h0 = rest_coords.T
-    l1, p1, h1 = _frames(deformed, faces)[0].T
+    a, c, d, t, b, _ = deformation(rest, deformed, faces)
     u, w = np.einsum("ij,ij->i", directions, t), np.einsum("ij,ij->i", directions, b)
     with np.errstate(invalid="ignore", divide="ignore"):
         norm = np.hypot(u, w)
         u, w = u / norm, w / norm
-        a, c, d = l1 / l0, (p1 - l1 / l0 * p0) / h0, h1 / h0
         return np.hypot(a * u + c * w, d * w)

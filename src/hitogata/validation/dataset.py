@@ -249,8 +249,9 @@ def _row(entry: Entry, sources: Mapping[str, Source]) -> Row:
 
 def _check_quantity(entry: Entry, kind: str, quantity: str) -> None:
     if kind == "posture_change":
-        allowed: tuple[str, ...] = MEASUREMENT_NAMES
-        ok = quantity in allowed
+        allowed: tuple[str, ...] = ("a measurement of hitogata measure, e.g. hip_girth", "waist_girth",
+                                    "across_back_width")
+        ok = quantity in MEASUREMENT_NAMES
     elif kind == "skin_strain":
         zone, _, direction = quantity.partition(".")
         allowed = tuple(f"{z}.{d}" for z in SKIN_ZONES for d in SKIN_DIRECTIONS)

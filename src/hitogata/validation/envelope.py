@@ -5,7 +5,7 @@ by more than the largest of those rows' |mean| + 2 SD (the most any measured pos
 holds no row of that
 measurement, the skin sets the bound: a surface length or girth cannot stretch or shrink more than the
 skin along it does, so the largest skin stretch and shrink the set's skin-strain rows report (mean ± 2 SD)
-bound it. Dynamic ease reports a figure outside its range as outside what measured people show.
+bound it, either way.
 """
 
 from __future__ import annotations
@@ -38,6 +38,5 @@ def allowed_change(dataset: Dataset, name: str, standing: float) -> Allowed:
         most = max(max(abs(s[0]), abs(s[1])) for s in spans)
         return Allowed(-most, most, "posture rows " + ", ".join(s[2] for s in spans))
     skin = [r for r in dataset.rows if r.kind == "skin_strain" and not r.quantity.endswith(".area")]
-    low = min(0.0, *((r.mean - 2 * r.sd) for r in skin)) / 100.0
-    high = max(0.0, *((r.mean + 2 * r.sd) for r in skin)) / 100.0
-    return Allowed(low * standing, high * standing, "the skin's measured stretch")
+    most = max(max(abs(r.mean - 2 * r.sd), abs(r.mean + 2 * r.sd)) for r in skin) / 100.0
+    return Allowed(-most * standing, most * standing, "the skin's measured stretch")
