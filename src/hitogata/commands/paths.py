@@ -234,8 +234,8 @@ def staged_folder(target: Path, force: bool = True) -> Iterator[Path]:
     """
     target.parent.mkdir(parents=True, exist_ok=True)
     staging = target.parent / f".{target.name}.partial-{secrets.token_hex(4)}"
-    staging.mkdir()
-    try:
+    try:  # made inside the try: a stop arriving just after it is made still removes it
+        staging.mkdir()
         yield staging
         if target.is_dir() and any(target.iterdir()) and not force:
             raise HitogataError(f"--out {target}: the folder was filled by another program while this command ran; "
