@@ -142,9 +142,27 @@ class ReducedBody:
     base0: np.ndarray
     viscera_nu: float  # the viscera's Poisson's ratio (not fitted: the cavity holds gas)
     volume: object  # the body's volume model (the mesh does not depend on the constants)
+    last_modes: tuple[bytes, np.ndarray, np.ndarray] | None = None  # (constants' key, eigenvalues, vectors)
 
     def resonance(self, theta: np.ndarray, region: str) -> tuple[float, float]:
         """(frequency Hz, damping ratio) of the region's resonance at constants `theta`."""
+        v = dict(zip(NAMES, theta))
+        lam, Y = self._modes(theta)
+        S = self.share0[region] + sum(v[f"{n}.density"] * self.share[region][n] for n in SOFT)
+        B = self.base0 + sum(v[f"{n}.density"] * self.base[n] for n in SOFT)
+        energy = ((Y.T @ B) ** 2).sum(axis=1) * np.sum(Y * (S @ Y), axis=0)  # diag(Yᵀ S Y)
+        found = weighted_response(region, lam, energy / energy.sum(), v["damping.alpha"], v["damping.beta"])
+        return found.frequency, found.damping_ratio
+
+    def _modes(self, theta: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Eigenvalues and mass-normalised eigenvectors of the reduced problem at `theta`: the last ones kept,
+        since every region's rows (and a damping constant's step) ask for the same elastic constants."""
+        key = np.delete(theta, [NAMES.index("damping.alpha"), NAMES.index("damping.beta")]).tobytes()
+        if self.last_modes is None or self.last_modes[0] != key:
+            self.last_modes = (key, *self._solve_modes(theta))
+        return self.last_modes[1], self.last_modes[2]
+
+    def _solve_modes(self, theta: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         v = dict(zip(NAMES, theta))
         r = dict(zip(NAMES, self.reference))
         K = self.K0.copy()
@@ -156,11 +174,7 @@ class ReducedBody:
             K += (lam1 - lam0) * self.Klam[name] + (mu1 - mu0) * self.Kmu[name]
         M = self.M0 + sum(v[f"{n}.density"] * self.Mrho[n] for n in SOFT)
         lam, Y = scipy.linalg.eigh(0.5 * (K + K.T), 0.5 * (M + M.T))
-        S = self.share0[region] + sum(v[f"{n}.density"] * self.share[region][n] for n in SOFT)
-        B = self.base0 + sum(v[f"{n}.density"] * self.base[n] for n in SOFT)
-        energy = ((Y.T @ B) ** 2).sum(axis=1) * np.einsum("ik,ij,jk->k", Y, S, Y)
-        found = weighted_response(region, lam, energy / energy.sum(), v["damping.alpha"], v["damping.beta"])
-        return found.frequency, found.damping_ratio
+        return lam, Y
 
 
 def reduce_body(body: Body, materials: Materials, theta: np.ndarray, volume=None,
