@@ -69,21 +69,30 @@ def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:
 SHARED_MODEL = ("test_elastic_pose", "test_extreme_poses", "test_self_contact", "test_skin_slide",
                 "test_motion_contact", "test_dynamics_large_motion", "test_elastic_ease")
 # The longest scopes start first, so that no worker is left alone with one at the end (seconds in one process,
-# measured: the shared model's modules 220 s, test_body_mesh_grid 190 s, test_skin_follows_tissue 160 s,
+# measured: each case of the validation envelope 170-330 s, the identification 110 s, the shared model's modules 220 s, test_body_mesh_grid 190 s, test_skin_follows_tissue 160 s,
 # test_fit_scan 80 s, test_extreme_bodies 65 s, test_made_to_measure 50 s, then 40 s or less each); the others
 # as pytest-xdist orders them.
-LONGEST = ("shared whole-body model", "test_body_mesh_grid", "test_skin_follows_tissue", "test_fit_scan",
+SHARED_MODEL_SCOPE = "shared whole-body model"
+LONGEST = ("test_validation_envelope[female]", "test_validation_identify", "test_validation_envelope[male]",
+           SHARED_MODEL_SCOPE, "test_body_mesh_grid", "test_skin_follows_tissue", "test_fit_scan",
            "test_garment_dressing",
            "test_extreme_bodies", "test_made_to_measure", "test_study_cluster", "test_viewer_browser",
            "test_dynamics_coupling",
            "test_readme_examples", "test_elastic_model")
 
 
+# Modules whose parametrised cases are work units of their own (each case minutes long, nothing shared
+# between them but the session's bodies), so that the two workers take them side by side.
+BY_CASE = ("test_validation_envelope",)
+
+
 def _scope(nodeid: str) -> str:
-    """The work unit a test belongs to: its module, or the modules sharing a whole-body model."""
+    """The work unit a test belongs to: its module, the modules sharing a whole-body model, or one case."""
     path = nodeid.split("::", 1)[0]
     module = path.rsplit("/", 1)[-1].removesuffix(".py")
-    return LONGEST[0] if module in SHARED_MODEL else module
+    if module in BY_CASE and "[" in nodeid:
+        return module + nodeid[nodeid.index("["):]
+    return SHARED_MODEL_SCOPE if module in SHARED_MODEL else module
 
 
 @pytest.hookimpl(optionalhook=True)

@@ -36,6 +36,8 @@ Element = Literal["P2", "P1"]
 BoneMode = Literal["rigid", "elastic"]
 CutMode = Literal["free", "attached"]
 Dilatation = Literal["full", "mean"]
+# the shipped tissue materials: the literature's values (the default), or those identified from measured people
+MaterialsPreset = Literal["literature", "calibrated"]
 EigenSolver = Literal["auto", "dense", "scipy", "superlu-nd", "pardiso"]
 FactorMethod = Literal["auto", "superlu-nd", "pardiso", "superlu"]
 # scenarios and their files
@@ -63,6 +65,7 @@ ELEMENTS: tuple[Element, ...] = get_args(Element)
 BONE_MODES: tuple[BoneMode, ...] = get_args(BoneMode)
 CUT_MODES: tuple[CutMode, ...] = get_args(CutMode)
 DILATATIONS: tuple[Dilatation, ...] = get_args(Dilatation)
+MATERIALS_PRESETS: tuple[MaterialsPreset, ...] = get_args(MaterialsPreset)
 EIGEN_SOLVERS: tuple[EigenSolver, ...] = get_args(EigenSolver)
 FACTOR_METHODS: tuple[FactorMethod, ...] = get_args(FactorMethod)
 INTERPOLATIONS: tuple[Interpolation, ...] = get_args(Interpolation)

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+from pathlib import Path
 
 from hitogata.errors import HitogataError
 
@@ -58,6 +59,21 @@ def refuse_body_options(args: argparse.Namespace, why: str) -> None:
     if given:
         value = getattr(args, BODY_DEFAULTS[given[0]][0])
         raise HitogataError(f"{given[0]} {value}: does not apply here ({why}); leave out {', '.join(given)}")
+
+
+def add_materials_argument(parser: argparse.ArgumentParser, help: str = "the tissue materials") -> None:
+    """--materials: a shipped preset by name or a materials TOML file (e.g. written by `hitogata identify`)."""
+    from hitogata.commands.paths import input_path
+    from hitogata.options import MATERIALS_PRESETS
+
+    def presets() -> dict[str, Path]:
+        from hitogata.elastic.materials import shipped_materials
+
+        return dict(shipped_materials())
+
+    parser.add_argument("--materials", default=None, type=input_path("file", suffixes=(".toml",), names=presets),
+                        help=f"{help}: a preset ({', '.join(MATERIALS_PRESETS)}) or a materials TOML file (e.g. "
+                             "from hitogata identify); default literature")
 
 
 def add_cache_argument(parser: argparse.ArgumentParser) -> None:

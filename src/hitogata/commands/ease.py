@@ -7,10 +7,11 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from hitogata import units
-from hitogata.commands.args import add_body_arguments, add_cache_argument
+from hitogata.commands.args import add_body_arguments, add_cache_argument, add_materials_argument
 from hitogata.commands.body import body_from_args
 from hitogata.commands.paths import add_output
 from hitogata.dynamics.scenario import Scenario, load_scenario, shipped_scenarios
+from hitogata.elastic.materials import load_materials
 from hitogata.errors import HitogataError
 from hitogata.export.atomic import write_bytes_atomically
 from hitogata.garment.ease import ease_csv, ease_json, elastic_surface, overall, sampled_frames, skinned_surface
@@ -83,6 +84,10 @@ def checked_inputs(args: argparse.Namespace) -> tuple[dict[str, Scenario], tuple
     if args.surface == "elastic" and args.skinning != "dqs":
         raise HitogataError(f"--surface elastic: the elastic body stands on dual-quaternion skinning; "
                             f"drop --skinning {args.skinning}")
+    if args.materials is not None:
+        if args.surface != "elastic":
+            raise HitogataError("--materials: the tissue materials are those of the elastic body; add --surface elastic")
+        load_materials(args.materials)  # a bad file is said before any long work
     return scenarios, garment_from_args(args)
 
 
@@ -95,7 +100,8 @@ def compute(args: argparse.Namespace, body: Body, scenarios: dict[str, Scenario]
         frames = sum(len(sampled_frames(clip, args.rate)) for clip in clips.values())
         print(f"elastic whole body: {frames} frames to hold, each with its skin's self-contact resolved "
               "(a few seconds each)", flush=True)
-        surface = elastic_surface(body, workers=None)  # on the cores free of other work
+        materials = None if args.materials is None else load_materials(args.materials)
+        surface = elastic_surface(body, workers=None, materials=materials)  # on the cores free of other work
     else:
         surface = skinned_surface(body, args.skinning)
     return fit_answers(body, clips, surface, args.rate, garment)
@@ -148,6 +154,7 @@ def add_motion_arguments(parser: argparse.ArgumentParser, defaults: bool = True)
     parser.add_argument("--skinning", choices=SKINNING[::-1], default=d["skinning"],
                         help="the skinning method; default dqs")
     parser.add_argument("--rate", type=float, default=d["rate"], help="frames measured per second of motion; default 5")
+    add_materials_argument(parser, "with --surface elastic: the tissue materials")
     add_garment_arguments(parser, "its pressure through the motions (pressure.csv; with --fabric)")
 
 

@@ -14,6 +14,7 @@ from pathlib import Path
 
 from hitogata.commands.args import add_body_arguments, body_options_given, refuse_body_options, add_cache_argument
 from hitogata.commands.body import body_from_args
+from hitogata.elastic.materials import load_materials, materials_name
 from hitogata.commands.ease import MOTION_DEFAULTS, add_motion_arguments, checked_inputs, compute, write_tables
 from hitogata.commands.paths import add_output, input_path
 
@@ -21,14 +22,16 @@ from hitogata.commands.paths import add_output, input_path
 def wants_body(args: argparse.Namespace) -> bool:
     """The body part is reported unless only a study is given (no body, body or motion option)."""
     return (args.study is None or args.body is not None or bool(body_options_given(args))
-            or any(getattr(args, name) is not None for name in (*MOTION_DEFAULTS, "garment_ease", "fabric")))
+            or any(getattr(args, name) is not None for name in (*MOTION_DEFAULTS, "garment_ease", "fabric",
+                                                                 "materials")))
 
 
 def settings(args: argparse.Namespace) -> str:
     """How the motions were measured, in words, for the page."""
     if args.surface == "elastic":
         surface = ("the elastic whole body held at each frame (DQS and quasi-statics; its skin's self-contact "
-                   "resolved and its creases folded, docs/garment.md)")
+                   "resolved and its creases folded, docs/garment.md; tissue materials: "
+                   f"{materials_name(None if args.materials is None else load_materials(args.materials))})")
     else:
         surface = (f"the body skinned onto the posed skeleton ({args.skinning.upper()}; strains at the joints are "
                    "skinning's, docs/garment.md)")

@@ -6,7 +6,7 @@ import argparse
 import time
 from pathlib import Path
 
-from hitogata.commands.args import add_cache_argument
+from hitogata.commands.args import add_cache_argument, add_materials_argument
 from hitogata.commands.paths import add_output, input_path
 from hitogata.commands.validate import names
 from hitogata.export.atomic import write_bytes_atomically
@@ -30,7 +30,7 @@ def run(args: argparse.Namespace) -> None:
     for line in report_lines(fit):
         print(line)
     out = Path(args.out)
-    write_bytes_atomically(out, materials_toml(fit, start_materials, everything.path).encode())
+    write_bytes_atomically(out, materials_toml(fit, start_materials, "the shipped validation set" if args.data is None else everything.path).encode())
     print(f"wrote {out} in {time.perf_counter() - start:.0f} s (use it with --materials {out})")
 
 
@@ -43,8 +43,7 @@ def register(sub: argparse._SubParsersAction) -> None:
                                                      "of the same kinds are held out and predicted")
     parser.add_argument("--kinds", default=None,
                         help="fit rows of these kinds only (comma-separated; default stiffness,frequency,damping)")
-    parser.add_argument("--materials", type=input_path("file", suffixes=(".toml",)), default=None,
-                        help="the starting materials file; default the shipped presets")
+    add_materials_argument(parser, "the starting materials")
     parser.add_argument("--quiet", action="store_true", help="no progress lines")
     add_output(parser, "file", "the materials file to write (.toml)", suffixes=(".toml",))
     add_cache_argument(parser)

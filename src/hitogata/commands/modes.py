@@ -9,9 +9,9 @@ import time
 from pathlib import Path
 
 from hitogata import units
-from hitogata.commands.args import add_body_arguments, add_cache_argument
+from hitogata.commands.args import add_body_arguments, add_cache_argument, add_materials_argument
 from hitogata.commands.body import body_from_args
-from hitogata.commands.paths import add_output, input_path
+from hitogata.commands.paths import add_output
 from hitogata.elastic import BONE_MODES, CUT_MODES, DEFAULT_ELEMENT_SIZES, ELEMENTS, load_materials
 from hitogata.elastic.cache import cached_elastic_model
 from hitogata.elastic.files import write_frequencies, write_mode_pictures, write_vtu
@@ -105,8 +105,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     parser.add_argument("--element-size", default=None,
                         help="lattice spacing, e.g. 30mm; default " +
                              ", ".join(f"{v:g}mm for {k}" for k, v in DEFAULT_ELEMENT_SIZES.items()))
-    parser.add_argument("--materials", default=None, type=input_path("file", suffixes=(".toml",)),
-                        help="a materials TOML file; default the shipped presets")
+    add_materials_argument(parser, "the tissue materials")
     parser.add_argument("--bone", choices=BONE_MODES, default="rigid",
                         help="rigid: bone follows the skeleton (default); elastic: bone deforms too")
     parser.add_argument("--cuts", choices=CUT_MODES, default="free",

@@ -7,13 +7,14 @@ from pathlib import Path
 
 import numpy as np
 
-from hitogata.commands.args import add_body_arguments, add_cache_argument
+from hitogata.commands.args import add_body_arguments, add_cache_argument, add_materials_argument
 from hitogata.commands.body_file import add_body_file, body_of
 from hitogata.commands.paths import add_output
 from hitogata.commands.pose_args import add_pose_arguments
 from hitogata.commands.pose_summary import moved_count, pose_summary
 from hitogata.commands.posing import pose_from_args
 from hitogata.dynamics.single_pose import elastic_dynamics, elastic_pose
+from hitogata.elastic.materials import load_materials, materials_name
 from hitogata.errors import HitogataError
 from hitogata.export.body_files import body_figures, detail_extras, shape_extras
 from hitogata.export.meshfiles import MESH_SUFFIXES, write_mesh
@@ -59,6 +60,9 @@ def run(args: argparse.Namespace) -> None:
     check_posed_path(args.out, args.skinning)
     if args.contact and not args.elastic:
         raise HitogataError("--contact: the skin's self-contact is resolved on the elastic body; add --elastic")
+    if args.materials is not None and not args.elastic:
+        raise HitogataError("--materials: the tissue materials are those of the elastic body; add --elastic")
+    materials = load_materials(args.materials) if args.elastic else None  # a bad file is said before posing
     poser, request, posed = pose_from_args(args)
     extras = {
         "shape": shape_extras(poser.body.params),
@@ -72,13 +76,14 @@ def run(args: argparse.Namespace) -> None:
     }
     written = []
     if args.elastic:
-        held = elastic_pose(elastic_dynamics(poser.body), clinical=request.clinical, contractions=request.contractions,
+        held = elastic_pose(elastic_dynamics(poser.body, materials=materials), clinical=request.clinical, contractions=request.contractions,
                             lengths=request.lengths, on_limit=request.on_limit, contact=args.contact,
                             slide=args.contact)
         mesh = Path(args.out) if Path(args.out).suffix.lower() != ".glb" else Path(args.out).with_name(
             Path(args.out).stem + "_elastic.ply")
         written.append(write_mesh(mesh, held.vertices, held.faces))
-        surface = {"skinning": "dqs", "surface": "elastic", "contact": args.contact, "slide": args.contact}
+        surface = {"skinning": "dqs", "surface": "elastic", "contact": args.contact, "slide": args.contact,
+                   "materials": materials_name(materials)}
         if held.slide is not None:  # its fine skin slid on its own: measured from its own file
             fine = mesh.with_name(mesh.stem + "_fine.ply")
             written.append(write_mesh(fine, held.fine_vertices(), poser.body.fine_skin.faces))
@@ -133,5 +138,6 @@ def register(sub: argparse._SubParsersAction) -> None:
         "stretched beyond +95 %% (armpit, groin), its fine skin too, written as NAME_fine.ply beside the skin "
         "(`hitogata measure` reads it through the .json); see docs/elastic.md",
     )
+    add_materials_argument(parser, "with --elastic: the tissue materials")
     add_cache_argument(parser)
     parser.set_defaults(run=run)

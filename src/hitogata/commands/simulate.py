@@ -4,8 +4,9 @@ from __future__ import annotations
 
 import argparse
 import sys
+from dataclasses import replace
 
-from hitogata.commands.args import add_cache_argument
+from hitogata.commands.args import add_cache_argument, add_materials_argument
 from hitogata.commands.paths import add_output, input_path
 from hitogata.dynamics.scenario import load_scenario, shipped_scenarios
 
@@ -13,6 +14,7 @@ from hitogata.dynamics.scenario import load_scenario, shipped_scenarios
 def run(args: argparse.Namespace) -> None:
     from hitogata.dynamics.checks import checked_scenario
     from hitogata.dynamics.run import run_scenario
+    from hitogata.elastic.materials import load_materials
 
     given = None
     if args.body is not None:
@@ -20,7 +22,11 @@ def run(args: argparse.Namespace) -> None:
         from hitogata.export.glb_read import read_glb_skin
 
         given = body_from_extras(args.body, read_glb_skin(args.body).extras or {})
-    scenario, body = checked_scenario(load_scenario(args.scenario), given)  # names and values, before the model
+    scenario = load_scenario(args.scenario)
+    if args.materials is not None:  # the option over the scenario's [model].materials
+        load_materials(args.materials)  # a bad file is said before any long work
+        scenario = replace(scenario, model=replace(scenario.model, materials=str(args.materials)))
+    scenario, body = checked_scenario(scenario, given)  # names and values, before the model
     summary = run_scenario(scenario, args.workdir, progress=sys.stderr.isatty() and not args.quiet, body=body,
                            contact=args.contact)
     print(summary.text(), end="")
@@ -41,5 +47,6 @@ def register(sub: argparse._SubParsersAction) -> None:
     parser.add_argument("--body", type=input_path("file", suffixes=(".glb",)), default=None,
                         help="run on the body of a .glb written by `hitogata body` or `hitogata fit` "
                         "instead of the scenario's [body]")
+    add_materials_argument(parser, "the tissue materials (over the scenario's [model].materials)")
     add_cache_argument(parser)
     parser.set_defaults(run=run)

@@ -6,7 +6,7 @@ import argparse
 import time
 from pathlib import Path
 
-from hitogata.commands.args import add_cache_argument
+from hitogata.commands.args import add_cache_argument, add_materials_argument
 from hitogata.commands.paths import add_output, input_path
 from hitogata.errors import HitogataError
 from hitogata.export.atomic import write_bytes_atomically
@@ -87,8 +87,7 @@ def register(sub: argparse._SubParsersAction) -> None:
                              "damping, stiffness, pressure")
     parser.add_argument("--surface", choices=SURFACE_CHOICES, default="both",
                         help="the surface the posture rows are measured on; default both")
-    parser.add_argument("--materials", type=input_path("file", suffixes=(".toml",)), default=None,
-                        help="a materials TOML file (e.g. from hitogata identify); default the shipped presets")
+    add_materials_argument(parser, "the tissue materials")
     parser.add_argument("--quiet", action="store_true", help="no progress lines")
     add_output(parser, "folder", "output folder: validation.csv, validation.json, validation.md")
     add_cache_argument(parser)

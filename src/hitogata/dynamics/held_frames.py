@@ -28,6 +28,7 @@ from hitogata.body import Body
 from hitogata.dynamics.motion import BodyDynamics
 from hitogata.dynamics import single_pose
 from hitogata.dynamics.single_pose import elastic_dynamics
+from hitogata.elastic.materials import Materials, load_materials
 
 MIN_FRAMES = 10  # fewer frames than this are held here: starting the workers would cost more than they save
 _WORKER: dict[str, object] = {}  # a worker process's model and options (`_start`)
@@ -58,9 +59,11 @@ class HeldFrames:
     with the skin's self-contact resolved when `contact` (`elastic_pose`), on `workers` processes
     (None: the cores free of other work, `free_cores`)."""
 
-    def __init__(self, body: Body, contact: bool = True, workers: int | None = None) -> None:
-        self.body, self.contact = body, contact
-        self.dynamics: BodyDynamics = elastic_dynamics(body)  # built and stored before any worker reads it
+    def __init__(self, body: Body, contact: bool = True, workers: int | None = None,
+                 materials: Materials | None = None) -> None:
+        self.body, self.contact, self.materials = body, contact, materials
+        # built and stored before any worker reads it
+        self.dynamics: BodyDynamics = elastic_dynamics(body, materials=materials)
         self.workers = free_cores() if workers is None else max(int(workers), 1)
         self._pool: ProcessPoolExecutor | None = None
 
@@ -86,7 +89,8 @@ class HeldFrames:
         if self._pool is None:
             body = self.body
             self._pool = ProcessPoolExecutor(self.workers, multiprocessing.get_context("spawn"), _start,
-                                             (body.params, body.all_vertices, body.density, self.contact))
+                                             (body.params, body.all_vertices, body.density, self.contact,
+                                              None if self.materials is None else self.materials.source))
             weakref.finalize(self, self._pool.shutdown, wait=False, cancel_futures=True)
         return self._pool
 
@@ -97,15 +101,16 @@ class HeldFrames:
             self._pool = None
 
 
-def _start(params, all_vertices: np.ndarray, density: float, contact: bool) -> None:
+def _start(params, all_vertices: np.ndarray, density: float, contact: bool, materials: str | None) -> None:
     """A worker's start: BLAS and the contact's TBB on one thread (the workers are the parallelism), the
-    body's model read from the disk cache."""
+    body's model read from the disk cache (`materials`: the file the parent's were read from)."""
     import ipctk
     from threadpoolctl import threadpool_limits
 
     threadpool_limits(1)
     ipctk.set_num_threads(1)
-    _WORKER["dynamics"] = elastic_dynamics(Body(params, all_vertices, density))
+    _WORKER["dynamics"] = elastic_dynamics(Body(params, all_vertices, density),
+                                           materials=None if materials is None else load_materials(materials))
     _WORKER["contact"] = contact
 
 

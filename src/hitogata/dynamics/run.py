@@ -45,7 +45,8 @@ def build_dynamics(body: Body, scenario: Scenario) -> BodyDynamics:
 
     m = scenario.model
     return cached_dynamics(body, m.skinning, extent=m.extent, element_size=m.element_size, element=m.element,
-                           n_modes=m.modes, damping_ratios=m.damping_ratios, alpha_beta=m.alpha_beta)
+                           n_modes=m.modes, damping_ratios=m.damping_ratios, alpha_beta=m.alpha_beta,
+                           materials=m.materials)
 
 
 @dataclass(frozen=True)

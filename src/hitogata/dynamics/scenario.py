@@ -23,6 +23,7 @@ from hitogata.options import (
     ELEMENTS,
     EXTENTS,
     INTERPOLATIONS,
+    MATERIALS_PRESETS,
     ON_LIMIT,
     OUTPUT_FILES as FILES,
     SEXES,
@@ -65,6 +66,7 @@ class ModelSpec:
     alpha_beta: tuple[float, float] | None = None
     skinning: Skinning = "dqs"
     gravity: bool = True
+    materials: str | None = None  # a shipped preset's name or a materials file's path; None: the literature's
 
 
 @dataclass(frozen=True)
@@ -165,7 +167,7 @@ def _body(source: str, table: Any) -> BodySpec:
 
 def _model(source: str, table: Any) -> ModelSpec:
     r = Entry(source, "[model]", table, {"extent", "element_size", "element", "modes", "damping", "rayleigh",
-                                           "skinning", "gravity"})
+                                           "skinning", "gravity", "materials"})
     size = r.quantity("element_size", LENGTH_MM, None, 4.0, 100.0, "a length like 40mm (4..100 mm)")
     ratios = alpha_beta = None
     if "damping" in table and "rayleigh" in table:
@@ -194,7 +196,20 @@ def _model(source: str, table: Any) -> ModelSpec:
         raise r.error(f"{gravity!r}; allowed true or false", "gravity")
     return ModelSpec(r.choice("extent", EXTENTS, ModelSpec.extent), size, r.choice("element", ELEMENTS, "P2"),
                      r.integer("modes", 40, 1, 400), ratios, alpha_beta, r.choice("skinning", SKINNING, "dqs"),
-                     gravity)
+                     gravity, _materials(source, table.get("materials")))
+
+
+def _materials(source: str, name: Any) -> str | None:
+    """[model].materials: a shipped preset (`options.MATERIALS_PRESETS`) or a materials file beside the scenario,
+    read and checked here (a mistake is said before any long work)."""
+    if name is None:
+        return None
+    from hitogata.elastic.materials import load_materials
+    from hitogata.motion.timeline import beside
+
+    path = name if name in MATERIALS_PRESETS else str(beside(source, "[model].materials", name))
+    load_materials(path)
+    return path
 
 
 CHANNELS = {"contractions": ("contraction", FRACTION, "a contraction like 0.1 or -10%"),

@@ -19,9 +19,14 @@ from hitogata import units
 from hitogata.errors import HitogataError
 from hitogata.fem import Material
 from hitogata.config import Entry, read_toml
+from hitogata.options import MaterialsPreset
 from hitogata.volume import REGIONS
 
 DEFAULT_FILE = "materials.toml"
+# The shipped presets' files (`options.MATERIALS_PRESETS`): the literature's values (the default), and those
+# identified from the validation set's in-vivo stiffness rows by `hitogata identify`
+# (docs/decisions/0023-calibrated-materials.md).
+PRESET_FILES: dict[MaterialsPreset, str] = {"literature": DEFAULT_FILE, "calibrated": "materials_calibrated.toml"}
 KEYS = ("density", "youngs_modulus", "poissons_ratio")
 DAMPING_KEYS = ("alpha", "beta")
 PRESSURE_UNITS = {"pa": 1.0, "kpa": 1e3, "mpa": 1e6, "gpa": 1e9}  # parse_quantity lower-cases the unit
@@ -45,9 +50,25 @@ def default_materials_path() -> Path:
     return Path(str(resources.files("hitogata").joinpath("data", DEFAULT_FILE)))
 
 
+def shipped_materials() -> dict[str, Path]:
+    """The shipped presets' files by name."""
+    return {name: Path(str(resources.files("hitogata").joinpath("data", file))) for name, file in PRESET_FILES.items()}
+
+
+def materials_name(materials: Materials | None) -> str:
+    """How a file or the metadata names the materials used: a shipped preset's name, else the file's path."""
+    if materials is None:
+        return "literature"
+    shipped = {str(path): name for name, path in shipped_materials().items()}
+    return shipped.get(str(materials.source), str(materials.source))
+
+
 def load_materials(path: str | Path | None = None) -> Materials:
-    """Read and check a materials file (the shipped defaults when `path` is None)."""
-    source, doc = read_toml(default_materials_path() if path is None else path)
+    """Read and check a materials file, or a shipped preset by name (`MATERIALS_PRESETS`; the literature's when
+    None)."""
+    if path is None or str(path) in PRESET_FILES:
+        path = shipped_materials()["literature" if path is None else str(path)]
+    source, doc = read_toml(path)
     unknown = sorted(set(doc) - set(REGIONS) - {"damping"})
     if unknown:
         raise HitogataError(f"{source}: [{unknown[0]}]: unknown region; allowed: {', '.join(REGIONS)} (and [damping])")

@@ -16,6 +16,7 @@ from __future__ import annotations
 import json
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -28,6 +29,9 @@ from hitogata.options import Skinning
 from hitogata.rig import posed_rig_heads
 from hitogata.motion.clip import MotionClip
 from hitogata.pose import poser_for
+
+if TYPE_CHECKING:
+    from hitogata.elastic.materials import Materials
 
 # The armscye is a standing measurement: its plane is set by the arm's own armpit folds, so with the arm
 # raised the tape loops round the shoulder (+33 cm reaching forward), which is no armhole's need.
@@ -83,17 +87,19 @@ def skinned_surface(body: Body, skinning: Skinning = "dqs") -> Surface:
     return lambda angles, root: poser.pose_many(angles, skinning, root)
 
 
-def elastic_surface(body: Body, contact: bool = True, workers: int | None = 1) -> Surface:
+def elastic_surface(body: Body, contact: bool = True, workers: int | None = 1,
+                    materials: Materials | None = None) -> Surface:
     """The surface source of the elastic whole body (on DQS): each frame's posture held (quasi-statics from
     rest, no loads), its skin's self-contact resolved and its creases folded with `contact`
     (`dynamics.single_pose.elastic_pose`), then moved by the frame's root. The frames are held on `workers`
     processes (`dynamics.held_frames`, the same answers; None: the cores free of other work, as `hitogata ease`
     does: a script
-    doing so needs the `if __name__ == "__main__":` guard of any spawned process pool). A frame asked for
-    again (ease, stretch and pressure each ask for the same frames) is not solved again."""
+    doing so needs the `if __name__ == "__main__":` guard of any spawned process pool); `materials`: the
+    tissue's (None: the literature's). A frame asked for again (ease, stretch and pressure each ask for the
+    same frames) is not solved again."""
     from hitogata.dynamics.held_frames import HeldFrames
 
-    hold = HeldFrames(body, contact, workers)
+    hold = HeldFrames(body, contact, workers, materials)
     held: dict[bytes, np.ndarray] = {}
 
     def surface(angles: np.ndarray, root: np.ndarray) -> np.ndarray:
