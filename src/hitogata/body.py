@@ -150,6 +150,7 @@ class Body:
                 f"allowed up to {ADULT_BMI_MAX:g} ({ADULT_BMI_MAX * stature**2:.1f} kg) for adults"
             )
         solved = _solve_build(params, stature, mass, density, free_muscle=muscle is None)
+        assert isinstance(solved, ShapeParameters)
         return cls.from_parameters(solved, density)
 
     @cached_property
@@ -327,10 +328,27 @@ def _build_path(params: ShapeParameters, free_muscle: bool) -> list[BilinearShap
     return [lean, middle, heavy, heavier]
 
 
+def mass_range(
+    sex: float | str, age: float, stature: float, *, muscle: float | None = None, proportions: float | None = None,
+    density: float = WHOLE_BODY_DENSITY,
+) -> tuple[float, float]:
+    """The lightest and heaviest mass (kg) `Body.from_measurements` builds at a stature (m) for a sex
+    and age: the ends of the build path, without the checks against the surveys (adults' BMI 50,
+    children's growth references) that narrow it further."""
+    params = ShapeParameters(
+        sex=sex_value(sex), age=age, muscle=AVERAGE if muscle is None else muscle,
+        proportions=AVERAGE if proportions is None else proportions,
+    )
+    ends = _solve_build(params, stature, None, check_density(density, "density"), free_muscle=muscle is None)
+    assert isinstance(ends, tuple)
+    return ends
+
+
 def _solve_build(
-    params: ShapeParameters, stature: float, mass: float, density: float, free_muscle: bool
-) -> ShapeParameters:
-    """Shape parameters with the given stature (m) and mass (kg) along the build path."""
+    params: ShapeParameters, stature: float, mass: float | None, density: float, free_muscle: bool
+) -> ShapeParameters | tuple[float, float]:
+    """Shape parameters with the given stature (m) and mass (kg) along the build path; with no mass,
+    the lightest and heaviest mass of the path at that stature."""
     from scipy.optimize import brentq  # here: a body rebuilt from its parameters needs no solver
 
     assets = load_assets()
@@ -360,11 +378,15 @@ def _solve_build(
         a, b = ends[id(shape)]
         lo_mass, hi_mass = measure(shape, a, height)[1], measure(shape, b, height)[1]
         masses += [lo_mass, hi_mass]
+        if mass is None:
+            continue
         if min(lo_mass, hi_mass) <= mass <= max(lo_mass, hi_mass):
             start = np.array([a + (b - a) * (mass - lo_mass) / (hi_mass - lo_mass), height])
             x, h = _newton(partial(measure, shape), np.array([stature, mass]), start, (min(a, b), max(a, b)))
             return shape.at(x, h)
     lightest, heaviest = min(masses), max(masses)
+    if mass is None:
+        return lightest, heaviest
     raise HitogataError(
         f"mass {shown(mass)} kg at stature {shown(stature * 100)} cm: allowed {lightest:.1f}–{heaviest:.1f} kg "
         f"(BMI {lightest / stature**2:.1f}–{heaviest / stature**2:.1f}) for this sex and age"

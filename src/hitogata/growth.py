@@ -109,3 +109,30 @@ def check_child(sex: float, age: float, stature: float, mass: float) -> None:
                 f"{quantity} {shown(value * scale)} {unit} at age {age:g}: allowed {lo * scale:.1f}–{hi * scale:.1f} "
                 f"{unit} for this sex and age, the growth references' percentiles {low:g}–{high:g}"
             )
+
+
+GIRTH_TABLE = ("growth", "nhanes_child_girths.csv")
+# The body measurement each NHANES girth is compared with (the table's header says why)
+GIRTH_MEASUREMENTS = {"waist": "omphalion_waist_girth", "hip": "hip_girth", "upper_arm": "upper_arm_girth"}
+P90_Z = NormalDist().inv_cdf(0.9)
+
+
+@cache
+def _girth_rows() -> tuple[dict[str, str], ...]:
+    text = resources.files("hitogata").joinpath("data", *GIRTH_TABLE).read_text()
+    return tuple(csv.DictReader(line for line in text.splitlines() if not line.startswith("#")))
+
+
+def girth_z(girth: str, sex: str, age: float, value: float) -> float | None:
+    """The z-score of a child's girth (m; "waist", "hip" or "upper_arm") among U.S. children of the
+    sex and age group (NHANES 2021–2023), or None where the survey has no figure for that age.
+
+    The survey gives percentiles, not a distribution: the SD below the median is (P50 − P10)/1.2816,
+    above it (P90 − P50)/1.2816, so a skewed girth keeps its skew.
+    """
+    for row in _girth_rows():
+        if row["measurement"] == girth and row["sex"] == sex and int(row["age_from"]) <= age < int(row["age_to"]) + 1:
+            p10, p50, p90 = (float(row[k]) / 100.0 for k in ("P10", "P50", "P90"))
+            spread = (value - p50) / ((p90 - p50) if value > p50 else (p50 - p10))
+            return spread * P90_Z
+    return None
