@@ -39,8 +39,8 @@ def add_body_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--sex", default=d["--sex"], help="female, male, or 0 (female) … 1 (male); default female")
     parser.add_argument("--age", type=years, default=d["--age"], help="years, 1–90 (below 18: stature and mass default to the growth references' medians); default 30")
     parser.add_argument("--stature", default=d["--stature"],
-                        help="e.g. 165cm, 1.65m; default the default body's: female 165cm, male 178cm")
-    parser.add_argument("--mass", default=d["--mass"], help="e.g. 58kg; default the default body's: female 62kg, male 78kg")
+                        help="e.g. 165cm, 1.65m; default the default body's: female 165cm, male 178cm; below 18 the growth references' median")
+    parser.add_argument("--mass", default=d["--mass"], help="e.g. 58kg; default the default body's: female 62kg, male 78kg; below 18 the growth references' median")
     parser.add_argument("--muscle-tone", type=unit_fraction, default=d["--muscle-tone"],
                         help="0..1, 0.5 = average; default: follows the mass (MakeHuman's build path)")
     parser.add_argument("--proportions", type=unit_fraction, default=d["--proportions"],
