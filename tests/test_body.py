@@ -118,10 +118,12 @@ def test_same_inputs_same_arrays() -> None:
         (dict(stature=3.0, mass=60.0), "stature 300.0 cm: allowed 140–210 cm"),
         (dict(stature=1.65, mass=-1.0), "mass -1.0 kg: allowed a finite positive number"),
         (dict(stature=float("nan"), mass=60.0), "stature nan m: allowed a finite positive number"),
-        (dict(stature=1.65, mass=150.0), "mass 150.0 kg at stature 165.0 cm: allowed 34.1–90.5 kg (BMI 12.5–33.2)"),
+        (dict(stature=1.65, mass=150.0), "mass 150.0 kg at stature 165.0 cm: BMI 55.1, allowed up to 50 (136.1 kg)"),
+        (dict(stature=1.65, mass=30.0), "mass 30.0 kg at stature 165.0 cm: allowed 34.1–"),
+        (dict(stature=1.65, mass=100.0, muscle=0.5), "mass 100.0 kg at stature 165.0 cm: allowed 44.6–59.6 kg (BMI 16.4–21.9)"),
         (dict(stature=1.65, mass=60.0, muscle=1.5), "shape parameter muscle=1.5: allowed 0..1"),
         (dict(sex="alien", stature=1.65, mass=60.0), "sex 'alien': allowed 'female', 'male'"),
-        (dict(age=12.0, stature=1.65, mass=60.0), "age 12.0 years: allowed 18..90"),
+        (dict(age=0.5, stature=0.7, mass=8.0), "age 0.5 years: allowed 1..90"),
     ],
 )
 def test_bad_measurements_one_line_error(kwargs: dict, message: str) -> None:

@@ -51,8 +51,8 @@ def test_body_glb_passes_khronos_validator(tmp_path: Path) -> None:
         (["--stature", "165 inches"], "--stature '165 inches': write a number with a unit"),
         (["--stature", "NaN"], "--stature 'NaN': write a number with a unit"),
         (["--mass", "nan kg"], "--mass 'nan kg': write a number with a unit"),
-        (["--mass", "200kg"], "mass 200.0 kg at stature 165.0 cm: allowed"),
-        (["--age", "nan"], "age nan years: allowed 18..90"),
+        (["--mass", "200kg"], "mass 200.0 kg at stature 165.0 cm: BMI 73.5, allowed up to 50"),
+        (["--age", "nan"], "age nan years: allowed 1..90"),
     ],
 )
 def test_bad_input_one_line_and_no_file(tmp_path: Path, capsys, args: list[str], message: str) -> None:

@@ -48,7 +48,7 @@ def test_the_quick_examples_run_in_order(tmp_path, worktree_python_path):
     pytest.importorskip("pyvista", reason="the skeleton example draws offscreen")
     skipped = (*SERVERS, *LONG)
     done = run(tmp_path, skip=skipped)  # and `measure results/`, which reads simulate's folder
-    assert [a[1] for a in done][:9] == ["body"] * 5 + ["measure", "pose", "measure", "skeleton"]
+    assert [a[1] for a in done][:10] == ["body"] * 6 + ["measure", "pose", "measure", "skeleton"]
     for name in ("body.glb", "body.obj", "measured.glb", "made.glb", "sizes/sizes.csv", "posed.glb", "skeleton.png",
                  "report_body/measurements.json", "report_posed/measurements.json"):
         assert (tmp_path / name).is_file(), name

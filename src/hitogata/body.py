@@ -17,11 +17,12 @@ from typing import TYPE_CHECKING, Callable
 import numpy as np
 import scipy.sparse as sp
 
+from hitogata import growth
 from hitogata.assets import Assets, load_assets, skin_points
 from hitogata.errors import HitogataError, excerpt
 from hitogata.geometry.mesh_checks import enclosed_volume
 from hitogata.rig import Rig, place_rig
-from hitogata.shape import BilinearShape, ShapeParameters, blend
+from hitogata.shape import WEIGHT_MAX, BilinearShape, ShapeParameters, blend
 from hitogata.units import shown
 
 if TYPE_CHECKING:
@@ -44,6 +45,10 @@ DENSITY_RANGE = (900.0, 1100.0)
 # Statures a body may be asked for: the MakeHuman height targets reach further
 # (1.22–2.45 m) but distort the body far outside the range of adult surveys.
 STATURE_RANGE = (1.40, 2.10)
+
+# The heaviest adult a body may be asked for: BMI 50, the top of the plus-size range (WHO class III
+# obesity starts at 40); MakeHuman's weight targets are extrapolated beyond their slider to reach it.
+ADULT_BMI_MAX = 50.0
 
 SEX_WORDS = {"female": 0.0, "f": 0.0, "woman": 0.0, "male": 1.0, "m": 1.0, "man": 1.0}
 
@@ -107,7 +112,8 @@ class Body:
 
         Stature and mass alone: MakeHuman's shape parameters solved, stature met within
         0.1 mm and mass within 0.02 %; a missing one is the default body's (its stature,
-        its BMI). With `muscle` given, only weight and height are solved; without it,
+        its BMI; for a child of 1 up to 18 years the growth references' medians for age and
+        sex, and a request outside their 0.1–99.9 percentiles is refused: `hitogata.growth`). With `muscle` given, only weight and height are solved; without it,
         the mass follows MakeHuman's build path (see `_build_path`). A target outside
         what the data supports for that sex and age raises a one-line error stating the
         range. With other measurements, `hitogata.made_to_measure.body_to_measure`
@@ -121,22 +127,30 @@ class Body:
                      **({} if mass is None else {"mass": mass})}
             return body_to_measure(sex, asked, age=age, muscle=muscle, proportions=proportions,
                                    density=density).body
-        if stature is None or mass is None:
-            default_stature, default_mass = default_measurements(sex)
-            stature = default_stature if stature is None else stature
-            mass = default_mass / default_stature**2 * stature**2 if mass is None else mass
-        _check_positive("stature", stature, "m")
-        _check_positive("mass", mass, "kg")
-        lo, hi = STATURE_RANGE
-        if not lo <= stature <= hi:
-            raise HitogataError(
-                f"stature {shown(stature * 100)} cm: allowed {lo * 100:.0f}–{hi * 100:.0f} cm"
-            )
         params = ShapeParameters(
             sex=sex_value(sex), age=age, muscle=AVERAGE if muscle is None else muscle,
             proportions=AVERAGE if proportions is None else proportions,
         )
+        if stature is None or mass is None:
+            default_stature, default_mass = default_measurements(sex, age)
+            stature = default_stature if stature is None else stature
+            mass = default_mass / default_stature**2 * stature**2 if mass is None else mass
+        _check_positive("stature", stature, "m")
+        _check_positive("mass", mass, "kg")
+        if growth.covers(age):
+            growth.check_child(params.sex, age, stature, mass)
+        elif not STATURE_RANGE[0] <= stature <= STATURE_RANGE[1]:
+            lo, hi = STATURE_RANGE
+            raise HitogataError(
+                f"stature {shown(stature * 100)} cm: allowed {lo * 100:.0f}–{hi * 100:.0f} cm"
+            )
+        elif mass / stature**2 > ADULT_BMI_MAX:
+            raise HitogataError(
+                f"mass {shown(mass)} kg at stature {shown(stature * 100)} cm: BMI {mass / stature**2:.1f}, "
+                f"allowed up to {ADULT_BMI_MAX:g} ({ADULT_BMI_MAX * stature**2:.1f} kg) for adults"
+            )
         solved = _solve_build(params, stature, mass, density, free_muscle=muscle is None)
+        assert isinstance(solved, ShapeParameters)
         return cls.from_parameters(solved, density)
 
     @cached_property
@@ -240,15 +254,18 @@ class Body:
         return self.mass / self.stature**2
 
 
-def default_measurements(sex: float | str = "female") -> tuple[float, float]:
-    """Stature (m) and mass (kg) of the default body of a sex (0 female … 1 male, or the word).
+def default_measurements(sex: float | str = "female", age: float = 30.0) -> tuple[float, float]:
+    """Stature (m) and mass (kg) of the default body of a sex (0 female … 1 male, or the word) and age.
 
-    Female 165 cm / 62 kg, male 178 cm / 78 kg: near the adult means of ANSUR II
+    Adults: female 165 cm / 62 kg, male 178 cm / 78 kg, near the adult means of ANSUR II
     (Gordon et al. 2014; women 162.9 cm / 68 kg, men 175.6 cm / 85 kg) and of
-    civilian surveys, which weigh less than the army sample. The command line
-    uses the same figures for a stature or mass not given.
+    civilian surveys, which weigh less than the army sample. Children (1 up to 18
+    years): the growth references' medians for age and sex (`hitogata.growth`). The
+    command line uses the same figures for a stature or mass not given.
     """
     value = sex_value(sex)
+    if isinstance(age, (int, float)) and growth.covers(age):
+        return growth.median("stature", value, age), growth.median("mass", value, age)
     return 1.65 + 0.13 * value, 62.0 + 16.0 * value
 
 
@@ -295,9 +312,11 @@ def _build_path(params: ShapeParameters, free_muscle: bool) -> list[BilinearShap
     """The segments, lightest first, along which mass is sought.
 
     With the muscle fixed: weight 0 → 1. Otherwise MakeHuman's own extremes
-    extend it without extrapolating any target: leaner than weight 0 by lowering
-    muscle tone at weight 0, heavier than weight 1 by lowering it at weight 1
-    (MakeHuman's heaviest body is the min-muscle, max-weight one).
+    extend it: leaner than weight 0 by lowering muscle tone at weight 0, heavier
+    than weight 1 by lowering it at weight 1 (MakeHuman's heaviest body is the
+    min-muscle, max-weight one), and heavier still by extrapolating that body's
+    weight from 1 to `WEIGHT_MAX` (plus sizes, and toddlers heavier than
+    MakeHuman's baby at weight 1).
     """
     assets = load_assets()
     middle = BilinearShape(assets, params, axis="weight")
@@ -305,22 +324,41 @@ def _build_path(params: ShapeParameters, free_muscle: bool) -> list[BilinearShap
         return [middle]
     lean = BilinearShape(assets, params.with_(weight=0.0), axis="muscle")
     heavy = BilinearShape(assets, params.with_(weight=1.0), axis="muscle")
-    return [lean, middle, heavy]
+    heavier = BilinearShape(assets, params.with_(muscle=0.0), axis="weight")
+    return [lean, middle, heavy, heavier]
+
+
+def mass_range(
+    sex: float | str, age: float, stature: float, *, muscle: float | None = None, proportions: float | None = None,
+    density: float = WHOLE_BODY_DENSITY,
+) -> tuple[float, float]:
+    """The lightest and heaviest mass (kg) `Body.from_measurements` builds at a stature (m) for a sex
+    and age: the ends of the build path, without the checks against the surveys (adults' BMI 50,
+    children's growth references) that narrow it further."""
+    params = ShapeParameters(
+        sex=sex_value(sex), age=age, muscle=AVERAGE if muscle is None else muscle,
+        proportions=AVERAGE if proportions is None else proportions,
+    )
+    ends = _solve_build(params, stature, None, check_density(density, "density"), free_muscle=muscle is None)
+    assert isinstance(ends, tuple)
+    return ends
 
 
 def _solve_build(
-    params: ShapeParameters, stature: float, mass: float, density: float, free_muscle: bool
-) -> ShapeParameters:
-    """Shape parameters with the given stature (m) and mass (kg) along the build path."""
+    params: ShapeParameters, stature: float, mass: float | None, density: float, free_muscle: bool
+) -> ShapeParameters | tuple[float, float]:
+    """Shape parameters with the given stature (m) and mass (kg) along the build path; with no mass,
+    the lightest and heaviest mass of the path at that stature."""
     from scipy.optimize import brentq  # here: a body rebuilt from its parameters needs no solver
 
     assets = load_assets()
     segments = _build_path(params, free_muscle)
-    # Segment ends, each as (shape, x): muscle runs 0 → average, weight 0 → 1.
+    # Segment ends, each as (shape, x): muscle runs 0 → average, weight 0 → 1 (→ WEIGHT_MAX).
     ends = {id(segments[0]): (0.0, AVERAGE)} if free_muscle else {}
     if free_muscle:
         ends[id(segments[1])] = (0.0, 1.0)
         ends[id(segments[2])] = (AVERAGE, 0.0)
+        ends[id(segments[3])] = (1.0, WEIGHT_MAX)
     else:
         ends[id(segments[0])] = (0.0, 1.0)
 
@@ -340,11 +378,15 @@ def _solve_build(
         a, b = ends[id(shape)]
         lo_mass, hi_mass = measure(shape, a, height)[1], measure(shape, b, height)[1]
         masses += [lo_mass, hi_mass]
+        if mass is None:
+            continue
         if min(lo_mass, hi_mass) <= mass <= max(lo_mass, hi_mass):
             start = np.array([a + (b - a) * (mass - lo_mass) / (hi_mass - lo_mass), height])
             x, h = _newton(partial(measure, shape), np.array([stature, mass]), start, (min(a, b), max(a, b)))
             return shape.at(x, h)
     lightest, heaviest = min(masses), max(masses)
+    if mass is None:
+        return lightest, heaviest
     raise HitogataError(
         f"mass {shown(mass)} kg at stature {shown(stature * 100)} cm: allowed {lightest:.1f}–{heaviest:.1f} kg "
         f"(BMI {lightest / stature**2:.1f}–{heaviest / stature**2:.1f}) for this sex and age"

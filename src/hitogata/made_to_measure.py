@@ -226,7 +226,7 @@ def _start(sex: ShapeParameters, requested: dict[str, float], density: float, mu
            proportions: float | None) -> ShapeParameters:
     """The plain body the solve starts from and is pulled towards: the asked stature and mass, or
     the default body's stature and build (BMI)."""
-    stature, mass = default_measurements(sex.sex)
+    stature, mass = default_measurements(sex.sex, sex.age)
     bmi = mass / stature**2
     stature = requested.get("stature", stature)
     mass = requested.get("mass", bmi * stature**2)
@@ -251,13 +251,15 @@ class _Problem:
         self.prior = np.array([getattr(start, m) for m in self.macros] + [0.0] * len(MODIFIER_NAMES))
         n = len(self.macros)
         self.lower = np.r_[np.zeros(n), -np.ones(len(MODIFIER_NAMES))]
-        self.upper = np.r_[np.ones(n), np.ones(len(MODIFIER_NAMES))]
+        # weight past MakeHuman's slider only where the plain body of the asked mass already is (plus sizes)
+        self.upper = np.r_[[max(1.0, start.weight) if m == "weight" else 1.0 for m in self.macros],
+                           np.ones(len(MODIFIER_NAMES))]
         self.pull = np.full(len(self.prior), REGULARISATION)
         self.kinks = np.r_[np.full(n, AVERAGE), np.zeros(len(MODIFIER_NAMES))]  # where the blend's slope changes
         targets = {**requested}
         scale = [RESIDUAL_UNIT * allowance(k, v) for k, v in requested.items()]
         if "stature" not in requested:
-            targets["stature"] = default_measurements(base.sex)[0]
+            targets["stature"] = default_measurements(base.sex, base.age)[0]
             scale.append(SOFT_STATURE)
         self.names = list(targets)
         self.scale = np.array(scale)

@@ -22,16 +22,27 @@ from typing import Any
 
 import numpy as np
 
-from hitogata.assets import Assets
+from hitogata.assets import Assets, load_child_targets
 from hitogata.errors import HitogataError
 from hitogata.options import RACES
 
-# MakeHuman's age axis: value 0.5 is 25 years ("young"), 1.0 is 90 years ("old").
-# The shipped data holds the adult targets only, so bodies younger than 25 take the
-# 25-year shape (MakeHuman itself blends in its "child" targets below 25).
+# MakeHuman's age axis: "baby" is 1 year, "child" 10 years (age value 0.1875 with
+# MakeHuman 1.1's 1–25 years over 0–0.5), "young" 25 years (0.5), "old" 90 years (1.0).
+# hitogata reaches the young shape at 18 rather than 25, so that its adults (18 and
+# over) keep the adult shape the survey-calibrated solver was built on: baby → child
+# from 1 to 10 years, child → young from 10 to 18, young → old from 25 to 90.
+BABY_YEARS = 1.0
+CHILD_YEARS = 10.0
+ADULT_YEARS = 18.0
 YOUNG_YEARS = 25.0
 OLD_YEARS = 90.0
-MIN_AGE_YEARS = 18.0
+MIN_AGE_YEARS = BABY_YEARS
+
+# Weight beyond MakeHuman's slider (1): its max-weight targets extrapolated linearly, as far
+# as the skin stays closed, outward and free of new self-intersections (docs/decisions:
+# children and plus sizes). Reaches BMI 50 for adults of 155–190 cm and the 99.9th
+# percentile of mass for age of the growth references.
+WEIGHT_MAX = 2.0
 
 # MakeHuman's measure modifiers (each a decr and an incr target in the data file), value −1..1.
 MODIFIER_NAMES = (
@@ -46,10 +57,12 @@ Modifiers = tuple[tuple[str, float], ...]
 
 @dataclass(frozen=True)
 class ShapeParameters:
-    """MakeHuman macro parameters of an adult body.
+    """MakeHuman macro parameters of a body.
 
-    sex: 0 = female … 1 = male (blends allowed); age in years (18–90);
-    muscle, weight, height, proportions, cup, firmness in 0..1 with 0.5 = average;
+    sex: 0 = female … 1 = male (blends allowed); age in years (1–90; below 18 the
+    baby and child targets of `hitogata.assets.load_child_targets` blend in);
+    muscle, weight, height, proportions, cup, firmness in 0..1 with 0.5 = average (weight up
+    to `WEIGHT_MAX`: beyond 1 MakeHuman's max-weight targets are extrapolated linearly);
     race: weights of (african, asian, caucasian), normalised to sum 1;
     modifiers: (name, value) pairs of MODIFIER_NAMES, value −1..1 (0 = none), given as
     pairs or a mapping, kept sorted by name without the zero ones.
@@ -70,11 +83,12 @@ class ShapeParameters:
         unit = ("sex", "muscle", "weight", "height", "proportions", "cup", "firmness")
         for name in unit:
             value = getattr(self, name)
-            if not (isinstance(value, (int, float)) and 0.0 <= value <= 1.0):
-                raise HitogataError(f"shape parameter {name}={value!r}: allowed 0..1")
+            top = WEIGHT_MAX if name == "weight" else 1.0
+            if not (isinstance(value, (int, float)) and 0.0 <= value <= top):
+                raise HitogataError(f"shape parameter {name}={value!r}: allowed 0..{top:g}")
         if not (isinstance(self.age, (int, float)) and MIN_AGE_YEARS <= self.age <= OLD_YEARS):
             raise HitogataError(
-                f"age {self.age!r} years: allowed {MIN_AGE_YEARS:g}..{OLD_YEARS:g} (adults)"
+                f"age {self.age!r} years: allowed {MIN_AGE_YEARS:g}..{OLD_YEARS:g}"
             )
         race = np.asarray(self.race, dtype=float)
         if race.shape != (3,) or not np.all(np.isfinite(race)) or race.min() < 0 or race.sum() <= 0:
@@ -111,11 +125,25 @@ def _levels(value: float) -> dict[str, float]:
     return {"min": low, "average": 1.0 - low - high, "max": high}
 
 
+def age_factors(years: float) -> dict[str, float]:
+    """Weights of MakeHuman's baby, child, young and old targets at an age (module note on ages)."""
+    ramps = ((BABY_YEARS, "baby"), (CHILD_YEARS, "child"), (ADULT_YEARS, "young"), (YOUNG_YEARS, "young"),
+             (OLD_YEARS, "old"))
+    out = {"baby": 0.0, "child": 0.0, "young": 0.0, "old": 0.0}
+    for (a0, w0), (a1, w1) in zip(ramps[:-1], ramps[1:]):
+        if a0 <= years <= a1:
+            t = (years - a0) / (a1 - a0)
+            out[w0] += 1.0 - t
+            out[w1] += t
+            return out
+    out["baby" if years < BABY_YEARS else "old"] = 1.0
+    return out
+
+
 def factors(params: ShapeParameters) -> dict[str, float]:
     """The factor each word of a target's file name stands for."""
-    age = min(max((params.age - YOUNG_YEARS) / (OLD_YEARS - YOUNG_YEARS), 0.0), 1.0)
     race = np.asarray(params.race, dtype=float) / float(np.sum(params.race))
-    out = {"female": 1.0 - params.sex, "male": params.sex, "young": 1.0 - age, "old": age}
+    out = {"female": 1.0 - params.sex, "male": params.sex, **age_factors(params.age)}
     out.update(zip(RACES, race.tolist()))
     for word in ("muscle", "weight", "height", "cup", "firmness"):
         for level, f in _levels(getattr(params, word)).items():
@@ -152,10 +180,16 @@ def target_weights(names: tuple[str, ...], params: ShapeParameters) -> np.ndarra
 
 def blend(assets: Assets, params: ShapeParameters) -> np.ndarray:
     """All vertices (N, 3) of the body the parameters describe, in metres."""
-    weights = target_weights(assets.target_names, params)
-    used = np.flatnonzero(weights)
-    offsets = assets.targets[:, used] @ weights[used]
+    offsets = _blended(assets.target_names, assets.targets, params)
+    if params.age < ADULT_YEARS:
+        offsets = offsets + _blended(*load_child_targets(), params)
     return assets.base_vertices + offsets.reshape(-1, 3)
+
+
+def _blended(names: tuple[str, ...], targets: Any, params: ShapeParameters) -> np.ndarray:
+    weights = target_weights(names, params)
+    used = np.flatnonzero(weights)
+    return np.asarray(targets[:, used] @ weights[used])
 
 
 class BilinearShape:

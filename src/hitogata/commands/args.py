@@ -23,7 +23,7 @@ def years(text: str) -> float:
     try:
         return float(text)
     except ValueError:
-        raise argparse.ArgumentTypeError(f"age {text!r}: allowed a number of years, 18–90") from None
+        raise argparse.ArgumentTypeError(f"age {text!r}: allowed a number of years, 1–90") from None
 
 
 def unit_fraction(text: str) -> float:
@@ -38,10 +38,10 @@ def add_body_arguments(parser: argparse.ArgumentParser) -> None:
     """--sex --age --stature --mass --muscle-tone --proportions, as a person writes them."""
     d = {option: default for option, (_, default) in BODY_DEFAULTS.items()}
     parser.add_argument("--sex", default=d["--sex"], help="female, male, or 0 (female) … 1 (male); default female")
-    parser.add_argument("--age", type=years, default=d["--age"], help="years, 18–90; default 30")
+    parser.add_argument("--age", type=years, default=d["--age"], help="years, 1–90 (below 18: stature and mass default to the growth references' medians); default 30")
     parser.add_argument("--stature", default=d["--stature"],
-                        help="e.g. 165cm, 1.65m; default the default body's: female 165cm, male 178cm")
-    parser.add_argument("--mass", default=d["--mass"], help="e.g. 58kg; default the default body's: female 62kg, male 78kg")
+                        help="e.g. 165cm, 1.65m; default the default body's: female 165cm, male 178cm; below 18 the growth references' median")
+    parser.add_argument("--mass", default=d["--mass"], help="e.g. 58kg; default the default body's: female 62kg, male 78kg; below 18 the growth references' median")
     parser.add_argument("--muscle-tone", type=unit_fraction, default=d["--muscle-tone"],
                         help="0..1, 0.5 = average; default: follows the mass (MakeHuman's build path)")
     parser.add_argument("--proportions", type=unit_fraction, default=d["--proportions"],

@@ -71,7 +71,7 @@ def solve_from_args(args: argparse.Namespace, asked: dict[str, float]) -> tuple[
     the report of asked against made (warnings printed as notes)."""
     from hitogata.body import Body, default_measurements
 
-    stature, mass = default_measurements(args.sex) if args.stature is None or args.mass is None else (0.0, 0.0)
+    stature, mass = default_measurements(args.sex, args.age) if args.stature is None or args.mass is None else (0.0, 0.0)
     given = (("--stature", args.stature, units.length, "165cm"), ("--mass", args.mass, units.mass, "58kg"))
     values: list[float | None] = []
     for (option, text, parse, example), default in zip(given, (stature, mass)):
