@@ -29,7 +29,7 @@ def main() -> None:
     body = default_body("female")
     spec = load_garment("legging")
     mark = stage("body and garment file", mark)
-    _, tube, _, _, _ = prepare(body, spec)
+    _, tube, _, _, _, _ = prepare(body, spec)
     mark = stage("garment against the body", mark)
     dressing = dress(body, spec)
     mark = stage("contact solve (prepare again + Newton)", mark)

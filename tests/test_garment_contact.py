@@ -104,7 +104,7 @@ def test_ellipse_pressure_follows_the_local_curvature():
     assert -eq.body_force[upper, 1].sum() == pytest.approx(2 * tension * 0.004, rel=0.01)
 
 
-@pytest.mark.parametrize("nu", [0.3, 0.45])
+@pytest.mark.parametrize("nu", [0.3, 0.45, 0.49])  # 0.49: the tissue's (materials.toml)
 def test_soft_cylinder_indentation_is_lames(nu):
     inner, outer, length, E = 0.03, 0.05, 0.004, 20e3
     body = soft_annulus(inner, outer, length, E, nu, 6, 96, 1)
@@ -120,7 +120,7 @@ def test_soft_cylinder_indentation_is_lames(nu):
     assert indentation.std() < 0.01 * indentation.mean()
     pressure = node_pressure(rest, body.faces, eq.body_force)[surface].mean()  # on the rest area, as Lamé's
     assert indentation.mean() == pytest.approx(lame_indentation(pressure, inner, outer, E, nu), rel=0.03)
-    assert 0.2e-3 < indentation.mean() < 1e-3
+    assert 0.02e-3 < indentation.mean() < 1e-3
     # the pressure on the indented skin's area is the tension over the indented radius
     tension = float(tube.membrane.tensions(eq.garment)[0].mean())
     now = node_pressure(eq.body, body.faces, eq.body_force)[surface].mean()

@@ -7,6 +7,7 @@ output folder is written through a staging folder (`commands.paths`): a mistake 
 from __future__ import annotations
 
 import argparse
+import math
 
 from hitogata.commands.args import add_body_arguments
 from hitogata.commands.body_file import add_body_file, body_of
@@ -34,11 +35,15 @@ def run(args: argparse.Namespace) -> None:
                             f"{' and garment crossing the skin' if result.crossing else ''}; nothing written")
     written = write_dressing(args.workdir, result)
     print(f"{args.out}/: {', '.join(sorted(written))}")
-    print(f"{result.title}: contact pressure (mmHg) beside Laplace's quick estimate")
+    body_kind = "the soft limb" if any(math.isfinite(level.indentation) for level in result.levels) \
+        else "the rigid skin"
+    print(f"{result.title}: contact pressure (mmHg) on {body_kind} beside Laplace's quick estimate")
     for level in result.levels:
         row = level.as_row()
+        soft = f"  indentation {row['indentation_mm']:4.2f} mm (deepest {row['deepest_mm']:4.2f})" \
+            if math.isfinite(level.indentation) else ""
         print(f"  {level.level:>9} {row['ral_level'] or ' '}  {row['pressure_mmHg']:6.1f}  Laplace "
-              f"{row['laplace_mmHg']:6.1f}  course strain {row['course_strain_pct']:5.1f} %")
+              f"{row['laplace_mmHg']:6.1f}  course strain {row['course_strain_pct']:5.1f} %{soft}")
     if result.compression_class is not None:
         print(f"  RAL-GZ 387/1 class at the ankle (B): {result.compression_class}")
 
