@@ -1,4 +1,4 @@
-"""Dressing benchmark: a legging (−20 % ease) put on the default female body, cold, in a fresh process.
+"""Dressing benchmark: a legging (−20 % ease) put on the default female's soft leg, cold, in a fresh process.
 
 Goal: ≤ 60 s on the 2-core machine. Prints the wall and CPU time of each stage (the body, the garment
 against it, the contact solve, the answers and their exact checks) and Newton's iterations, contacts at

@@ -8,15 +8,20 @@ from __future__ import annotations
 
 import argparse
 import math
+from typing import TYPE_CHECKING
 
 from hitogata.commands.args import add_body_arguments
 from hitogata.commands.body_file import add_body_file, body_of
 from hitogata.commands.paths import add_output
 from hitogata.errors import HitogataError
 
+if TYPE_CHECKING:
+    from hitogata.body import Body
+    from hitogata.garment.contact.answers import GarmentContact
+    from hitogata.garment.contact.spec import GarmentSpec
+
 
 def run(args: argparse.Namespace) -> None:
-    from hitogata.garment.contact.answers import dress_garment
     from hitogata.garment.contact.dressing import prepare
     from hitogata.garment.contact.files import write_dressing
     from hitogata.garment.contact.spec import load_garment
@@ -26,13 +31,7 @@ def run(args: argparse.Namespace) -> None:
     body = body_of(args)
     ensure_offscreen_gl()  # the picture needs it: a missing library is one line before the long work
     prepare(body, spec)  # the garment against this body (its levels, its fabric's range), before the solve
-    result = dress_garment(body, spec)
-    if not result.converged:
-        raise HitogataError(f"{spec.source}: the contact solve did not converge in {result.iterations} Newton "
-                            "iterations; nothing written")
-    if result.inside or result.crossing:
-        raise HitogataError(f"{spec.source}: the solve left {result.inside} garment vertices inside the body"
-                            f"{' and garment crossing the skin' if result.crossing else ''}; nothing written")
+    result = checked_contact(body, spec)
     written = write_dressing(args.workdir, result)
     print(f"{args.out}/: {', '.join(sorted(written))}")
     body_kind = "the soft limb" if any(math.isfinite(level.indentation) for level in result.levels) \
@@ -46,6 +45,21 @@ def run(args: argparse.Namespace) -> None:
               f"{row['laplace_mmHg']:6.1f}  course strain {row['course_strain_pct']:5.1f} %{soft}")
     if result.compression_class is not None:
         print(f"  RAL-GZ 387/1 class at the ankle (B): {result.compression_class}")
+
+
+def checked_contact(body: Body, spec: GarmentSpec) -> GarmentContact:
+    """The garment solved on the body, refused (one line, nothing written) unless Newton converged and the
+    exact checks after the solve hold."""
+    from hitogata.garment.contact.answers import dress_garment
+
+    result = dress_garment(body, spec)
+    if not result.converged:
+        raise HitogataError(f"{spec.source}: the contact solve did not converge in {result.iterations} Newton "
+                            "iterations; nothing written")
+    if result.inside or result.crossing:
+        raise HitogataError(f"{spec.source}: the solve left {result.inside} garment vertices inside the body"
+                            f"{' and garment crossing the skin' if result.crossing else ''}; nothing written")
+    return result
 
 
 def register(sub: argparse._SubParsersAction) -> None:

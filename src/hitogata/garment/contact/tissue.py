@@ -59,11 +59,12 @@ def annulus_tets(radial: int, around: int, along: int) -> tuple[np.ndarray, np.n
 
 @dataclass(frozen=True, eq=False)
 class LimbTissue:
-    """The limb's tissue under the garment: the body to press on (nodes, outer faces, K, held dofs), the
-    garment stations its sections lie on (m,), the outer nodes (m, n) section by section, their outward
-    directions (m, n, 3), and each section's rest polygon perimeter (m,) (m)."""
+    """The limb's tissue under the garment: the body to press on (nodes, outer faces, K, held dofs), its
+    tets, the garment stations its sections lie on (m,), the outer nodes (m, n) section by section, their
+    outward directions (m, n, 3), and each section's rest polygon perimeter (m,) (m)."""
 
     body: ContactBody
+    tets: np.ndarray
     stations: np.ndarray
     outer: np.ndarray
     outward: np.ndarray
@@ -122,12 +123,12 @@ def limb_tissue(body: Body, segment: str, stations: Stations, hull_radii: np.nda
                             f"station {chosen[worst]} of the segment; allowed at least {1000 * LEAST_TISSUE:.0f} mm")
     inner_points = centres[:, None] + radii[:, None, None] * ray
     depth = np.linalg.norm(outer_points - inner_points, axis=2)
-    skin = min(skin_thickness(body.bmi, body.params.sex), 0.5 * float(depth.min()))
+    skin = skin_thickness(body.bmi, body.params.sex)
     radial = MUSCLE_LAYERS + SKIN_LAYERS
     tets, i, j, k = annulus_tets(radial, n, m - 1)
     # share of the way from bone to skin of each radial node layer: muscle evenly to the skin layer, then
-    # the skin layer evenly
-    share_skin = skin / depth[k, j]
+    # the skin layer evenly (at most half the tissue on each ray)
+    share_skin = np.minimum(skin, 0.5 * depth[k, j]) / depth[k, j]
     layer = np.where(i <= MUSCLE_LAYERS, (1 - share_skin) * i / MUSCLE_LAYERS,
                      1 - share_skin * (radial - i) / SKIN_LAYERS)
     nodes = inner_points[k, j] + layer[:, None] * (outer_points[k, j] - inner_points[k, j])
@@ -144,8 +145,8 @@ def limb_tissue(body: Body, segment: str, stations: Stations, hull_radii: np.nda
     outer = np.full((m, n), -1)
     on = i == radial
     outer[k[on], j[on]] = np.flatnonzero(on)
-    tissue = LimbTissue(ContactBody(nodes, faces, stiffness, fixed.ravel()), chosen, outer, ray, np.zeros(m))
-    return LimbTissue(tissue.body, chosen, outer, ray, tissue.perimeters(nodes))
+    tissue = LimbTissue(ContactBody(nodes, faces, stiffness, fixed.ravel()), tets, chosen, outer, ray, np.zeros(m))
+    return LimbTissue(tissue.body, tets, chosen, outer, ray, tissue.perimeters(nodes))
 
 
 def _bone_axis(body: Body, segment: str, origins: np.ndarray, normal: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
