@@ -61,14 +61,18 @@ def annulus_tets(radial: int, around: int, along: int) -> tuple[np.ndarray, np.n
 class LimbTissue:
     """The limb's tissue under the garment: the body to press on (nodes, outer faces, K, held dofs), its
     tets, the garment stations its sections lie on (m,), the outer nodes (m, n) section by section, their
-    outward directions (m, n, 3), and each section's rest polygon perimeter (m,) (m)."""
+    outward directions (m, n, 3)."""
 
     body: ContactBody
     tets: np.ndarray
     stations: np.ndarray
     outer: np.ndarray
     outward: np.ndarray
-    perimeter: np.ndarray
+
+    @property
+    def perimeter(self) -> np.ndarray:
+        """(m,) m: each section's outer polygon perimeter at rest."""
+        return self.perimeters(self.body.points)
 
     def indentation(self, nodes: np.ndarray) -> np.ndarray:
         """(m, n) m: how far each outer node has moved in (along its outward direction; < 0 bulging out)."""
@@ -145,8 +149,7 @@ def limb_tissue(body: Body, segment: str, stations: Stations, hull_radii: np.nda
     outer = np.full((m, n), -1)
     on = i == radial
     outer[k[on], j[on]] = np.flatnonzero(on)
-    tissue = LimbTissue(ContactBody(nodes, faces, stiffness, fixed.ravel()), tets, chosen, outer, ray, np.zeros(m))
-    return LimbTissue(tissue.body, tets, chosen, outer, ray, tissue.perimeters(nodes))
+    return LimbTissue(ContactBody(nodes, faces, stiffness, fixed.ravel()), tets, chosen, outer, ray)
 
 
 def _bone_axis(body: Body, segment: str, origins: np.ndarray, normal: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
