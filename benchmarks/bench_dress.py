@@ -1,4 +1,4 @@
-"""Dressing benchmark: a legging (−20 % ease) put on the default female body, cold, in a fresh process.
+"""Dressing benchmark: a legging (−20 % ease) put on the default female's soft leg, cold, in a fresh process.
 
 Goal: ≤ 60 s on the 2-core machine. Prints the wall and CPU time of each stage (the body, the garment
 against it, the contact solve, the answers and their exact checks) and Newton's iterations, contacts at
@@ -29,7 +29,7 @@ def main() -> None:
     body = default_body("female")
     spec = load_garment("legging")
     mark = stage("body and garment file", mark)
-    _, tube, _, _, _ = prepare(body, spec)
+    _, tube, _, _, _, _ = prepare(body, spec)
     mark = stage("garment against the body", mark)
     dressing = dress(body, spec)
     mark = stage("contact solve (prepare again + Newton)", mark)

@@ -23,7 +23,7 @@ def wants_body(args: argparse.Namespace) -> bool:
     """The body part is reported unless only a study is given (no body, body or motion option)."""
     return (args.study is None or args.body is not None or bool(body_options_given(args))
             or any(getattr(args, name) is not None for name in (*MOTION_DEFAULTS, "garment_ease", "fabric",
-                                                                 "materials")))
+                                                                 "materials", "garment")))
 
 
 def settings(args: argparse.Namespace) -> str:
@@ -45,7 +45,12 @@ def run(args: argparse.Namespace) -> None:
     from hitogata.report.fit_report import read_population, summary_text, write_fit_report
 
     population = None if args.study is None else read_population(args.study)
-    answers = None
+    answers, contact = None, None
+    spec = None
+    if args.garment is not None:
+        from hitogata.garment.contact.spec import load_garment
+
+        spec = load_garment(args.garment)
     if wants_body(args):
         for name, value in MOTION_DEFAULTS.items():
             if getattr(args, name) is None:
@@ -62,10 +67,17 @@ def run(args: argparse.Namespace) -> None:
         from hitogata.render import ensure_offscreen_gl
 
         ensure_offscreen_gl()  # the pictures need it: a missing library is one line before the long work
+        if spec is not None:
+            from hitogata.commands.dress import checked_contact
+            from hitogata.garment.contact.dressing import prepare
+
+            prepare(body, spec)  # the garment against this body, before the long work
         answers = compute(args, body, scenarios, garment)
+        contact = None if spec is None else checked_contact(body, spec)
     written = [] if answers is None else write_tables(answers, args.workdir)
     title = "fit report" if args.body is None else f"fit report: {args.body.name}"
-    written += write_fit_report(args.workdir, answers, population, title, "" if answers is None else settings(args))
+    written += write_fit_report(args.workdir, answers, population, title, "" if answers is None else settings(args),
+                                contact)
     print(f"{Path(args.out)}/: {', '.join(sorted(set(written)))}")
     if answers is not None:
         print(summary_text(answers))
@@ -78,6 +90,9 @@ def register(sub: argparse._SubParsersAction) -> None:
                              "or the body options")
     add_body_arguments(parser)
     add_motion_arguments(parser, defaults=False)
+    parser.add_argument("--garment", default=None,
+                        help="a garment file (TOML) or a shipped garment (as `hitogata dress`): its contact answers "
+                             "beside Laplace's quick estimate")
     parser.add_argument("--study", default=None, type=input_path("folder"),
                         help="a `hitogata study` results folder: adds the population's percentile tables and bands")
     add_output(parser, "folder", "report folder: fit_report.html and its tables (a new or empty folder)")

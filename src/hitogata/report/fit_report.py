@@ -30,6 +30,8 @@ import numpy as np
 from hitogata.errors import HitogataError
 from hitogata.export.atomic import write_bytes_atomically
 from hitogata.export.body_files import body_figures
+from hitogata.garment.contact.answers import RAL_LETTERS, GarmentContact
+from hitogata.garment.contact.files import levels_csv
 from hitogata.garment.ease import HEIGHTS, NAMES, MotionEase, overall
 from hitogata.garment.ease_plot import ease_over_time, ease_plot
 from hitogata.garment.fit import FitAnswers, peak_frames, posture, risks
@@ -213,6 +215,34 @@ def measured_section(answers: FitAnswers) -> str:
     return h.section("measured-people", "beside measured people", parts)
 
 
+CONTACT_COLUMNS = ["level", "RAL-GZ 387", "contact: mean (mmHg)", "contact: peak (mmHg)",
+                   "Laplace, the quick estimate (mmHg)", "indentation: mean / deepest (mm)",
+                   "girth: standing → under the garment (cm)", "course strain (%)", "friction needed"]
+
+
+def contact_section(contact: GarmentContact) -> str:
+    """The garment solved in contact with the body (`hitogata dress`'s answers) beside Laplace's quick
+    estimate at each level; the indentation and the girth under the garment where the body was soft."""
+    rows: list[list[object]] = []
+    for level in contact.levels:
+        soft = np.isfinite(level.indentation)
+        rows.append([label(level.level), RAL_LETTERS.get(level.level, "—"), _fixed(level.pressure / MMHG),
+                     _fixed(level.peak / MMHG) if np.isfinite(level.peak) else "—",
+                     _fixed(level.laplace / MMHG) if np.isfinite(level.laplace) else "—",
+                     f"{1000 * level.indentation:.2f} / {1000 * level.deepest:.2f}" if soft else "— (rigid body)",
+                     f"{100 * level.girth:.1f} → {100 * level.girth_under:.1f}" if soft else f"{100 * level.girth:.1f}",
+                     _fixed(100 * level.course_strain), f"{level.hold:.2f}"])
+    body = "the soft limb (its tissue solved with the garment)" if any(np.isfinite(lv.indentation)
+                                                                       for lv in contact.levels) else "the rigid skin"
+    parts = [h.paragraph(f"{contact.title}: the garment's contact with {body} (docs/garment_contact.md): the mean "
+                         "pressure round each level and its peak, beside Laplace's law on the standing girth (the "
+                         "quick estimate)."),
+             h.table(CONTACT_COLUMNS, rows, id="garment-contact", caption="the garment in contact, beside Laplace")]
+    if contact.compression_class is not None:
+        parts.append(h.paragraph(f"RAL-GZ 387/1 class at the ankle (B): {contact.compression_class}.", "note"))
+    return h.section("garment-contact", "the garment in contact", parts)
+
+
 def population_section(population: Population) -> str:
     """Per motion: the P5/P50/P95 table of dynamic ease and required stretch per group, and the band plot."""
     bands, parts = population.bands, []
@@ -240,9 +270,11 @@ def population_section(population: Population) -> str:
 
 
 def write_fit_report(folder: str | os.PathLike, answers: FitAnswers | None = None,
-                     population: Population | None = None, title: str = "fit report", settings: str = "") -> list[str]:
+                     population: Population | None = None, title: str = "fit report", settings: str = "",
+                     contact: GarmentContact | None = None) -> list[str]:
     """Write the page and its tables into an existing folder; return the names written.
-    `settings`: how the answers were computed, in words (shown under the summary)."""
+    `settings`: how the answers were computed, in words (shown under the summary); `contact`: a garment
+    solved in contact with the body (its section and `garment_contact.csv`)."""
     folder = Path(folder)
     if answers is None and population is None:
         raise HitogataError("fit report: nothing to report; give a body with motions, a study's results, or both")
@@ -261,6 +293,9 @@ def write_fit_report(folder: str | os.PathLike, answers: FitAnswers | None = Non
         sections.append(("body", "body", h.section("body", "the body", [body_html])))
         sections.append(("all-motions", "all motions", overall_section(answers)))
         sections.append(("measured-people", "beside measured people", measured_section(answers)))
+        if contact is not None:
+            sections.append(("garment-contact", "the garment in contact", contact_section(contact)))
+            tables["garment_contact.csv"] = levels_csv(contact).decode("utf-8")
         from hitogata.render import Renderer
 
         lines: dict[str, list[Line]] = {}

@@ -43,7 +43,8 @@ RAL_LETTERS = {"ankle": "B", "calf": "C", "knee": "E", "thigh": "G"}
 class LevelContact:
     """One level: mean pressure (Pa) by contact and by Laplace (NaN where Laplace has no such level), the
     contact's peak (Pa), the body's girth (m), the garment's circumference there (m), its course and wale
-    strain, the friction coefficient holding it."""
+    strain, the friction coefficient holding it; on the soft body the indentation (m: mean and largest
+    round the level) and the body's girth under the garment (m)."""
 
     level: str
     pressure: float
@@ -54,6 +55,9 @@ class LevelContact:
     course_strain: float
     wale_strain: float
     hold: float
+    indentation: float = float("nan")  # m: the skin's mean move in under the garment (NaN: rigid body)
+    deepest: float = float("nan")  # m: the largest move in round the level (< 0: the skin bulges out)
+    girth_under: float = float("nan")  # m: the body's girth under the garment (NaN: rigid body)
 
     def as_row(self) -> dict[str, float | str]:
         """The level's figures at the user's edge: mmHg, Pa, cm, %."""
@@ -61,7 +65,9 @@ class LevelContact:
                 "pressure_mmHg": self.pressure / MMHG, "pressure_Pa": self.pressure,
                 "laplace_mmHg": self.laplace / MMHG, "peak_mmHg": self.peak / MMHG, "girth_cm": 100 * self.girth,
                 "garment_girth_cm": 100 * self.garment_girth, "course_strain_pct": 100 * self.course_strain,
-                "wale_strain_pct": 100 * self.wale_strain, "friction_needed": self.hold}
+                "wale_strain_pct": 100 * self.wale_strain, "friction_needed": self.hold,
+                "indentation_mm": 1000 * self.indentation, "deepest_mm": 1000 * self.deepest,
+                "girth_under_cm": 100 * self.girth_under}
 
 
 @dataclass(frozen=True, eq=False)
@@ -132,28 +138,47 @@ def garment_contact(dressing: Dressing) -> GarmentContact:
         standing = tape_girth(skin, topo, level.origin, level.normal, level.origin, part=level.skin)
         pressed = float(pressing[band].sum())
         rings = np.abs(dressing.arc[ring_of_vertex] - at) <= BAND
+        soft = _soft_level(dressing, at, standing.girth)
         rows.append(LevelContact(level.name, patch_pressure(pushed, garment_areas, rings),
                                  laplace.get(level.name, np.nan), float(sensor[band].max()) if band.any() else np.nan,
                                  standing.girth, float(tube.relaxed[ring] * (1 + ring_strain[ring])),
                                  float(ring_strain[ring]), float(wale[np.abs(ring_of_face - ring) <= 1].mean()),
-                                 float(holding[band].sum()) / pressed if pressed > 0 else np.nan))
+                                 float(holding[band].sum()) / pressed if pressed > 0 else np.nan, *soft))
     ankle = next((row for row in rows if row.level == "ankle"), None)
-    contact_faces = faces[dressing.contact_skin[faces].all(axis=1)]
     course, _ = tube.membrane.strains(dressing.garment)
+    if dressing.tissue is None or dressing.tissue_nodes is None:
+        pressed_on, pressed_faces = skin, faces[dressing.contact_skin[faces].all(axis=1)]
+        inside = int(contains(skin, faces, dressing.garment).sum())
+    else:  # the soft limb's surface as solved
+        pressed_on, pressed_faces = dressing.tissue_nodes, dressing.tissue.body.faces
+        inside = int(contains(*dressing.tissue.closed_surface(dressing.tissue_nodes), dressing.garment).sum())
     return GarmentContact(spec.title, tuple(rows), skin, faces,
                           np.where(under, sensor, 0.0), under,
                           dressing.garment, tube.faces, course, wale,
                           None if ankle is None else compression_class(ankle.pressure),
-                          int(contains(skin, faces, dressing.garment).sum()),
-                          crossings(dressing.garment, tube.faces, skin, contact_faces), dressing.min_distance,
+                          inside, crossings(dressing.garment, tube.faces, pressed_on, pressed_faces), dressing.min_distance,
                           dressing.iterations, dressing.converged)
 
 
-def dress_garment(body: Body, garment: GarmentSpec | str | Path) -> GarmentContact:
+def dress_garment(body: Body, garment: GarmentSpec | str | Path, soft: bool = True) -> GarmentContact:
     """A garment (a checked `GarmentSpec`, a shipped garment's name or a garment file) put on the standing
-    body and solved: its contact answers."""
+    body and solved: its contact answers. soft: on a limb, the tissue takes the garment's loads (the
+    indentation and the girths under the garment); else the skin is rigid."""
     spec = garment if isinstance(garment, GarmentSpec) else load_garment(garment)
-    return garment_contact(dress(body, spec))
+    return garment_contact(dress(body, spec, soft))
+
+
+def _soft_level(dressing: Dressing, at: float, girth: float) -> tuple[float, float, float]:
+    """At the soft limb's section nearest a level (arc length `at`, m): the mean and largest indentation
+    (m) and the body's girth under the garment (the standing girth less the section's shrinking, m); NaN
+    on the rigid body."""
+    tissue, nodes = dressing.tissue, dressing.tissue_nodes
+    if tissue is None or nodes is None:
+        return float("nan"), float("nan"), float("nan")
+    section = int(np.argmin(np.abs(dressing.arc[tissue.stations] - at)))
+    moved_in = tissue.indentation(nodes)[section]
+    shrink = float(tissue.perimeter[section] - tissue.perimeters(nodes)[section])
+    return float(moved_in.mean()), float(moved_in.max()), girth - shrink
 
 
 def _laplace(dressing: Dressing) -> dict[str, float]:

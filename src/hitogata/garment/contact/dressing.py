@@ -3,14 +3,15 @@
 The garment starts as rings just outside the standing body's sections along its segment
 (`segments.body_rings`) with its relaxed size as sewn, so it is stretched from the start, and Newton
 with CCD pulls it onto the skin (`equilibrium.settle`): the loose fit shrunk to its relaxed size. The
-skin within `REACH` of the garment's start is the contact surface (both legs' skin where they are near:
-the garment never passes into the other limb either). The body is held rigid: the elastic whole body
-(`hitogata.elastic`, a 40 mm lattice) answers the garment's loads with indentations of centimetres
-(its lower leg is one or two elements thick), so the tissue's answer is left to a model refined under
-the garment (docs/garment_contact.md).
+skin within `REACH` of the garment's start is the rigid body's contact surface (both legs' skin where
+they are near: the garment never passes into the other limb either). On a limb the body is soft by
+default: the garment presses on the limb's tissue (`tissue`: a tet mesh between bone and skin, the
+materials file's moduli) solved with it in one Newton, and the tissue's contact forces are carried to
+the skin's vertices under it. The trunk is held rigid (its tissue model is the whole body's lattice,
+too coarse for millimetres: decision 0020).
 
 The garment's courses stay in their planes (`tube`); the force that holds them there is what friction
-on the skin must supply (`hold_on_skin` puts it on the skin, so the garment's loads on the body sum to
+on the skin must supply (`spread_on_surface` puts it on the skin, so the garment's loads on the body sum to
 zero).
 """
 
@@ -23,8 +24,18 @@ from scipy.spatial import cKDTree
 
 from hitogata.body import Body
 from hitogata.errors import HitogataError
-from hitogata.garment.contact.equilibrium import ContactBody, Equilibrium, settle
-from hitogata.garment.contact.segments import SPACING, Level, body_rings, segment_levels, station_skin, stations_along
+from hitogata.elastic.materials import Materials
+from hitogata.garment.contact.equilibrium import ContactBody, settle
+from hitogata.garment.contact.segments import (
+    SPACING,
+    Level,
+    body_rings,
+    section_hulls,
+    segment_levels,
+    station_skin,
+    stations_along,
+)
+from hitogata.garment.contact.tissue import LIMB_BONES, LimbTissue, limb_tissue
 from hitogata.garment.contact.spec import GarmentSpec
 from hitogata.garment.contact.tube import Tube, build_tube
 from hitogata.fit.closest import SurfaceQuery
@@ -55,6 +66,8 @@ class Dressing:
     iterations: int
     converged: bool
     min_distance: float
+    tissue: LimbTissue | None = None  # the soft limb under the garment (None: the rigid body)
+    tissue_nodes: np.ndarray | None = None  # (T, 3) its nodes at equilibrium
 
 
 def relaxed_at_stations(spec: GarmentSpec, girths: np.ndarray, arc: np.ndarray, level_arc: np.ndarray) -> np.ndarray:
@@ -78,21 +91,26 @@ def relaxed_at_stations(spec: GarmentSpec, girths: np.ndarray, arc: np.ndarray, 
     return relaxed
 
 
-def prepare(body: Body, spec: GarmentSpec) -> tuple[list[Level], Tube, np.ndarray, np.ndarray, np.ndarray]:
+def prepare(body: Body, spec: GarmentSpec) -> tuple[list[Level], Tube, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """The levels, the garment's tube and its start rings (V, 3) on the standing body, stations' and levels'
-    arc lengths; every check of the garment against the body is here, before any long work."""
+    arc lengths, the sections' hull radii (M, N); every check of the garment against the body is here, before any long work."""
     posed = JointSet(body.rig.names, body.rig.heads)
     levels = segment_levels(body, body.vertices, posed, spec.levels)
     stations, arc, level_arc = stations_along(levels, SPACING)
-    girths, rings = body_rings(body.vertices, body.faces, stations, station_skin(levels, arc, level_arc), spec.per_ring)
+    girths, radii = section_hulls(body.vertices, body.faces, stations, station_skin(levels, arc, level_arc),
+                                  spec.per_ring)
     relaxed = relaxed_at_stations(spec, girths, arc, level_arc)
     tube = build_tube(stations, spec.per_ring, relaxed, spec.course, spec.wale, spec.shear)
-    return levels, tube, rings.reshape(-1, 3), arc, level_arc
+    return levels, tube, body_rings(radii, stations).reshape(-1, 3), arc, level_arc, radii
 
 
-def dress(body: Body, spec: GarmentSpec) -> Dressing:
-    """The garment on the standing body, solved (see the module note)."""
-    levels, tube, start, arc, level_arc = prepare(body, spec)
+def dress(body: Body, spec: GarmentSpec, soft: bool = True, materials: Materials | None = None) -> Dressing:
+    """The garment on the standing body, solved (see the module note): on the limb's soft tissue when
+    `soft` and the garment is on a limb (`materials`: the tissue's, default the shipped file), else on
+    the rigid skin."""
+    levels, tube, start, arc, level_arc, radii = prepare(body, spec)
+    tissue = limb_tissue(body, spec.segment, tube.stations, radii, materials) \
+        if soft and spec.segment in LIMB_BONES else None
     rest = np.asarray(body.vertices, dtype=float)
     near = cKDTree(start).query(rest, distance_upper_bound=REACH)[0] <= REACH
     faces = body.faces[near[body.faces].any(axis=1)]
@@ -100,27 +118,37 @@ def dress(body: Body, spec: GarmentSpec) -> Dressing:
     local = np.full(len(rest), -1)
     local[sub] = np.arange(len(sub))
     sub_faces = local[faces]
+    rigid = ContactBody(rest[sub], sub_faces) if tissue is None else ContactBody(tissue.body.points, tissue.body.faces)
     try:
-        eq = settle(tube, start, ContactBody(rest[sub], sub_faces))
+        eq = settle(tube, start, rigid)
     except HitogataError as err:
         raise HitogataError(f"{spec.source}: the garment's start crosses the body ({err}); allowed a garment "
                             "whose segment is clear of other skin") from None
+    iterations = eq.iterations
+    if tissue is not None:  # from the garment settled on the tissue held still: the two solved together
+        eq = settle(tube, eq.garment, tissue.body, stiffness=eq.barrier_stiffness)
+        iterations += eq.iterations
     force = np.zeros_like(rest)
-    force[sub] = eq.body_force
+    if tissue is None:
+        force[sub] = eq.body_force
+    else:  # the tissue's contact forces carried to the skin under it
+        surface = tissue.body.surface
+        force[sub] = spread_on_surface(rest[sub], sub_faces, tissue.body.points[surface], eq.body_force[surface])
     friction = np.zeros_like(rest)
-    friction[sub] = hold_on_skin(eq, rest[sub], sub_faces)
+    friction[sub] = spread_on_surface(rest[sub], sub_faces, eq.garment, -eq.held)
     contact = np.zeros(len(rest), dtype=bool)
     contact[sub] = True
     return Dressing(body, spec, levels, level_arc, arc, tube, eq.garment, eq.garment_force, rest, force, friction, contact,
-                    eq.iterations, eq.converged, eq.min_distance)
+                    iterations, eq.converged, eq.min_distance, tissue, None if tissue is None else eq.body)
 
 
-def hold_on_skin(eq: Equilibrium, skin: np.ndarray, faces: np.ndarray) -> np.ndarray:
-    """(S, 3) N on the contact surface's nodes: the force that holds each garment vertex in its plane, taken
-    by the skin under it (friction: the garment pulls the skin the other way), spread over the nearest skin
-    triangle's corners by barycentric weights. With it the garment's loads on the body sum to zero."""
-    near = SurfaceQuery(skin, faces).closest(eq.garment)
+def spread_on_surface(skin: np.ndarray, faces: np.ndarray, points: np.ndarray, forces: np.ndarray) -> np.ndarray:
+    """(S, 3) N on the skin's nodes: forces (P, 3) acting at points (P, 3) near the skin, each spread over
+    its nearest skin triangle's corners by barycentric weights (their sum kept). The force holding each
+    garment vertex in its plane is taken by the skin under it this way (friction: the garment pulls the
+    skin the other way), so the garment's loads on the body sum to zero."""
+    near = SurfaceQuery(skin, faces).closest(points)
     out = np.zeros_like(skin)
     for corner in range(3):
-        np.add.at(out, faces[near.face, corner], -near.bary[:, corner:corner + 1] * eq.held)
+        np.add.at(out, faces[near.face, corner], near.bary[:, corner:corner + 1] * forces)
     return out

@@ -63,7 +63,8 @@ class ContactBody:
 class Equilibrium:
     """The garment (V, 3) and body nodes (N, 3) at equilibrium, the contact force on each body node (N, 3)
     and on each garment vertex (V, 3) (N), the force holding each garment vertex in its plane (V, 3) (N: what
-    friction on the skin must supply), Newton iterations, the least garment–skin distance (m)."""
+    friction on the skin must supply), Newton iterations, the least garment–skin distance (m), whether
+    Newton converged and the barrier's stiffness κ it used."""
 
     garment: np.ndarray
     body: np.ndarray
@@ -73,6 +74,7 @@ class Equilibrium:
     iterations: int
     min_distance: float
     converged: bool
+    barrier_stiffness: float  # the barrier's κ used
 
 
 class _Problem:
@@ -212,7 +214,7 @@ def settle(tube: Tube, start: np.ndarray, body: ContactBody, dhat: float = DHAT,
     body_force[problem.surface] = force[problem.n_garment:]
     gap = float(np.sqrt(contacts.compute_minimum_distance(problem.mesh, v))) if len(contacts) else dhat
     held = membrane.derivatives(garment)[1] - force[:problem.n_garment]  # balances the fabric's and the skin's pull
-    return Equilibrium(garment, nodes, body_force, force[:problem.n_garment], held, taken, gap, converged)
+    return Equilibrium(garment, nodes, body_force, force[:problem.n_garment], held, taken, gap, converged, stiffness)
 
 
 def _collision_free(problem: _Problem, v0: np.ndarray, v1: np.ndarray) -> float:

@@ -8,6 +8,7 @@ garment with the garment's outline, front, right side and back.
 from __future__ import annotations
 
 import csv
+import math
 import io
 from pathlib import Path
 
@@ -26,7 +27,10 @@ def _csv(rows: list[dict[str, float | str]]) -> bytes:
     writer = csv.DictWriter(out, fieldnames=list(rows[0]), lineterminator="\n")
     writer.writeheader()
     for row in rows:
-        writer.writerow({k: (f"{v:.4g}" if isinstance(v, float) else v) for k, v in row.items()})
+        # a figure without meaning (Laplace's at a level it has no formula for, the rigid body's indentation)
+        # is left empty, never written as a number
+        writer.writerow({k: (("" if not math.isfinite(v) else f"{v:.4g}") if isinstance(v, float) else v)
+                         for k, v in row.items()})
     return out.getvalue().encode("utf-8")
 
 

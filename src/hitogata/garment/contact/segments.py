@@ -102,12 +102,10 @@ def station_skin(levels: list[Level], arc: np.ndarray, level_arc: np.ndarray) ->
     return [levels[i].skin | levels[i + 1].skin for i in k]
 
 
-def body_rings(vertices: np.ndarray, faces: np.ndarray, stations: Stations, skins: list[np.ndarray],
-               per_ring: int, clearance: float = CLEARANCE) -> tuple[np.ndarray, np.ndarray]:
-    """Each station's section of the body (its convex hull): the hull's perimeter (M,) (m) and the ring
-    (M, N, 3) at even angles round the station's centre, `clearance` outside the hulls of its station and
-    the `REACH` stations each side (a bulge between two stations, a breast's or a calf's, stays inside the
-    tube's triangles)."""
+def section_hulls(vertices: np.ndarray, faces: np.ndarray, stations: Stations, skins: list[np.ndarray],
+                  per_ring: int) -> tuple[np.ndarray, np.ndarray]:
+    """Each station's section of the body (its convex hull, as a tape takes it): the hull's perimeter (M,)
+    (m) and its distance (M, N) (m) from the station's centre at N even angles (the stations' u, v)."""
     topo = topology(faces)
     angle = 2 * np.pi * np.arange(per_ring) / per_ring
     rays = np.stack([np.cos(angle), np.sin(angle)], axis=1)
@@ -119,9 +117,20 @@ def body_rings(vertices: np.ndarray, faces: np.ndarray, stations: Stations, skin
         flat = np.stack([(tape.path - origin) @ u, (tape.path - origin) @ v], axis=1)
         girths.append(tape.girth)
         radii.append(_ray_hull(flat, rays))
-    radius = maximum_filter1d(np.array(radii), 2 * REACH + 1, axis=0, mode="nearest") + clearance
+    return np.array(girths), np.array(radii)
+
+
+def body_rings(radii: np.ndarray, stations: Stations, clearance: float = CLEARANCE) -> np.ndarray:
+    """The garment's start rings (M, N, 3) from the sections' hulls (their radii, `section_hulls`): at even
+    angles round each station's centre, `clearance` outside the hulls of its station and the `REACH`
+    stations each side (a bulge between two stations, a breast's or a calf's, stays inside the tube's
+    triangles)."""
+    per_ring = radii.shape[1]
+    angle = 2 * np.pi * np.arange(per_ring) / per_ring
+    rays = np.stack([np.cos(angle), np.sin(angle)], axis=1)
+    radius = maximum_filter1d(radii, 2 * REACH + 1, axis=0, mode="nearest") + clearance
     coords = rays[None] * radius[..., None]
-    return np.array(girths), stations.place(coords)
+    return stations.place(coords)
 
 
 def _ray_hull(hull: np.ndarray, rays: np.ndarray) -> np.ndarray:

@@ -11,8 +11,8 @@ import scipy.sparse as sp
 
 from hitogata.fem.assembly import stiffness_matrix
 from hitogata.fem.materials import lame
-from hitogata.fem.verify.box_mesh import box_mesh
 from hitogata.garment.contact.equilibrium import ContactBody
+from hitogata.garment.contact.tissue import annulus_tets
 from hitogata.garment.contact.tube import Stations, ring_faces
 from hitogata.geometry.tets import boundary_faces
 
@@ -49,18 +49,10 @@ def soft_annulus(inner: float, outer: float, length: float, E: float, nu: float,
                  along: int) -> ContactBody:
     """A thick-walled cylinder of linear elastic P1 tets (E Pa, ν), its inner surface held (a rigid core),
     every node held along z (plane strain), its outer surface the contact surface."""
-    points, tets = box_mesh((1.0, 1.0, 1.0), (radial, around, along))
-    grid = (radial + 1, around + 1, along + 1)
-    i, j, k = np.unravel_index(np.arange(len(points)), grid)
-    # the cell's last row round the cylinder is its first: node (i, around, k) is node (i, 0, k)
-    keep = j < around
-    index = np.ravel_multi_index((i, j % around, k), grid)
-    renumber = np.full(len(points), -1)
-    renumber[np.flatnonzero(keep)] = np.arange(int(keep.sum()))
-    tets = renumber[index[tets]]
-    r = inner + (outer - inner) * i[keep] / radial
-    angle = 2 * np.pi * j[keep] / around
-    nodes = np.stack([r * np.cos(angle), r * np.sin(angle), length * k[keep] / along], axis=1)
+    tets, i, j, k = annulus_tets(radial, around, along)
+    r = inner + (outer - inner) * i / radial
+    angle = 2 * np.pi * j / around
+    nodes = np.stack([r * np.cos(angle), r * np.sin(angle), length * k / along], axis=1)
     stiffness = stiffness_matrix(nodes, tets, E, nu)
     fixed = np.zeros((len(nodes), 3), dtype=bool)
     fixed[:, 2] = True
