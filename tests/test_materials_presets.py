@@ -56,7 +56,8 @@ def mistake(argv: list[str], capsys) -> str:
 @pytest.mark.parametrize("argv", [
     ["pose", "--materials", "calibrated", "--out", "p.ply"],
     ["ease", "--materials", "calibrated", "--out", "e"],
-], ids=["pose-without-elastic", "ease-on-skinning"])
+    ["fit-report", "--materials", "calibrated", "--out", "f"],
+], ids=["pose-without-elastic", "ease-on-skinning", "fit-report-on-skinning"])
 def test_materials_without_the_elastic_body_is_one_line(tmp_path, monkeypatch, capsys, argv):
     monkeypatch.chdir(tmp_path)
     line = mistake(argv, capsys)
@@ -65,7 +66,8 @@ def test_materials_without_the_elastic_body_is_one_line(tmp_path, monkeypatch, c
 
 
 @pytest.mark.parametrize("command", [["pose", "--elastic", "--out", "p.ply"], ["ease", "--surface", "elastic"],
-                                     ["simulate", "mobility_sit"], ["modes"], ["validate"]])
+                                     ["simulate", "mobility_sit"], ["modes"], ["validate"],
+                                     ["dress", "--garment", "legging"]])
 def test_an_unknown_preset_is_one_line_naming_the_presets(tmp_path, monkeypatch, capsys, command):
     monkeypatch.chdir(tmp_path)
     line = mistake([*command, "--materials", "calibrate"], capsys)

@@ -85,7 +85,7 @@ def checked_inputs(args: argparse.Namespace) -> tuple[dict[str, Scenario], tuple
         raise HitogataError(f"--surface elastic: the elastic body stands on dual-quaternion skinning; "
                             f"drop --skinning {args.skinning}")
     if args.materials is not None:
-        if args.surface != "elastic":
+        if args.surface != "elastic" and getattr(args, "garment", None) is None:  # fit-report's soft limb takes them
             raise HitogataError("--materials: the tissue materials are those of the elastic body; add --surface elastic")
         load_materials(args.materials)  # a bad file is said before any long work
     return scenarios, garment_from_args(args)

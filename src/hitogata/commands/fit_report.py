@@ -73,7 +73,8 @@ def run(args: argparse.Namespace) -> None:
 
             prepare(body, spec)  # the garment against this body, before the long work
         answers = compute(args, body, scenarios, garment)
-        contact = None if spec is None else checked_contact(body, spec)
+        contact = None if spec is None else checked_contact(
+            body, spec, None if args.materials is None else load_materials(args.materials))
     written = [] if answers is None else write_tables(answers, args.workdir)
     title = "fit report" if args.body is None else f"fit report: {args.body.name}"
     written += write_fit_report(args.workdir, answers, population, title, "" if answers is None else settings(args),

@@ -24,6 +24,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from hitogata.body import Body
+from hitogata.elastic.materials import Materials
 from hitogata.garment.contact.dressing import Dressing, dress
 from hitogata.garment.contact.equilibrium import crossings
 from hitogata.garment.contact.pressure import patch_pressure, pressing_forces
@@ -160,12 +161,14 @@ def garment_contact(dressing: Dressing) -> GarmentContact:
                           dressing.iterations, dressing.converged)
 
 
-def dress_garment(body: Body, garment: GarmentSpec | str | Path, soft: bool = True) -> GarmentContact:
+def dress_garment(body: Body, garment: GarmentSpec | str | Path, soft: bool = True,
+                  materials: Materials | None = None) -> GarmentContact:
     """A garment (a checked `GarmentSpec`, a shipped garment's name or a garment file) put on the standing
-    body and solved: its contact answers. soft: on a limb, the tissue takes the garment's loads (the
-    indentation and the girths under the garment); else the skin is rigid."""
+    body and solved: its contact answers. soft: on a limb, the tissue (of `materials`, default the
+    literature's) takes the garment's loads (the indentation and the girths under the garment); else the
+    skin is rigid."""
     spec = garment if isinstance(garment, GarmentSpec) else load_garment(garment)
-    return garment_contact(dress(body, spec, soft))
+    return garment_contact(dress(body, spec, soft, materials))
 
 
 def _soft_level(dressing: Dressing, at: float, girth: float) -> tuple[float, float, float]:
