@@ -72,6 +72,9 @@ def test_every_shipped_posture_is_one_the_skeleton_takes(female):
     (SOURCE + row(extra='posture = { "knee_twist.flexion" = 10 }'), ["row 'r1'", "posture", "knee_twist"]),
     (SOURCE.replace("n = 10", "n = 0") + row(), ["[[source]] 1", "n", "0", ">= 1"]),
     (SOURCE + row() + row(), ["row 'r1'", "given twice"]),
+    (SOURCE + row(kind="frequency", unit="Hz", quantity="thigh", extra='probe = "hammer"'),
+     ["row 'r1'", "probe", "'hammer'", "allowed myometer"]),
+    (SOURCE + row(extra='probe = "myometer"'), ["row 'r1'", "probe", "posture_change row has no probe"]),
     (SOURCE + row(kind="pressure", unit="mmHg", quantity="calf", extra="garment = { ease = -0.2, relaxed_cm = 30 }"),
      ["row 'r1'", "garment", "one of ease or relaxed_cm"]),
 ])
@@ -117,6 +120,30 @@ def test_stiffness_rows_read_the_region_moduli_and_the_dermis_is_undefined(tmp_p
     assert got["mu"].value == pytest.approx(muscle.E / (2 * (1 + muscle.nu)) / 1000)
     assert got["fat"].value == pytest.approx(skin.E / 1000)
     assert got["dermis"].value is None and "one layer" in got["dermis"].reason
+
+
+def test_a_myometer_tap_is_undefined_and_not_fitted(tmp_path, capsys):
+    """A hand-held probe's tap rings the tissue under it, not the segment on its skeleton: no answer, no fit."""
+    from hitogata.validation.identify import identifiable
+
+    text = SOURCE + "".join([
+        row("tap-f", "frequency", 15.0, 1.5, "Hz", "thigh", 'probe = "myometer"'),
+        row("tap-d", "damping", 0.22, 0.03, "1", "thigh", 'probe = "myometer"'),
+    ])
+    data = tmp_path / "rows.toml"
+    data.write_text(text)
+    loaded = load_dataset(data)
+    assert [r.probe for r in loaded.rows] == ["myometer", "myometer"]
+    for answers in answer_dataset(loaded, load_materials()):
+        got = answers.answers["elastic"]
+        assert got.value is None and "myometer's tap" in got.reason and "segment" in got.reason, answers.row.id
+    out = tmp_path / "m.toml"
+    assert main(["identify", "--data", str(data), "--out", str(out)]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and str(data) in err and "'tap-f'" in err and "myometer" in err, err
+    assert not out.exists()
+    data.write_text(text + row("mu", "stiffness", 5.0, 2.0, "kPa", "muscle.shear_modulus.thigh", ""))
+    assert [r.id for r in identifiable(load_dataset(data)).rows] == ["mu"]
 
 
 def test_validate_writes_one_table_three_ways(tmp_path, capsys):

@@ -12,7 +12,8 @@ and a male body). Then, by kind:
   along the limb or trunk (vertical) or round it (horizontal), or its area
   change (`measure.strain`), on both surfaces;
 - frequency, damping: the region's soft-tissue resonance of the elastic whole
-  body (`elastic.resonance`);
+  body (`elastic.resonance`); a row of a local probe (a myometer's tap on the
+  tissue under it) is undefined: the model's answer is the segment's;
 - stiffness: the tissue region's modulus (muscle: the muscle region; fat: the
   skin-and-fat layer); the dermis alone is no region of the model: undefined;
 - pressure: Laplace's estimate at the garment level (`garment.pressure`) on
@@ -36,12 +37,14 @@ from hitogata.errors import HitogataError
 from hitogata.geometry.normals import vertex_normals
 from hitogata.measure.zones import BackZone, JointZone
 from hitogata.names import resolve_dofs
-from hitogata.validation.dataset import Dataset, Row, Source, Subjects
+from hitogata.validation.dataset import RESONANT, Dataset, Row, Source, Subjects
 
 SURFACES = ("skinned", "elastic")
 MODEL_ELEMENT_SIZE = 40.0  # mm: the whole body's lattice, as a held posture's (`dynamics.single_pose`)
 RESONANCE_MODES = 60  # the lowest modes searched for a region's resonance (2-8 Hz on the default bodies)
 BOTH_SEXES = ("female", "male")
+PROBE_REASON = ("a {probe}'s tap rings the tissue under its probe (a local oscillation, ~15 Hz on a relaxed thigh), "
+                "not the segment's soft tissue moving on its skeleton after an impact, which the model computes")
 # Skin the studies mark that no garment zone covers: the lumbar skin of the Schober test (backward-facing,
 # mainly following the lumbar vertebrae).
 EXTRA_ZONES = {"lower_back": BackZone(("spine04", "spine05"), facing=0.5)}
@@ -147,7 +150,7 @@ def answer_dataset(dataset: Dataset, materials: Materials | None = None, surface
     """Every row's answers, in the dataset's order (rows of one body and posture share their solves);
     `element_size` (mm): the elastic whole body's lattice."""
     cache = BodyCache(load_materials() if materials is None else materials, element_size)
-    cache.resonant = {(sex, dataset.source_of(r).subjects) for r in dataset.rows if r.kind in ("frequency", "damping")
+    cache.resonant = {(sex, dataset.source_of(r).subjects) for r in dataset.rows if r.kind in RESONANT and not r.probe
                       for sex in sexes(dataset.source_of(r).subjects)}
     surfaces = tuple(surfaces)
     out = []
@@ -188,7 +191,7 @@ def _mean(answers: list[Answer]) -> Answer:
 def _one(row: Row, body: Body, surface: str, cache: BodyCache) -> Answer:
     if row.kind == "stiffness":
         return _stiffness(row, cache.materials)
-    if row.kind in ("frequency", "damping"):
+    if row.kind in RESONANT:
         return _resonance(row, body, cache)
     if row.kind == "pressure" and _fabric(row) is None:
         return Answer.undefined("the study gives no fabric tension: the pressure cannot be computed")
@@ -290,6 +293,8 @@ def _resonance(row: Row, body: Body, cache: BodyCache) -> Answer:
     from hitogata.elastic.model import bone_segments
     from hitogata.elastic.resonance import region_nodes, resonance
 
+    if row.probe:
+        return Answer.undefined(PROBE_REASON.format(probe=row.probe))
     model = cache.dynamics(body).model
     heads, tails = bone_segments(model.volume, body.rig)
     nodes = region_nodes(model.points, model.volume.bone_names, heads, tails, row.quantity)

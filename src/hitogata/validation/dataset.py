@@ -39,13 +39,17 @@ SOFT_TISSUE_REGIONS = ("thigh", "calf", "shin", "upper_arm", "forearm", "abdomen
 TISSUES = ("muscle", "fat", "skin")
 MODULI = ("shear_modulus", "youngs_modulus")
 SD_OF = ("change", "values", "range", "guessed")
+RESONANT = ("frequency", "damping")
+# how a frequency or damping row's oscillation was set off, where not by an impact on the segment's skeleton:
+# "myometer", a hand-held probe's brief tap ringing the tissue under it (MyotonPRO and the like)
+PROBES = ("myometer",)
 SEXES = ("female", "male", "mixed")
 POSTURED = ("posture_change", "skin_strain", "pressure")
 
 SOURCE_KEYS = ("id", "authors", "year", "title", "journal", "doi", "url", "method", "n", "subjects")
 SUBJECT_KEYS = ("sex", "age", "stature_cm", "mass_kg")
 ROW_KEYS = ("id", "source", "kind", "where", "read_off_plot", "mean", "sd", "sd_of", "unit", "quantity", "posture",
-            "definition", "note", "garment")
+            "definition", "note", "garment", "probe")
 GARMENT_KEYS = ("ease", "relaxed_cm", "fabric_modulus_N_per_m", "fabric")
 
 
@@ -109,6 +113,7 @@ class Row:
     read_off_plot: bool = False
     note: str = ""
     garment: GarmentSpec | None = None
+    probe: str = ""  # a PROBES name: the oscillation is a local probe's tap, not the segment's resonance
 
 
 @dataclass(frozen=True)
@@ -241,10 +246,24 @@ def _row(entry: Entry, sources: Mapping[str, Source]) -> Row:
     garment = _garment(entry) if kind == "pressure" and entry.get("garment", dict, {}) else None
     if entry.has("garment") and kind != "pressure":
         entry.fail(f"a {kind} row has no garment; allowed only in pressure rows", "garment")
+    probe = _probe(entry, kind)
     return Row(id=row_id, source=source, kind=kind, where=_text(entry, "where"), mean=mean, sd=sd, unit=unit,
                quantity=quantity, definition=_text(entry, "definition"), posture=MappingProxyType(posture),
                sd_of=entry.choice("sd_of", SD_OF, "change"), read_off_plot=entry.get("read_off_plot", bool, False),
-               note=_text(entry, "note", ""), garment=garment)
+               note=_text(entry, "note", ""), garment=garment, probe=probe)
+
+
+def _probe(entry: Entry, kind: str) -> str:
+    """The row's local probe ('' where the oscillation is the segment's own, after an impact on its skeleton)."""
+    if not entry.has("probe"):
+        return ""
+    if kind not in RESONANT:
+        entry.fail(f"a {kind} row has no probe; allowed only in {', '.join(RESONANT)} rows", "probe")
+    value = entry.get("probe", str)
+    if value not in PROBES:
+        entry.fail(f"{value!r}; allowed {', '.join(PROBES)} (a hand-held probe's tap on the tissue under it), or "
+                   "no probe where an impact on the segment set its soft tissue ringing", "probe")
+    return value
 
 
 def _check_quantity(entry: Entry, kind: str, quantity: str) -> None:

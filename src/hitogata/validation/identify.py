@@ -265,12 +265,18 @@ class Identification:
 
 
 def identifiable(dataset: Dataset) -> Dataset:
-    """The rows identification can use; a selection holding others is a one-line error."""
+    """The rows identification can use: a selection holding another kind is a one-line error; rows of a local
+    probe (a myometer's tap) are left out, since the model's resonance is the segment's (none left: an error)."""
     other = [r for r in dataset.rows if r.kind not in IDENTIFIABLE]
     if other:
         raise HitogataError(f"{dataset.path}: row {other[0].id!r} is a {other[0].kind} row; identification uses "
                             f"{', '.join(IDENTIFIABLE)} rows (select them with --kinds or --rows)")
-    return dataset
+    fitted = tuple(r for r in dataset.rows if not r.probe)
+    if not fitted:
+        first = dataset.rows[0]
+        raise HitogataError(f"{dataset.path}: row {first.id!r} is a {first.probe} tap, which the model does not "
+                            f"compute; identification fits a segment's resonance, stiffness rows or both")
+    return Dataset(dataset.path, dataset.sources, fitted)
 
 
 def identify(dataset: Dataset, materials: Materials, held_out: Dataset | None = None,
@@ -278,7 +284,9 @@ def identify(dataset: Dataset, materials: Materials, held_out: Dataset | None = 
     """Fit the constants to the dataset's rows (all identifiable), starting from `materials`; `held_out`
     rows (identifiable, kept apart) are predicted with the fit. `element_size` (mm): the whole body's
     lattice, as `answer_dataset`'s."""
-    identifiable(dataset)
+    dataset = identifiable(dataset)
+    if held_out is not None:  # a local probe's rows are neither fitted nor predicted
+        held_out = Dataset(held_out.path, held_out.sources, tuple(r for r in held_out.rows if not r.probe))
     say = progress or (lambda _: None)
     rows = dataset.rows
     theta0 = constants_of(materials)
