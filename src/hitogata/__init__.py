@@ -33,6 +33,7 @@ _EXPORTS: dict[str, str] = {
     "Poser": "hitogata.pose",
     "PosedBody": "hitogata.pose",
     "pose_body": "hitogata.pose",
+    "poser_for": "hitogata.pose",
     # the elastic (finite-element) model
     "ElasticModel": "hitogata.elastic.model",
     "build_elastic_model": "hitogata.elastic.model",
@@ -94,6 +95,7 @@ __all__ = [
     "pose_body",
     "PosedBody",
     "Poser",
+    "poser_for",
     "run_scenario",
     "Scenario",
     "ShapeParameters",
@@ -133,7 +135,7 @@ if TYPE_CHECKING:
     from hitogata.validation.table import compare
     from hitogata.measure.strain import SkinStrain, skin_strain
     from hitogata.measure.zones import zone_strains
-    from hitogata.pose import PosedBody, Poser, pose_body
+    from hitogata.pose import PosedBody, Poser, pose_body, poser_for
     from hitogata.shape import ShapeParameters
 
     __version__: str

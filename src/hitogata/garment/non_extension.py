@@ -45,6 +45,7 @@ from scipy.spatial import cKDTree
 
 from hitogata.body import Body
 from hitogata.measure.strain import skin_strain
+from hitogata.measure.fine_skin import body_fine_skin
 
 MARGIN = 0.02  # the principal stretches at least this far apart (λ2 ≤ 1 ≤ λ1)
 SPACING = 0.04  # m between seeds, and twice the least distance between lines of one family
@@ -228,7 +229,7 @@ def streamlines(vertices: np.ndarray, faces: np.ndarray, field: NonExtension, sp
 
 def non_extension_lines(body: Body, posed: np.ndarray) -> list[Line]:
     """The lines of non-extension on `body`'s rest fine skin for one posed skin (V, 3) of the body."""
-    fine = body.fine_skin
+    fine = body_fine_skin(body)
     field = non_extension_directions(fine.vertices, fine.carry(posed), fine.faces)
     return streamlines(fine.vertices, fine.faces, field)
 

@@ -65,8 +65,12 @@ class ZoneStretch:
 
 
 def garment_zones(body: Body) -> tuple[dict[str, np.ndarray], np.ndarray]:
-    """Face indices of each garment zone and the faces' lengthwise directions at rest (F, 3)
-    (`Body.garment_zones` keeps them with the body)."""
+    """Face indices of each garment zone and the faces' lengthwise directions at rest (F, 3), found
+    once per body and kept with it."""
+    return body.prepared(_find_garment_zones)
+
+
+def _find_garment_zones(body: Body) -> tuple[dict[str, np.ndarray], np.ndarray]:
     return _zones(body), _lengthwise(body)
 
 
@@ -147,7 +151,7 @@ def zone_stretch(body: Body, name: str, clip: MotionClip, surface: Surface | Non
                  rate: float = 5.0) -> ZoneStretch:
     """The stretch each garment zone needs through one motion (sampled at `rate` frames per second)."""
     surface = surface or skinned_surface(body)
-    zones, along = body.garment_zones
+    zones, along = garment_zones(body)
     tri = body.vertices[body.faces]
     normal = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
     area = 0.5 * np.linalg.norm(normal, axis=1)

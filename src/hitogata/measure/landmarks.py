@@ -132,8 +132,12 @@ LANDMARK_NAMES = tuple(f.name for f in fields(Landmarks) if f.type in ("int", "S
 
 
 def body_landmarks(body: Body) -> Landmarks:
-    """The landmarks of a body (`Body.landmarks`, found once per body: `landmarks_for`)."""
-    return body.landmarks
+    """The landmarks of a body, found once on its rest surface (`landmarks_for`) and kept with it."""
+    return body.prepared(_find_landmarks)
+
+
+def _find_landmarks(body: Body) -> Landmarks:
+    return landmarks_for(body.vertices, body.faces, JointSet(body.rig.names, body.rig.heads))
 
 
 def landmarks_for(vertices: np.ndarray, faces: np.ndarray, joints: JointSet) -> Landmarks:

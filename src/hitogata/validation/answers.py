@@ -37,6 +37,7 @@ from hitogata.geometry.normals import vertex_normals
 from hitogata.measure.zones import BackZone, JointZone
 from hitogata.names import resolve_dofs
 from hitogata.validation.dataset import Dataset, Row, Source, Subjects
+from hitogata.pose import poser_for
 
 SURFACES = ("skinned", "elastic")
 MODEL_ELEMENT_SIZE = 40.0  # mm: the whole body's lattice, as a held posture's (`dynamics.single_pose`)
@@ -202,7 +203,7 @@ def _one(row: Row, body: Body, surface: str, cache: BodyCache) -> Answer:
 
 def _posture(row: Row, body: Body, surface: str, cache: BodyCache) -> tuple[np.ndarray, np.ndarray]:
     """(skin, rig joints) of the body in the row's posture on a surface; each posture solved once."""
-    poser = body.poser
+    poser = poser_for(body)
     from hitogata.skeleton.shoulder import channel_names
 
     known = poser.skeleton.dof_names + channel_names(poser.skeleton)
@@ -330,7 +331,7 @@ def reachable(dataset: Dataset, body: Body) -> None:
     """A one-line error for the first posture the skeleton cannot take (names, ranges), before any work."""
     from hitogata.skeleton.shoulder import channel_names
 
-    poser = body.poser
+    poser = poser_for(body)
     known = poser.skeleton.dof_names + channel_names(poser.skeleton)
     for row in dataset.rows:
         if not row.posture:

@@ -29,6 +29,7 @@ from hitogata.garment.pressure import MMHG, Garment
 from hitogata.garment.pressure_map import pressure_map
 from hitogata.garment.stretch import MAP_RANGE
 from hitogata.measure import skin_strain
+from hitogata.garment.stretch import garment_zones
 
 LIMIT_PERCENT = 30.0
 COLOUR_MAP = "RdBu_r"
@@ -92,7 +93,7 @@ class SkinColours:
         """(V,) the vertices of the garment zones' faces."""
         if self._in_zones is None:
             mask = np.zeros(len(self.body.vertices), bool)
-            for faces in self.body.garment_zones[0].values():
+            for faces in garment_zones(self.body)[0].values():
                 mask[self.body.faces[faces].ravel()] = True
             self._in_zones = mask
         return self._in_zones
