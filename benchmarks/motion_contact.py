@@ -21,8 +21,8 @@ import time
 import numpy as np
 
 from hitogata.body import default_body
-from hitogata.dynamics.run import surface_problems
-from hitogata.dynamics.scenario import load_scenario, shipped_scenarios
+from hitogata.simulation.run import surface_problems
+from hitogata.motion.scenario import load_scenario, shipped_scenarios
 from hitogata.dynamics.single_pose import elastic_dynamics
 from hitogata.dynamics.motion import Motion, simulate
 from hitogata.geometry import self_intersections, surface_integrity

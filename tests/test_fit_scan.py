@@ -20,7 +20,7 @@ from gltf_validator import needs_validator, validate_gltf
 from hitogata import cli
 from hitogata.assets import load_assets
 from hitogata.body import Body
-from hitogata.dynamics.files import read_sequence_body
+from hitogata.export.motion_files import read_sequence_body
 from hitogata.errors import HitogataError
 from hitogata.export.body_files import body_from_extras, detail_extras, shape_extras, write_body
 from hitogata.export.glb_read import read_glb_skin

@@ -9,7 +9,7 @@ import pytest
 from scipy.spatial.transform import Rotation
 
 from hitogata.cli import main
-from hitogata.dynamics.scenario import load_scenario, shipped_scenarios
+from hitogata.motion.scenario import load_scenario, shipped_scenarios
 from hitogata.garment.ease import HEIGHTS, NAMES, ease_csv, ease_json, motion_ease, overall
 from hitogata.garment.ease_plot import ease_plot
 from hitogata.measure import measure

@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 from scipy.spatial import cKDTree
 
-from hitogata.dynamics.scenario import load_scenario, shipped_scenarios
+from hitogata.motion.scenario import load_scenario, shipped_scenarios
 from hitogata.garment.ease import skinned_surface
 from hitogata.garment.non_extension import (
     Line, lines_csv, lines_json, non_extension_directions, non_extension_lines, streamlines,

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 from test_garment_ease import rigid_clip
 
-from hitogata.dynamics.scenario import load_scenario, shipped_scenarios
+from hitogata.motion.scenario import load_scenario, shipped_scenarios
 from hitogata.garment.stretch import GARMENT_ZONES, directional_strain, stretch_csv, zone_stretch
 from hitogata.motion.clip import scenario_clip
 from hitogata.pose import poser_for

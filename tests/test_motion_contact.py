@@ -9,9 +9,9 @@ import pytest
 
 from hitogata import cli
 from hitogata.dynamics.motion import Motion, simulate
-from hitogata.dynamics.run import JUMP_SPEED, contact_figures
+from hitogata.simulation.run import JUMP_SPEED, contact_figures
 from hitogata.dynamics.single_pose import elastic_dynamics
-from hitogata.dynamics.scenario import load_scenario, shipped_scenarios
+from hitogata.motion.scenario import load_scenario, shipped_scenarios
 from hitogata.geometry import self_intersections, surface_integrity
 from hitogata.measure.body_lines import body_lines
 from hitogata.skeleton.kinematics import Pose

@@ -101,7 +101,7 @@ def test_crossings_of_a_few_active_faces_are_those_of_all_faces_they_are_in():
 
 
 def test_a_torn_run_warns_in_one_line_before_its_figures():
-    from hitogata.dynamics.run import Summary, surface_problems
+    from hitogata.simulation.run import Summary, surface_problems
 
     v, f = grid()
     torn = v.copy()
