@@ -16,7 +16,7 @@ from hitogata.geometry import enclosed_volume, self_intersections
 from hitogata.measure.body_lines import body_lines
 from hitogata.measure.strain import skin_strain
 from hitogata.skeleton.extreme_poses import extreme_poses
-from hitogata.volume.surface import closest_points_on_triangles
+from hitogata.geometry.closest import closest_points_on_triangles
 from hitogata.measure.fine_skin import body_fine_skinning
 
 pytestmark = pytest.mark.slow

@@ -10,7 +10,7 @@ import pytest
 from hitogata.geometry import self_intersections
 from hitogata.geometry.skin_slide import _svd, slide_posed_skin
 from hitogata.measure.strain import skin_strain
-from hitogata.volume.surface import closest_points_on_triangles
+from hitogata.geometry.closest import closest_points_on_triangles
 from hitogata.measure.fine_skin import body_fine_skinning
 from hitogata.pose import poser_for
 

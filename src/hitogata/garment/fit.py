@@ -28,6 +28,7 @@ from hitogata.motion.clip import MotionClip
 from hitogata.pose import poser_for
 from hitogata.rig import posed_rig_heads
 from hitogata.garment.stretch import garment_zones
+from hitogata.geometry.normals import triangle_areas
 
 PressureSeries = tuple[np.ndarray, dict[str, np.ndarray]]  # times (T,), per level (T, 3): strain, mean, peak Pa
 
@@ -72,7 +73,7 @@ def peak_frames(answers: FitAnswers, motion: str) -> PeakFrames:
     zones, _ = garment_zones(body)
     faces = np.unique(np.concatenate(list(zones.values())))
     tri = body.vertices[body.faces[faces]]
-    area = 0.5 * np.linalg.norm(np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]), axis=1)
+    area = triangle_areas(tri)
     posed = answers.surface(clip.angles[frames], clip.root[frames])
     scores = []
     for v in posed:

@@ -34,6 +34,7 @@ from hitogata.measure.strain import skin_strain
 from hitogata.measure.zones import body_zones
 from hitogata.motion.clip import MotionClip
 from hitogata.pose import poser_for
+from hitogata.geometry.normals import triangle_normals
 
 BAND_BELOW_AXILLA = 0.08  # m
 WAIST_BAND = 0.04  # m each side of the waist level
@@ -78,7 +79,7 @@ def _zones(body: Body) -> dict[str, np.ndarray]:
     v, faces, rig = body.vertices, body.faces, body.rig
     centroid = v[faces].mean(axis=1)
     tri = v[faces]
-    normal = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
+    normal = triangle_normals(tri)
     normal /= np.linalg.norm(normal, axis=1, keepdims=True)
 
     def follows(bones: tuple[str, ...]) -> np.ndarray:
@@ -125,7 +126,7 @@ def _lengthwise(body: Body) -> np.ndarray:
     root = sk.parents < 0
     direction = np.where(root[part][:, None], np.array([0.0, 1.0, 0.0]), axis[part])
     tri = body.vertices[faces]
-    normal = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
+    normal = triangle_normals(tri)
     normal /= np.linalg.norm(normal, axis=1, keepdims=True)
     along = direction - np.einsum("ij,ij->i", direction, normal)[:, None] * normal
     return along / np.linalg.norm(along, axis=1, keepdims=True)
@@ -153,7 +154,7 @@ def zone_stretch(body: Body, name: str, clip: MotionClip, surface: Surface | Non
     surface = surface or skinned_surface(body)
     zones, along = garment_zones(body)
     tri = body.vertices[body.faces]
-    normal = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
+    normal = triangle_normals(tri)
     area = 0.5 * np.linalg.norm(normal, axis=1)
     across = np.cross(normal / (2 * area[:, None]), along)
     frames = sampled_frames(clip, rate)

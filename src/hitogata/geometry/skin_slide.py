@@ -51,12 +51,12 @@ import scipy.sparse.linalg as spla
 from scipy.sparse.csgraph import dijkstra
 
 from hitogata.geometry.mesh_checks import edge_graph, self_intersections
-from hitogata.geometry.normals import vertex_areas, vertex_normals
+from hitogata.geometry.normals import triangle_normals, vertex_areas, vertex_normals
 from hitogata.measure.fine_skin import FineSkinning
 from hitogata.measure.strain import skin_strain
 from hitogata.options import Skinning
 from hitogata.skeleton.kinematics import Pose
-from hitogata.volume.surface import barycentric_on_triangles, closest_points_on_triangles
+from hitogata.geometry.closest import barycentric_on_triangles, closest_points_on_triangles
 
 DONE = 1.95  # fine skin stretched beyond this (or its area) slides; the sliding ends when none is
 LIMIT = 1.6  # principal stretch and area ratio an overstretched triangle is drawn back to
@@ -342,8 +342,8 @@ def _relax(rest: np.ndarray, start: np.ndarray, faces: np.ndarray, free: np.ndar
     # no triangle compressed below FLOOR by the sliding, nor more than it is (a crease's skin stays as short)
     floor = np.minimum(_svd(first)[1][:, 1], FLOOR)
     up = np.cross(first[:, :, 0], first[:, :, 1])  # each triangle's outward side as it lay
-    sheet = _normals(start, moving)  # as they lay (length: twice the area)
-    smallest = level.shrink * np.minimum(np.linalg.norm(sheet, axis=1), np.linalg.norm(_normals(rest, moving), axis=1))
+    sheet = triangle_normals(start[moving])  # as they lay (length: twice the area)
+    smallest = level.shrink * np.minimum(np.linalg.norm(sheet, axis=1), np.linalg.norm(triangle_normals(rest[moving]), axis=1))
     surface = _Surface(start, faces)
     on = surface.start(idx)
     facing = (lambda *_: sheet) if carried is not None else _surface_facing(surface, moving, idx)
@@ -399,11 +399,6 @@ def _surface_facing(surface: _Surface, moving: np.ndarray, idx: np.ndarray
     return facing
 
 
-def _normals(x: np.ndarray, faces: np.ndarray) -> np.ndarray:
-    tri = x[faces]
-    return np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
-
-
 def _unfolded(x: np.ndarray, idx: np.ndarray, trial: np.ndarray, on: np.ndarray, trial_on: np.ndarray,
               faces: np.ndarray, facing: Callable[[np.ndarray, np.ndarray], np.ndarray], smallest: np.ndarray,
               tilt: float
@@ -417,7 +412,7 @@ def _unfolded(x: np.ndarray, idx: np.ndarray, trial: np.ndarray, on: np.ndarray,
     for _ in range(HOLD_ROUNDS):
         y = x.copy()
         y[idx] = out
-        normals = _normals(y, faces)
+        normals = triangle_normals(y[faces])
         area = np.linalg.norm(normals, axis=1)
         sheet = facing(out, out_on)
         bad = (np.einsum("fi,fi->f", normals, sheet) < tilt * area * np.linalg.norm(sheet, axis=1)) \

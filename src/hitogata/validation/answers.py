@@ -33,7 +33,7 @@ import numpy as np
 from hitogata.body import Body, default_measurements
 from hitogata.elastic.materials import Materials, load_materials
 from hitogata.errors import HitogataError
-from hitogata.geometry.normals import vertex_normals
+from hitogata.geometry.normals import triangle_normals, vertex_normals
 from hitogata.measure.zones import BackZone, JointZone
 from hitogata.names import resolve_dofs
 from hitogata.validation.dataset import Dataset, Row, Source, Subjects
@@ -261,7 +261,7 @@ def _zone_directions(body: Body, faces: np.ndarray, zone, direction: str) -> tup
     """Per face, the rest direction of a line drawn along the limb or trunk ('vertical') or round it
     ('horizontal'), and the face's rest area."""
     tri = body.vertices[faces]
-    normal = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
+    normal = triangle_normals(tri)
     area = 0.5 * np.linalg.norm(normal, axis=1)
     normal /= np.maximum(2.0 * area, 1e-30)[:, None]
     axis = np.array([0.0, 1.0, 0.0])

@@ -30,6 +30,7 @@ from hitogata.garment.pressure_map import pressure_map
 from hitogata.garment.stretch import MAP_RANGE
 from hitogata.measure import skin_strain
 from hitogata.garment.stretch import garment_zones
+from hitogata.geometry.normals import triangle_areas
 
 LIMIT_PERCENT = 30.0
 COLOUR_MAP = "RdBu_r"
@@ -57,7 +58,7 @@ class StrainColouring:
     def __init__(self, rest: np.ndarray, faces: np.ndarray) -> None:
         self.rest, self.faces = rest, faces
         tri = rest[faces]
-        area = 0.5 * np.linalg.norm(np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]), axis=1)
+        area = triangle_areas(tri)
         rows = faces.ravel()
         cols = np.repeat(np.arange(len(faces)), 3)
         incidence = sp.csr_matrix((np.repeat(area, 3), (rows, cols)), shape=(len(rest), len(faces)))
