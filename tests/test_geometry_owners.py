@@ -18,6 +18,7 @@ OWNERS: dict[str, tuple[str, tuple[str, ...]]] = {
     "closest point on a surface": ("hitogata.geometry.closest",
                                    ("closest_points_on_triangles", "nearest_on_triangles", "barycentric_on_triangles")),
     "broad phase": ("hitogata.geometry.broad_phase", ("box_pairs",)),
+    "a triangle's deformation": ("hitogata.geometry.strain", ("deformation", "principal_stretches")),
     "winding number": ("hitogata.geometry.mesh_checks", ("winding_number",)),
     "rotations": ("hitogata.geometry.rotations",
                   ("axis_rotations", "matrix_to_quaternion", "quaternion_matrices", "soa_quaternion_matrices",

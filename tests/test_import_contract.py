@@ -40,10 +40,8 @@ KNOWN_UPWARD: dict[tuple[str, str], str] = {
     # Body.from_measurements(chest=…, …) hands other measurements to made-to-measure (the documented API).
     ("hitogata.body", "hitogata.made_to_measure"): "Body.from_measurements with measurements",
     # The skin's contact, the fine skin and the slide are to be one skin package above the dynamics.
-    ("hitogata.dynamics.contact", "hitogata.measure.strain"): "skin package",
     ("hitogata.dynamics.single_pose", "hitogata.measure.fine_skin"): "skin package",
     ("hitogata.geometry.skin_slide", "hitogata.measure.fine_skin"): "skin package",
-    ("hitogata.geometry.skin_slide", "hitogata.measure.strain"): "skin package",
     ("hitogata.geometry.skin_slide", "hitogata.skeleton.kinematics"): "skin package",
     # The garment contact's files (GLB, pictures) are to be written by the export layer.
     ("hitogata.garment.contact.files", "hitogata.export.gltf"): "garment contact files to export",

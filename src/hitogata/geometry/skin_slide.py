@@ -53,7 +53,7 @@ from scipy.sparse.csgraph import dijkstra
 from hitogata.geometry.mesh_checks import edge_graph, self_intersections
 from hitogata.geometry.normals import triangle_normals, vertex_areas, vertex_normals
 from hitogata.measure.fine_skin import FineSkinning
-from hitogata.measure.strain import skin_strain
+from hitogata.geometry.strain import principal_stretches
 from hitogata.options import Skinning
 from hitogata.skeleton.kinematics import Pose
 from hitogata.geometry.closest import barycentric_on_triangles, closest_points_on_triangles
@@ -126,8 +126,10 @@ class _Carried:
     interpolation: sp.csr_matrix
 
 
-def _over(strain, limit: float) -> np.ndarray:
-    return (strain.stretch_max > limit) | (strain.area_ratio > limit)
+def _over(rest: np.ndarray, deformed: np.ndarray, faces: np.ndarray, limit: float) -> np.ndarray:
+    """(F,) bool: the triangles stretched, or grown in area, beyond `limit`."""
+    stretch_max, _, area_ratio, _, _ = principal_stretches(rest, deformed, faces)
+    return (stretch_max > limit) | (area_ratio > limit)
 
 
 def _gradient_operator(rest: np.ndarray, faces: np.ndarray) -> tuple[sp.csr_matrix, np.ndarray]:
@@ -201,7 +203,7 @@ def slide_skin(rest: np.ndarray, coarse: np.ndarray, faces: np.ndarray, fine_res
     (principal stretch and area ratio); unchanged where none is beyond (crossings: `_slide`)."""
     coarse = np.asarray(coarse, dtype=float)
     carried = _Carried(fine_base + interpolation @ coarse, fine_rest, fine_faces, interpolation)
-    over = _over(skin_strain(fine_rest, carried.vertices, fine_faces), DONE)
+    over = _over(fine_rest, carried.vertices, fine_faces, DONE)
     seeds = np.unique(np.asarray(interpolation[np.unique(fine_faces[over])].indices))
     return _slide(rest, coarse, faces, seeds, carried, COARSE)
 
@@ -211,7 +213,7 @@ def slide_fine_skin(rest: np.ndarray, fine: np.ndarray, faces: np.ndarray) -> Sl
     none of its triangles is stretched beyond `DONE`: the stretch the coarse skin's slide left where its
     own triangles may turn no further (the armpit's hollow overhead) spread over the fine triangles."""
     fine = np.asarray(fine, dtype=float)
-    over = _over(skin_strain(rest, fine, faces), DONE)
+    over = _over(rest, fine, faces, DONE)
     return _slide(rest, fine, faces, np.unique(faces[over]), None, FINE)
 
 
