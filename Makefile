@@ -4,7 +4,7 @@ VENV ?= .venv
 PY := $(VENV)/bin/python
 STAMP := $(VENV)/.installed-stamp
 
-.PHONY: demo test lint bench install clean system-render system-test
+.PHONY: demo test test-fast lint bench install clean system-render system-test
 
 demo: system-render $(STAMP)
 	$(VENV)/bin/hitogata demo --out demo --force  # a second run replaces the first one's files
@@ -14,6 +14,12 @@ demo: system-render $(STAMP)
 # Deselect what a machine cannot run: make test PYTEST_ARGS='-m "not browser"'; one process: PYTEST_ARGS=-n0
 test: system-test $(STAMP) tools/node_modules/.package-lock.json lint
 	$(PY) -m pytest -q -n 2 --dist loadscope $(PYTEST_ARGS)
+
+# The unit tests alone: no elastic model nor whole-body mesh built (slow), no workflow end to end (integration),
+# no browser nor offscreen pictures; two processes. 900 tests: 7 min on two cores shared with four other jobs
+# (load 5-7; the wider not-slow set took 33 min in one process there), so about 2.5 min on two idle cores.
+test-fast: $(STAMP)
+	$(PY) -m pytest -q -n 2 --dist loadscope -m "not slow and not integration and not browser and not render" $(PYTEST_ARGS)
 
 lint: $(STAMP)
 	$(VENV)/bin/ruff check src tests benchmarks

@@ -197,7 +197,7 @@ def demo_times(out: Path) -> dict[str, float]:
 
 
 def demo(baseline: bool) -> None:
-    from hitogata.dynamics.demo import run_demo
+    from hitogata.simulation.demo import run_demo
 
     with tempfile.TemporaryDirectory() as out:
         start, start_cpu = time.perf_counter(), time.process_time()
@@ -217,7 +217,7 @@ def demo(baseline: bool) -> None:
                   f"({RECORDED['demo_s'] / wall:.1f}x the new)")
             return
         out = Path(tree) / "out"
-        code = "import sys; from hitogata.dynamics.demo import run_demo; run_demo(sys.argv[1])"
+        code = "import sys; from hitogata.simulation.demo import run_demo; run_demo(sys.argv[1])"
         start, children = time.perf_counter(), resource.getrusage(resource.RUSAGE_CHILDREN)
         subprocess.run([sys.executable, "-c", code, str(out)], env={**os.environ, "PYTHONPATH": f"{tree}/src"},
                        check=True)

@@ -18,7 +18,7 @@ from pathlib import Path
 
 REPEAT = 7
 SRC = Path(__file__).resolve().parents[1] / "src"
-PACKAGES = ["body", "pose", "volume", "fem", "elastic", "dynamics", "dynamics.scenario", "measure", "report", "render",
+PACKAGES = ["body", "pose", "volume", "fem", "elastic", "dynamics", "motion.scenario", "measure", "report", "render",
             "export"]
 
 

@@ -21,13 +21,14 @@ import time
 import numpy as np
 
 from hitogata.body import default_body
-from hitogata.dynamics.run import surface_problems
-from hitogata.dynamics.scenario import load_scenario, shipped_scenarios
+from hitogata.simulation.run import surface_problems
+from hitogata.motion.scenario import load_scenario, shipped_scenarios
 from hitogata.dynamics.single_pose import elastic_dynamics
 from hitogata.dynamics.motion import Motion, simulate
 from hitogata.geometry import self_intersections, surface_integrity
 from hitogata.measure.body_lines import body_lines
 from hitogata.skeleton.kinematics import Pose
+from hitogata.measure.fine_skin import body_fine_skinning
 
 
 def crossing_pairs(v: np.ndarray, faces: np.ndarray) -> set[tuple[int, int]]:
@@ -37,7 +38,7 @@ def crossing_pairs(v: np.ndarray, faces: np.ndarray) -> set[tuple[int, int]]:
 def line_change(motion: Motion, skins: np.ndarray, line: str) -> list[float]:
     """% change of a line's length on the fine skin carried by `skins` (F, V, 3), per frame."""
     body = motion.dynamics.poser.body
-    fine = body.fine_skinning
+    fine = body_fine_skinning(body)
     drawn = body_lines(body, fine.fine.vertices, fine.fine.faces)[line]
     rest = drawn.length(fine.fine.vertices)
     poses = [Pose(motion.dynamics.poser.skeleton, motion.rotations[k:k + 1], motion.translations[k:k + 1])

@@ -31,6 +31,7 @@ from hitogata.geometry.skin_slide import slide_posed_skin
 from hitogata.measure.body_lines import LINE_NAMES, body_lines
 from hitogata.measure.strain import skin_strain
 from hitogata.skeleton.extreme_poses import extreme_poses
+from hitogata.measure.fine_skin import body_fine_skinning
 
 SHORT = {
     "elbow_posterior": "elbow post.", "elbow_anterior": "elbow ant.", "elbow_circumference": "elbow circ.",
@@ -59,7 +60,7 @@ def main(sexes: list[str], names: list[str] | None = None) -> None:
         dynamics = elastic_dynamics(body)
         print(f"<!-- {sex}: whole-body model in {time.perf_counter() - start:.0f} s -->", flush=True)
         poser = dynamics.poser
-        fine = body.fine_skinning
+        fine = body_fine_skinning(body)
         lines = body_lines(body, fine.fine.vertices, fine.fine.faces)
         rest = {n: lines[n].length(fine.fine.vertices) for n in LINE_NAMES}
         for pose, clinical in extreme_poses(poser.skeleton).items():

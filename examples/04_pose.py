@@ -35,5 +35,5 @@ for name in sorted(zones, key=lambda z: -zones[z].stretch_p95)[:4]:
     print(f"zone {name:16s} stretch p95 {z.stretch_p95:+5.1f} %, area {z.area_change:+5.1f} %")
 
 # The GLB holds the rest skin bound to the 65 parts with the pose as joint rotations.
-path = hg.write_posed(out / "posed.glb", body.poser, posed)
+path = hg.write_posed(out / "posed.glb", hg.poser_for(body), posed)
 print(f"wrote {path}")

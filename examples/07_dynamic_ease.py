@@ -21,7 +21,7 @@ out.mkdir(parents=True, exist_ok=True)
 
 body = hg.Body.from_measurements(sex="male", stature=1.78, mass=78.0)
 shipped = hg.shipped_scenarios()
-motions = {name: scenario_clip(hg.load_scenario(shipped[f"mobility_{name}"]), body.poser)
+motions = {name: scenario_clip(hg.load_scenario(shipped[f"mobility_{name}"]), hg.poser_for(body))
            for name in ("reach_forward", "deep_squat")}
 results = dynamic_ease(body, motions, rate=2.0)
 

@@ -25,9 +25,9 @@ out = Path(sys.argv[1]) if len(sys.argv) > 1 else Path(tempfile.mkdtemp(prefix="
 out.mkdir(parents=True, exist_ok=True)
 
 body = hg.default_body("male")
-skeleton = body.poser.skeleton
+skeleton = hg.poser_for(body).skeleton
 scenario = hg.load_scenario(hg.shipped_scenarios()["mobility_reach_forward"])
-clip = scenario_clip(scenario, body.poser, rate=20)  # the skeleton's motion, 20 frames per second
+clip = scenario_clip(scenario, hg.poser_for(body), rate=20)  # the skeleton's motion, 20 frames per second
 
 path = out / "reach.bvh"
 path.write_text(write_bvh(export_bvh(skeleton, clip, "mobility_reach_forward")), encoding="utf-8")

@@ -35,6 +35,19 @@ NEEDS: dict[str, tuple[str, ...]] = {
     "test_volume_model": ("slow",),
     "test_untangle": ("slow",),
     "test_pose_population": ("slow",),
+    "test_elastic_ease": ("slow",),  # the whole-body elastic model through a deep squat
+    "test_elastic_pose": ("slow",),  # the whole-body elastic model, held
+    "test_skin_follows_tissue": ("slow",),  # the demo's and the mobility scenarios' elastic bodies
+    # a workflow end to end: left out of `make test-fast`, run by `make test`
+    "test_readme_examples": ("integration",),
+    "test_readme_python": ("integration",),
+    "test_tutorial": ("integration",),
+    "test_examples": ("integration",),
+    "test_study_cluster": ("integration",),
+    "test_study_limits": ("integration",),
+    "test_viewer_app": ("integration",),
+    "test_viewer_player": ("integration",),
+    "test_output_writer": ("integration",),
 }
 
 

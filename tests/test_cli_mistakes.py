@@ -17,8 +17,8 @@ from pathlib import Path
 import pytest
 
 from hitogata import cli
-from hitogata.dynamics.checks import checked_scenario
-from hitogata.dynamics.scenario import load_scenario
+from hitogata.motion.checks import checked_scenario
+from hitogata.motion.scenario import load_scenario
 from hitogata.errors import HitogataError
 from waiting import wait_for
 
@@ -66,7 +66,7 @@ def no_model(monkeypatch):
         raise AssertionError("the model was built before the mistake was found")
 
     import hitogata.commands.modes as modes
-    import hitogata.dynamics.run as run
+    import hitogata.simulation.run as run
 
     monkeypatch.setattr(modes, "cached_elastic_model", refuse)
     monkeypatch.setattr(run, "build_dynamics", refuse)

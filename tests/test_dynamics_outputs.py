@@ -14,7 +14,7 @@ from PIL import Image
 
 from hitogata.cli import main
 from hitogata.dynamics import BodyDynamics, Keyframe, Timeline, simulate
-from hitogata.dynamics import files
+from hitogata.export import motion_files as files
 from hitogata.elastic import build_elastic_model
 
 SCENARIO = """

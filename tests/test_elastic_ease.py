@@ -11,7 +11,7 @@ import pytest
 import hitogata.commands.ease as ease_command
 import hitogata.dynamics.single_pose as single_pose
 from hitogata.cli import main
-from hitogata.dynamics.scenario import load_scenario, shipped_scenarios
+from hitogata.motion.scenario import load_scenario, shipped_scenarios
 from hitogata.garment.ease import elastic_surface, motion_ease, sampled_frames, skinned_surface
 from hitogata.garment.fit import fit_answers
 from hitogata.motion.clip import scenario_clip

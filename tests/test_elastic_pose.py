@@ -10,6 +10,7 @@ import trimesh
 from hitogata.cli import main
 from hitogata.dynamics.single_pose import elastic_dynamics, elastic_pose
 from hitogata.measure.body_lines import body_lines
+from hitogata.measure.fine_skin import body_fine_skinning
 
 
 @pytest.fixture()
@@ -25,9 +26,9 @@ def test_elastic_pose_returns_the_elastic_skin(female):
     moved = np.linalg.norm(held.vertices - held.skinned, axis=1)
     assert 0.001 < moved.max() < 0.05  # the quasi-static correction: mm to cm at the bent elbow
     fine = held.fine_vertices()
-    fs = female.fine_skinning.fine
+    fs = body_fine_skinning(female).fine
     assert fine.shape == fs.vertices.shape
-    skinned_fine = female.fine_skinning.surface(held.posed.pose, "dqs")
+    skinned_fine = body_fine_skinning(female).surface(held.posed.pose, "dqs")
     carried = fs.carry(held.vertices - held.skinned)
     assert np.abs(fine - skinned_fine - carried).max() < 1e-9  # the fine skin carries the elastic field
     lines = body_lines(female, fs.vertices, fs.faces)

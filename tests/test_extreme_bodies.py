@@ -14,6 +14,7 @@ from hitogata.dynamics.single_pose import elastic_dynamics, elastic_pose
 from hitogata.geometry import self_intersections
 from hitogata.measure.strain import skin_strain
 from hitogata.skeleton.extreme_poses import extreme_poses
+from hitogata.measure.fine_skin import body_fine_skinning
 
 pytestmark = pytest.mark.slow
 
@@ -32,7 +33,7 @@ def test_the_groin_of_a_large_body_slides_at_hip_flexion():
     rest_pairs = set(map(tuple, self_intersections(body.vertices, body.faces).tolist()))
     assert len(set(map(tuple, self_intersections(pose.vertices, body.faces).tolist())) - rest_pairs) == 0
     assert (len(pose.penetrations), pose.quality.inverted) == (0, 0)
-    fs = body.fine_skinning
+    fs = body_fine_skinning(body)
     carried = fs.surface(pose.posed.pose, "dqs", pose.vertices)  # the fine skin the coarse slide left
     fine = pose.slide.fine
     # cm² beyond +100 % after the coarse slide, after the fine one (held whole where it crossed: 25.7; 1.0 before

@@ -16,7 +16,8 @@ from hitogata.geometry import enclosed_volume, self_intersections
 from hitogata.measure.body_lines import body_lines
 from hitogata.measure.strain import skin_strain
 from hitogata.skeleton.extreme_poses import extreme_poses
-from hitogata.volume.surface import closest_points_on_triangles
+from hitogata.geometry.closest import closest_points_on_triangles
+from hitogata.measure.fine_skin import body_fine_skinning
 
 pytestmark = pytest.mark.slow
 # % against rest: the tissue a contact presses aside swells round it (docs/elastic.md); a crease folded
@@ -89,7 +90,7 @@ def test_the_skin_stays_whole_and_the_body_keeps_its_volume(held):
 
 def test_the_fine_skin_is_stretched_like_skin(held):
     sex, body, poses = held
-    rest = body.fine_skinning.fine
+    rest = body_fine_skinning(body).fine
     figures = {}
     for name, pose in poses.items():
         strain = skin_strain(rest.vertices, pose.fine_vertices(), rest.faces)
@@ -106,7 +107,7 @@ def test_the_fine_skin_slides_on_its_own_surface(held):
     surface: every slid fine vertex on the fine skin as the coarse skin carried it, no fine triangle crossing
     another where none did, the rest of the fine skin as carried."""
     sex, body, poses = held
-    fs = body.fine_skinning
+    fs = body_fine_skinning(body)
     figures = {}
     for name, pose in poses.items():
         fine = pose.slide.fine
@@ -143,7 +144,7 @@ def test_the_fine_skin_slides_on_its_own_surface(held):
 
 def test_the_flexor_side_of_elbow_and_knee_shortens(held):
     sex, body, poses = held
-    fine = body.fine_skinning
+    fine = body_fine_skinning(body)
     lines = body_lines(body, fine.fine.vertices, fine.fine.faces)
     change = {(pose, line): round((lines[line].length(poses[pose].fine_vertices())
                                    / lines[line].length(fine.fine.vertices) - 1) * 100, 1)

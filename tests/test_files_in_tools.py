@@ -21,9 +21,9 @@ import pytest
 
 from gltf_validator import needs_validator, validate_gltf
 from hitogata.dynamics import BodyDynamics, Keyframe, Timeline, simulate
-from hitogata.dynamics.files import write_motion_glb, write_pvd
+from hitogata.export.motion_files import write_motion_glb, write_pvd
 from hitogata.elastic import build_elastic_model
-from hitogata.elastic.files import write_vtu
+from hitogata.export.elastic_files import write_vtu
 from hitogata.export.body_files import write_body
 from hitogata.export.glb_read import read_glb_skin
 

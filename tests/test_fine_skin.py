@@ -10,6 +10,8 @@ from hitogata.measure.fine_skin import LEVELS
 from hitogata.measure.strain import skin_strain
 from hitogata.measure.zones import zone_strains
 from hitogata.pose import poser_for
+from hitogata.measure.fine_skin import body_fine_skin
+from hitogata.measure.fine_skin import body_fine_skinning
 
 LINES_10CM = ("elbow_posterior", "elbow_anterior", "knee_anterior", "knee_posterior")
 
@@ -24,7 +26,7 @@ def body(request, female, male):
 
 
 def test_a_10cm_line_crosses_at_least_20_triangles_at_elbow_and_knee(body):
-    fine = body.fine_skin
+    fine = body_fine_skin(body)
     assert len(fine.faces) == 16 * len(body.faces) and LEVELS == 2
     coarse_lines, fine_lines = body_lines(body), body_lines(body, fine.vertices, fine.faces)
     for name in LINES_10CM:
@@ -43,7 +45,7 @@ def test_fine_and_coarse_stretch_agree_on_a_smooth_deformation(female):
     """A smooth nonlinear map of the whole body: each zone's mean stretch and area change agree to
     0.15 percentage points (of 3–16 %), and 99 % of the coarse triangles' stretch with their 16 fine
     ones' mean to 5 % (Loop's rest surface is the skin smoothed, its tangent planes not the facets')."""
-    fine = female.fine_skin
+    fine = body_fine_skin(female)
 
     def bend(x):
         y = x[:, 1]
@@ -66,7 +68,7 @@ def test_the_fine_skin_is_posed_by_the_same_skinning(female):
     """At rest it is its rest surface; a rigid motion of the whole body moves it rigidly; an elastic
     difference of the coarse skin is carried by the same stencils (a uniform one unchanged)."""
     poser = poser_for(female)
-    fs = female.fine_skinning
+    fs = body_fine_skinning(female)
     rest = poser.pose()
     assert np.abs(fs.surface(rest.pose, "lbs") - fs.fine.vertices).max() < 1e-12
     turn = np.eye(4)

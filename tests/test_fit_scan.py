@@ -20,7 +20,7 @@ from gltf_validator import needs_validator, validate_gltf
 from hitogata import cli
 from hitogata.assets import load_assets
 from hitogata.body import Body
-from hitogata.dynamics.files import read_sequence_body
+from hitogata.export.motion_files import read_sequence_body
 from hitogata.errors import HitogataError
 from hitogata.export.body_files import body_from_extras, detail_extras, shape_extras, write_body
 from hitogata.export.glb_read import read_glb_skin
@@ -31,6 +31,7 @@ from hitogata.fit.synthetic import Perturbation, synthetic_scan
 from hitogata.measure import measure
 from hitogata.measure.measurements import GIRTHS
 from hitogata.shape import ShapeParameters
+from hitogata.pose import poser_for
 
 ISO_20685 = {"large girth": 9.0, "small girth": 4.0, "length": 5.0}  # mm (tests/test_measure_body.py)
 SMALL_GIRTHS = ("neck_girth", "upper_arm_girth", "ankle_girth", "wrist_girth")
@@ -62,7 +63,7 @@ def woman_cloud():
 def man_mesh_t_pose():
     """T-pose man, a triangle mesh of another triangulation."""
     body = Body.from_parameters(MAN)
-    posed = body.poser.pose(clinical=T_POSE)
+    posed = poser_for(body).pose(clinical=T_POSE)
     return body, fit_scan(scan_of(body, posed.vertices, posed.rig_joints, None, seed=1), "male")
 
 

@@ -8,6 +8,8 @@ import pytest
 
 import hitogata
 from hitogata.pose import pose_body
+from hitogata.measure.landmarks import body_landmarks
+from hitogata.pose import poser_for
 
 
 def test_all_lists_every_export_and_each_resolves_to_its_defining_module() -> None:
@@ -47,9 +49,9 @@ def test_a_posed_body_measures_as_its_vertices_and_rig_joints(request, sex: str)
 
 
 def test_the_per_body_caches_are_the_bodys_own(female, male) -> None:
-    assert female.poser is female.poser and female.poser is not male.poser
-    assert female.landmarks is female.landmarks
-    assert female.poser.body is female
+    assert poser_for(female) is poser_for(female) and poser_for(female) is not poser_for(male)
+    assert body_landmarks(female) is body_landmarks(female)
+    assert poser_for(female).body is female
 
 
 @pytest.mark.parametrize("sex, figures", [("female", "stature 165.0 cm, mass 62.0 kg"),

@@ -14,7 +14,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from hitogata import units
-from hitogata.dynamics.scenario import CHANNELS, SECTIONS, parse_scenario
+from hitogata.motion.scenario import CHANNELS, SECTIONS, parse_scenario
 from hitogata.errors import HitogataError
 
 TABLES = [units.LENGTH_UNITS, units.MASS_UNITS, units.ANGLE_UNITS, units.FRACTION_UNITS]

@@ -9,12 +9,13 @@ import pytest
 from scipy.spatial.transform import Rotation
 
 from hitogata.cli import main
-from hitogata.dynamics.scenario import load_scenario, shipped_scenarios
+from hitogata.motion.scenario import load_scenario, shipped_scenarios
 from hitogata.garment.ease import HEIGHTS, NAMES, ease_csv, ease_json, motion_ease, overall
 from hitogata.garment.ease_plot import ease_plot
 from hitogata.measure import measure
 from hitogata.motion.clip import MotionClip, scenario_clip
 from hitogata.pose import poser_for
+from hitogata.measure.landmarks import body_landmarks
 
 
 def rigid_clip(n_dofs: int) -> MotionClip:
@@ -54,7 +55,7 @@ def test_reach_forward_widens_the_back_and_narrows_the_front(request, sex, back,
 
 def test_armpit_folds_lie_behind_and_before_the_sides(female, male):
     for body in (female, male):
-        marks, v = body.landmarks, body.vertices
+        marks, v = body_landmarks(body), body.vertices
         assert marks.fold_back_right.at(v)[0] < -0.1 < 0.1 < marks.fold_back_left.at(v)[0]
         assert marks.fold_back_right.at(v)[2] < marks.fold_front_right.at(v)[2]
         assert 0.30 < measure(body).across_back_width < 0.45

@@ -16,13 +16,15 @@ import numpy as np
 import pytest
 from scipy.spatial import cKDTree
 
-from hitogata.dynamics.scenario import load_scenario, shipped_scenarios
+from hitogata.motion.scenario import load_scenario, shipped_scenarios
 from hitogata.garment.ease import skinned_surface
 from hitogata.garment.non_extension import (
     Line, lines_csv, lines_json, non_extension_directions, non_extension_lines, streamlines,
 )
 from hitogata.motion.clip import scenario_clip
 from hitogata.pose import poser_for
+from hitogata.garment.stretch import garment_zones
+from hitogata.measure.fine_skin import body_fine_skin
 
 SHEET_ANGLE = np.degrees(np.arctan(np.sqrt((1.2**2 - 1) / (1 - 0.9**2))))
 
@@ -114,11 +116,11 @@ def test_the_deep_squat_draws_lines_over_the_knee(female):
     frame = int(np.argmin(np.abs(clip.times - 1.5)))
     posed = skinned_surface(female)(clip.angles[[frame]], clip.root[[frame]])[0]
     lines = non_extension_lines(female, posed)
-    fine = female.fine_skin
+    fine = body_fine_skin(female)
     knee = np.zeros(len(female.faces), bool)
-    knee[female.garment_zones[0]["knee"]] = True
+    knee[garment_zones(female)[0]["knee"]] = True
     tree = cKDTree(fine.vertices[fine.faces].mean(axis=1))
-    lengthwise = female.garment_zones[1]
+    lengthwise = garment_zones(female)[1]
     inside, lengths, along = 0, 0.0, 0.0
     for line in lines:
         middle, step = 0.5 * (line.points[1:] + line.points[:-1]), np.diff(line.points, axis=0)

@@ -5,7 +5,8 @@ import pytest
 
 from hitogata.errors import HitogataError
 from hitogata.pose import Poser
-from hitogata.skeleton.kinematics import Kinematics, axis_rotations, forward_kinematics, limit_violations
+from hitogata.skeleton.kinematics import Kinematics, forward_kinematics, limit_violations
+from hitogata.geometry.rotations import axis_rotations
 
 
 @pytest.fixture(scope="module")

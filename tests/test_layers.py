@@ -34,7 +34,7 @@ def test_import_hitogata_loads_only_itself() -> None:
     assert "numpy" not in loaded
 
 
-@pytest.mark.parametrize("package", ["export", "fit", "geometry", "measure", "volume"])
+@pytest.mark.parametrize("package", ["export", "fit", "geometry", "measure", "motion", "simulation", "volume"])
 def test_a_package_importing_its_names_on_first_use_resolves_each(package: str) -> None:
     """`hitogata.lazy`: every name in the package's __all__ is its defining module's, and listed by dir()."""
     import importlib

@@ -9,7 +9,7 @@ from pathlib import Path
 import pytest
 
 from hitogata import cli
-from hitogata.dynamics.scenario import load_scenario
+from hitogata.motion.scenario import load_scenario
 from hitogata.elastic.materials import load_materials, materials_name, shipped_materials
 from hitogata.errors import HitogataError
 from hitogata.options import MATERIALS_PRESETS
@@ -82,7 +82,7 @@ def test_a_broken_materials_file_is_said_before_the_simulation(tmp_path, monkeyp
     def refuse(*_, **__):
         raise AssertionError("the model was built before the mistake was found")
 
-    import hitogata.dynamics.run as run
+    import hitogata.simulation.run as run
 
     monkeypatch.setattr(run, "build_dynamics", refuse)
     line = mistake(["simulate", "mobility_sit", "--materials", "soft.toml", "--out", "r"], capsys)

@@ -11,6 +11,7 @@ from hitogata.measure import measure
 from hitogata.measure.measurements import MEASUREMENT_NAMES
 from hitogata.measure.sections import arc_tape, tape_girth
 from hitogata.measure.topology import topology
+from hitogata.measure.landmarks import body_landmarks
 
 
 @pytest.mark.parametrize("sex", ["female", "male"])
@@ -46,7 +47,7 @@ def test_neck_and_waist_are_where_the_part_is_narrowest(sex, request):
     # The neck girth's and the waist's levels are found on the surface: moving the plane along the
     # part either way gives a larger girth (no rig joint decides).
     body = request.getfixturevalue(sex)
-    marks, v = body.landmarks, body.vertices
+    marks, v = body_landmarks(body), body.vertices
     level = marks.neck_level
     assert neck_girth_at(body, level) < min(neck_girth_at(body, level - 0.1), neck_girth_at(body, level + 0.1))
     y = marks.waist_front.at(v)[1]

@@ -5,6 +5,7 @@ import pytest
 import trimesh
 
 from hitogata.geometry import mesh_checks as mc
+from hitogata.geometry.broad_phase import box_pairs
 
 
 @pytest.fixture(scope="module")
@@ -205,7 +206,7 @@ def test_broad_phase_finds_exactly_the_overlapping_boxes():
     size = rng.lognormal(-4, 1, size=(300, 3))
     size[0] = 0.8  # one box much larger than the rest
     hi = lo + size
-    i, j = mc._overlapping_boxes(lo, hi)
+    i, j = box_pairs(lo, hi)
     overlap = np.all((lo[:, None] <= hi[None]) & (lo[None] <= hi[:, None]), axis=2)
     expected = set(zip(*np.nonzero(np.triu(overlap, 1))))
     assert set(zip(i.tolist(), j.tolist())) == expected

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from hitogata.dynamics.scenario import load_scenario, shipped_scenarios
+from hitogata.motion.scenario import load_scenario, shipped_scenarios
 from hitogata.motion.clip import scenario_clip
 from hitogata.pose import poser_for
 from hitogata.skeleton.kinematics import limit_violations

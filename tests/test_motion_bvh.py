@@ -7,7 +7,7 @@ import pytest
 from scipy.spatial.transform import Rotation
 
 from hitogata.cli import main
-from hitogata.dynamics.scenario import parse_scenario
+from hitogata.motion.scenario import parse_scenario
 from hitogata.errors import HitogataError
 from hitogata.motion.bvh import parse_bvh, read_bvh, write_bvh
 from hitogata.motion.clip import scenario_clip
@@ -224,7 +224,7 @@ def test_frames_split_over_lines_are_refused():
 
 
 def test_cli_export_import_and_a_scenario_whose_timeline_is_the_bvh(tmp_path, capsys, female, scene):
-    from hitogata.dynamics.scenario import load_scenario
+    from hitogata.motion.scenario import load_scenario
 
     poser, _ = scene
     (tmp_path / "limbs.toml").write_text(
@@ -270,8 +270,8 @@ def test_a_bvh_timeline_moves_the_whole_body_with_its_root(tmp_path, female, sce
     import dataclasses
 
     from hitogata.dynamics.motion import simulate
-    from hitogata.dynamics.run import build_dynamics
-    from hitogata.dynamics.scenario import load_scenario
+    from hitogata.simulation.run import build_dynamics
+    from hitogata.motion.scenario import load_scenario
 
     poser, clip = scene
     bvh = export_bvh(poser.skeleton, clip)

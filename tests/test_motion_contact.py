@@ -9,12 +9,13 @@ import pytest
 
 from hitogata import cli
 from hitogata.dynamics.motion import Motion, simulate
-from hitogata.dynamics.run import JUMP_SPEED, contact_figures
+from hitogata.simulation.run import JUMP_SPEED, contact_figures
 from hitogata.dynamics.single_pose import elastic_dynamics
-from hitogata.dynamics.scenario import load_scenario, shipped_scenarios
+from hitogata.motion.scenario import load_scenario, shipped_scenarios
 from hitogata.geometry import self_intersections, surface_integrity
 from hitogata.measure.body_lines import body_lines
 from hitogata.skeleton.kinematics import Pose
+from hitogata.measure.fine_skin import body_fine_skinning
 
 RATE = 10.0  # frames/s: the shipped scenario's flexion, 40° at 0 s → 150° at 0.9 s, in frames up to 19° apart
 
@@ -71,7 +72,7 @@ def test_the_elbow_crease_folds_through_the_motion(female, flexion):
     (`dynamics.creases`): the line across the front of the elbow shortens as skinning shortens it, where the
     40 mm tissue mesh alone bows it out (the motion without contact)."""
     runs, _ = flexion
-    fine = female.fine_skinning
+    fine = body_fine_skinning(female)
     line = body_lines(female, fine.fine.vertices, fine.fine.faces)["elbow_anterior"]
     rest = line.length(fine.fine.vertices)
 

@@ -5,7 +5,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from hitogata.dynamics.scenario import load_scenario, parse_scenario, shipped_scenarios
+from hitogata.motion.scenario import load_scenario, parse_scenario, shipped_scenarios
 from hitogata.dynamics.timeline import Channel, Keyframe, Timeline
 from hitogata.errors import HitogataError
 

@@ -12,6 +12,7 @@ from hitogata.body import default_body
 from hitogata.dynamics.contact import GROUPS, crease_tether, fold_angles, part_groups, vertex_groups
 from hitogata.geometry import enclosed_volume, self_intersections
 from hitogata.geometry.contact import SelfContact
+from hitogata.pose import poser_for
 
 RADIUS = 0.05
 
@@ -56,12 +57,12 @@ def test_one_group_never_meets_itself():
 
 def test_every_skeleton_part_has_its_contact_group():
     body = default_body("female")
-    names = body.poser.skeleton.names
+    names = poser_for(body).skeleton.names
     groups = part_groups(names)
     named = dict(zip(names, (list(GROUPS)[g] for g in groups)))
     assert named["forearm_l"] == "forearm_l" and named["little_distal_r"] == "hand_r"
     assert named["thoracic_9"] == "abdomen" and named["cervical_3"] == "neck" and named["jaw"] == "head"
-    per_vertex = vertex_groups(body.poser.skin.weights, names)
+    per_vertex = vertex_groups(poser_for(body).skin.weights, names)
     counts = dict(zip(GROUPS, np.bincount(per_vertex, minlength=len(GROUPS)).tolist()))
     assert counts == {"head": 2902, "neck": 245, "chest": 684, "abdomen": 404, "pelvis": 392,
                       "shoulder_l": 23, "upper_arm_l": 294, "forearm_l": 247, "hand_l": 1596, "thigh_l": 337,

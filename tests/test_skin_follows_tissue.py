@@ -15,8 +15,8 @@ import pytest
 
 from hitogata.body import Body
 from hitogata.dynamics.motion import simulate
-from hitogata.dynamics.run import JUMP_SPEED, build_dynamics, surface_problems
-from hitogata.dynamics.scenario import load_scenario, shipped_scenarios
+from hitogata.simulation.run import JUMP_SPEED, build_dynamics, surface_problems
+from hitogata.motion.scenario import load_scenario, shipped_scenarios
 from hitogata.elastic.mapping import body_piece
 from hitogata.geometry import surface_integrity
 
@@ -72,7 +72,7 @@ def whole(dyn, body, scenario, rate: float = RATE) -> list[str]:
 
 @pytest.fixture(scope="module")
 def demo(female):
-    """The demo's model: the whole default female body, as `dynamics.demo` builds it."""
+    """The demo's model: the whole default female body, as `simulation.demo` builds it."""
     return build_dynamics(female, load_scenario(shipped_scenarios()["rectus_stretch"]))
 
 

@@ -10,7 +10,9 @@ import pytest
 from hitogata.geometry import self_intersections
 from hitogata.geometry.skin_slide import _svd, slide_posed_skin
 from hitogata.measure.strain import skin_strain
-from hitogata.volume.surface import closest_points_on_triangles
+from hitogata.geometry.closest import closest_points_on_triangles
+from hitogata.measure.fine_skin import body_fine_skinning
+from hitogata.pose import poser_for
 
 
 def test_the_closed_form_svd_is_numpys():
@@ -22,10 +24,10 @@ def test_the_closed_form_svd_is_numpys():
 
 
 def test_a_smooth_stretch_is_left_alone(female):
-    posed = female.poser.pose(clinical={"shank_l.flexion": np.radians(60)}, skinning="dqs")
-    slid = slide_posed_skin(female.fine_skinning, posed.pose, "dqs", female.vertices, posed.vertices,
+    posed = poser_for(female).pose(clinical={"shank_l.flexion": np.radians(60)}, skinning="dqs")
+    slid = slide_posed_skin(body_fine_skinning(female), posed.pose, "dqs", female.vertices, posed.vertices,
                             posed.faces)
-    for level, start in ((slid.coarse, posed.vertices), (slid.fine, female.fine_skinning.surface(posed.pose, "dqs"))):
+    for level, start in ((slid.coarse, posed.vertices), (slid.fine, body_fine_skinning(female).surface(posed.pose, "dqs"))):
         assert not level.free.any() and level.iterations == 0 and np.array_equal(level.vertices, start)
 
 
@@ -38,7 +40,7 @@ def test_the_elbows_skin_slides_on_its_surface(female):
     contact = elastic_pose(dynamics, clinical=clinical, contact=True)
     held = elastic_pose(dynamics, clinical=clinical, contact=True, slide=True)
     assert held.slide is not None and contact.slide is None
-    rest = female.fine_skinning.fine
+    rest = body_fine_skinning(female).fine
 
     def beyond(pose) -> float:
         strain = skin_strain(rest.vertices, pose.fine_vertices(), rest.faces)

@@ -5,7 +5,8 @@ import pytest
 
 from hitogata.errors import HitogataError
 from hitogata.pose import Poser, pose_body
-from hitogata.skinning import dual_quaternions, matrix_to_quaternion, skin_vertices
+from hitogata.skinning import dual_quaternions, skin_vertices
+from hitogata.geometry.rotations import matrix_to_quaternion
 
 
 @pytest.fixture(scope="module")

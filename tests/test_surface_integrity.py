@@ -5,8 +5,24 @@ import pytest
 import trimesh
 
 from hitogata.geometry import self_intersections, surface_integrity
-from hitogata.geometry.integrity import SPARSE_ACTIVE, _crossing_pairs, box_pairs
-from hitogata.geometry.mesh_checks import _overlapping_boxes
+from hitogata.geometry.broad_phase import SPARSE_ACTIVE, box_pairs
+from hitogata.geometry.integrity import _crossing_pairs
+
+
+def sweep_and_prune(lo: np.ndarray, hi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The reference broad phase: boxes sorted by their low x; each box against those starting within its
+    x extent, then the overlap on all axes. All pairs (i < j)."""
+    order = np.argsort(lo[:, 0], kind="stable")
+    start = lo[order, 0]
+    first = np.arange(len(order)) + 1
+    last = np.searchsorted(start, hi[order, 0], side="right")
+    count = np.maximum(last - first, 0)
+    a = np.repeat(np.arange(len(order)), count)
+    b = a + 1 + np.arange(len(a)) - np.repeat(np.cumsum(count) - count, count)
+    i, j = order[a], order[b]
+    keep = np.all((lo[i] <= hi[j]) & (lo[j] <= hi[i]), axis=1)
+    i, j = i[keep], j[keep]
+    return np.minimum(i, j), np.maximum(i, j)
 
 
 def grid(n: int = 6, size: float = 0.1) -> tuple[np.ndarray, np.ndarray]:
@@ -76,7 +92,7 @@ def test_broad_phase_finds_every_overlapping_box_pair_of_the_body(female):
     tri = female.vertices[female.faces]
     lo, hi = tri.min(axis=1), tri.max(axis=1)
     i, j = box_pairs(lo, hi)
-    a, b = _overlapping_boxes(lo, hi)
+    a, b = sweep_and_prune(lo, hi)
     assert set(zip(i.tolist(), j.tolist())) == set(zip(a.tolist(), b.tolist()))
     height = female.vertices[female.faces][:, :, 1].mean(axis=1)
     # a broad share of active boxes, and a few (under SPARSE_ACTIVE: only the boxes in their bounds looked at)
@@ -101,7 +117,7 @@ def test_crossings_of_a_few_active_faces_are_those_of_all_faces_they_are_in():
 
 
 def test_a_torn_run_warns_in_one_line_before_its_figures():
-    from hitogata.dynamics.run import Summary, surface_problems
+    from hitogata.simulation.run import Summary, surface_problems
 
     v, f = grid()
     torn = v.copy()

@@ -14,6 +14,7 @@ from hitogata.measure.strain import directional_stretch
 from hitogata.validation import KINDS, load_dataset
 from hitogata.validation.answers import BodyCache, answer_dataset
 from hitogata.validation.dataset import UNITS
+from hitogata.pose import poser_for
 
 SOURCE = """
 [[source]]
@@ -186,7 +187,7 @@ def test_a_mixed_group_is_the_mean_of_a_female_and_a_male_body(tmp_path):
     values = []
     for sex in ("female", "male"):
         body = cache.body(sex, data.sources["demo2001"].subjects)
-        posed = body.poser.pose(clinical=clinical_posture(data.rows[0], body.poser.skeleton.dof_names +
+        posed = poser_for(body).pose(clinical=clinical_posture(data.rows[0], poser_for(body).skeleton.dof_names +
                                                           ("shoulder_l.flexion", "shoulder_r.flexion"), "test"),
                                 skinning="dqs")
         values.append(100 * (measure(posed).chest_girth - measure(body).chest_girth))

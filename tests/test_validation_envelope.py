@@ -7,7 +7,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from hitogata.dynamics.scenario import load_scenario, shipped_scenarios
+from hitogata.motion.scenario import load_scenario, shipped_scenarios
 from hitogata.garment.ease import HEIGHTS, elastic_surface, motion_ease, skinned_surface
 from hitogata.motion.clip import MotionClip, scenario_clip
 from hitogata.pose import poser_for

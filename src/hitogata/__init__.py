@@ -33,6 +33,7 @@ _EXPORTS: dict[str, str] = {
     "Poser": "hitogata.pose",
     "PosedBody": "hitogata.pose",
     "pose_body": "hitogata.pose",
+    "poser_for": "hitogata.pose",
     # the elastic (finite-element) model
     "ElasticModel": "hitogata.elastic.model",
     "build_elastic_model": "hitogata.elastic.model",
@@ -44,10 +45,10 @@ _EXPORTS: dict[str, str] = {
     "simulate": "hitogata.dynamics.motion",
     "Keyframe": "hitogata.dynamics.timeline",
     "Timeline": "hitogata.dynamics.timeline",
-    "Scenario": "hitogata.dynamics.scenario",
-    "load_scenario": "hitogata.dynamics.scenario",
-    "shipped_scenarios": "hitogata.dynamics.scenario",
-    "run_scenario": "hitogata.dynamics.run",
+    "Scenario": "hitogata.motion.scenario",
+    "load_scenario": "hitogata.motion.scenario",
+    "shipped_scenarios": "hitogata.motion.scenario",
+    "run_scenario": "hitogata.simulation.run",
     # measurement
     "Measurements": "hitogata.measure.values",
     "measure": "hitogata.measure.measurements",
@@ -58,9 +59,9 @@ _EXPORTS: dict[str, str] = {
     "write_body": "hitogata.export.body_files",
     "write_posed": "hitogata.export.pose_files",
     "write_mesh": "hitogata.export.meshfiles",
-    "write_motion_glb": "hitogata.dynamics.files",
-    "write_pvd": "hitogata.dynamics.files",
-    "write_sequence": "hitogata.dynamics.files",
+    "write_motion_glb": "hitogata.export.motion_files",
+    "write_pvd": "hitogata.export.motion_files",
+    "write_sequence": "hitogata.export.motion_files",
     # beside measured people
     "load_dataset": "hitogata.validation.dataset",
     "answer_dataset": "hitogata.validation.answers",
@@ -94,6 +95,7 @@ __all__ = [
     "pose_body",
     "PosedBody",
     "Poser",
+    "poser_for",
     "run_scenario",
     "Scenario",
     "ShapeParameters",
@@ -113,10 +115,10 @@ __all__ = [
 
 if TYPE_CHECKING:
     from hitogata.body import Body, default_body
-    from hitogata.dynamics.files import write_motion_glb, write_pvd, write_sequence
+    from hitogata.export.motion_files import write_motion_glb, write_pvd, write_sequence
     from hitogata.dynamics.motion import BodyDynamics, Motion, simulate
-    from hitogata.dynamics.run import run_scenario
-    from hitogata.dynamics.scenario import Scenario, load_scenario, shipped_scenarios
+    from hitogata.simulation.run import run_scenario
+    from hitogata.motion.scenario import Scenario, load_scenario, shipped_scenarios
     from hitogata.dynamics.timeline import Keyframe, Timeline
     from hitogata.elastic.materials import Materials, load_materials
     from hitogata.elastic.model import ElasticModel, build_elastic_model
@@ -133,7 +135,7 @@ if TYPE_CHECKING:
     from hitogata.validation.table import compare
     from hitogata.measure.strain import SkinStrain, skin_strain
     from hitogata.measure.zones import zone_strains
-    from hitogata.pose import PosedBody, Poser, pose_body
+    from hitogata.pose import PosedBody, Poser, pose_body, poser_for
     from hitogata.shape import ShapeParameters
 
     __version__: str

@@ -12,7 +12,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 from functools import cached_property, partial
-from typing import TYPE_CHECKING, Callable
+from typing import Callable, TypeVar, cast
 
 import numpy as np
 import scipy.sparse as sp
@@ -25,11 +25,7 @@ from hitogata.rig import Rig, place_rig
 from hitogata.shape import WEIGHT_MAX, BilinearShape, ShapeParameters, blend
 from hitogata.units import shown
 
-if TYPE_CHECKING:
-    from hitogata.dynamics.motion import BodyDynamics
-    from hitogata.measure.fine_skin import FineSkin, FineSkinning
-    from hitogata.measure.landmarks import Landmarks
-    from hitogata.pose import Poser
+Prepared = TypeVar("Prepared")
 
 # Whole-body density with the lungs' air inside the skin, kg/m³. Lean tissue and fat
 # give 1.03–1.07 g/cm³ once lung gas is removed (Siri 1961, Brožek et al. 1963);
@@ -173,65 +169,15 @@ class Body:
         """(V, B) skinning weights of the skin vertices over the rig's bones."""
         return load_assets().skin_weights
 
-    # What is found once per body on its rest shape, kept with it (imported when first asked for:
-    # the body itself needs neither the skeleton nor the measurements).
-    @cached_property
-    def poser(self) -> Poser:
-        """The body's skeleton, muscles and skin prepared for posing, with the shipped lists."""
-        from hitogata.pose import Poser
-
-        return Poser.from_body(self)
-
-    @cached_property
-    def landmarks(self) -> Landmarks:
-        """The measurement landmarks found on the rest surface (docs/measurements.md)."""
-        from hitogata.measure.axes import JointSet
-        from hitogata.measure.landmarks import landmarks_for
-
-        return landmarks_for(self.vertices, self.faces, JointSet(self.rig.names, self.rig.heads))
-
-    @cached_property
-    def zones(self) -> dict[str, np.ndarray]:
-        """Face indices of each skin-strain zone (`hitogata.measure.zones`), found on the rest shape."""
-        from hitogata.measure.zones import find_zones
-
-        return find_zones(self)
-
-    @cached_property
-    def fine_skin(self) -> FineSkin:
-        """The skin subdivided twice (Loop), for strain and lengths (`hitogata.measure.fine_skin`)."""
-        from hitogata.measure.fine_skin import subdivide
-
-        return subdivide(self.vertices, self.faces)
-
-    @cached_property
-    def fine_skinning(self) -> FineSkinning:
-        """The fine skin prepared for skinning with the poser's part weights."""
-        from hitogata.measure.fine_skin import fine_skinning
-
-        return fine_skinning(self.fine_skin, self.poser.skin)
-
-    @cached_property
-    def garment_zones(self) -> tuple[dict[str, np.ndarray], np.ndarray]:
-        """Face indices of each garment zone and the faces' lengthwise directions at rest
-        (`hitogata.garment.stretch.garment_zones`)."""
-        from hitogata.garment.stretch import garment_zones
-
-        return garment_zones(self)
-
-    @cached_property
-    def whole_body_dynamics(self) -> dict[tuple[float, str], BodyDynamics]:
-        """The whole-body elastic dynamics built for held postures, by element size (mm) and the materials'
-        values (JSON): filled by `hitogata.dynamics.single_pose.elastic_dynamics`, which builds each once
-        (or reads it from the disk cache)."""
-        return {}
-
-    @cached_property
-    def tape_skin(self) -> dict[str, np.ndarray]:
-        """Per girth, the (V,) mask of skin its tape may rest on (`hitogata.measure.measurements.TAPE_SKIN`)."""
-        from hitogata.measure.measurements import find_tape_skin
-
-        return find_tape_skin(self)
+    def prepared(self, build: Callable[[Body], Prepared]) -> Prepared:
+        """What a layer above finds once per body on its rest shape (its poser, landmarks, zones, fine
+        skin ...): `build(self)` on first use, then kept with the body under `build`. The owner of each
+        preparation is the module defining `build` (`hitogata.pose.poser_for`, `hitogata.measure.landmarks
+        .body_landmarks`, ...); the body holds them without knowing what they are."""
+        store: dict[Callable[[Body], object], object] = self.__dict__.setdefault("_prepared", {})
+        if build not in store:
+            store[build] = build(self)
+        return cast("Prepared", store[build])
 
     @property
     def stature(self) -> float:

@@ -17,6 +17,7 @@ from scipy.spatial import cKDTree
 from hitogata.body import Body
 from hitogata.measure import measurement_paths
 from hitogata.measure.landmarks import landmark_positions
+from hitogata.measure.landmarks import body_landmarks
 
 HEIGHT_MATCH = 1e-4  # m: a height measurement is a landmark's if it is this close to the landmark's height
 NEAREST = 3  # skin vertices that carry a path point's motion
@@ -73,7 +74,7 @@ def _height_row(body: Body, value: float, tree: cKDTree, motion: np.ndarray, flo
     """Change of a height above the floor: the landmark at that height rises, the lowest skin point
     sets the floor (NaN if no landmark lies at that height)."""
     vertices = body.vertices
-    marks = landmark_positions(body.landmarks, vertices)
+    marks = landmark_positions(body_landmarks(body), vertices)
     heights = {mark: float(p[1] - vertices[floor, 1]) for mark, p in marks.items()}
     mark = min(heights, key=lambda m: abs(heights[m] - value))
     if abs(heights[mark] - value) > HEIGHT_MATCH:

@@ -309,11 +309,12 @@ def checked_numbers(what: str, values: object, unit: str, dofs: Sequence[str] | 
 
 
 def poser_for(body: Body) -> Poser:
-    """The body's Poser with the shipped lists, prepared once per body (`Body.poser`)."""
+    """The body's Poser with the shipped lists, prepared once per body and kept with it (`Body.prepared`);
+    `Poser.from_body` builds a new one, e.g. from other skeleton or muscle lists."""
     if not isinstance(body, Body):
         raise HitogataError(f"body {excerpt(type(body).__name__)}: allowed a Body "
                             "(e.g. Body.from_measurements(sex='female'))")
-    return body.poser
+    return body.prepared(Poser.from_body)
 
 
 def pose_body(

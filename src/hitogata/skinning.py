@@ -21,6 +21,7 @@ import scipy.sparse as sp
 
 from hitogata.errors import HitogataError
 from hitogata.options import Skinning, SKINNING as METHODS
+from hitogata.geometry.rotations import matrix_to_quaternion
 
 CHUNK = 64  # poses per block: bounds the (V, 8·chunk) intermediates
 
@@ -71,59 +72,6 @@ def linear_blend(skin: Skin, rotations: np.ndarray, translations: np.ndarray) ->
         moved = skin.homogeneous @ stack.reshape(3 * p, 4 * n_part).T
         out[s : s + p] = skin.rest + moved.reshape(-1, p, 3).transpose(1, 0, 2)
     return out
-
-
-def matrix_to_quaternion(r: np.ndarray) -> np.ndarray:
-    """Unit quaternions (..., 4) as (w, x, y, z) of rotation matrices (..., 3, 3)."""
-    m = r.reshape(-1, 3, 3)
-    tr = np.trace(m, axis1=1, axis2=2)
-    diag = np.stack([tr, m[:, 0, 0], m[:, 1, 1], m[:, 2, 2]], axis=1)
-    pick = np.argmax(diag, axis=1)  # the largest of 4w², 4x², 4y², 4z² (minus constants): stable
-    q = np.empty((len(m), 4))
-    x0 = 1.0 + 2.0 * diag[np.arange(len(m)), pick] - tr
-    s = 2.0 * np.sqrt(np.maximum(x0, 1e-300))
-    c0 = pick == 0
-    q[c0] = np.stack(
-        [
-            s[c0] / 4,
-            (m[c0, 2, 1] - m[c0, 1, 2]) / s[c0],
-            (m[c0, 0, 2] - m[c0, 2, 0]) / s[c0],
-            (m[c0, 1, 0] - m[c0, 0, 1]) / s[c0],
-        ],
-        axis=1,
-    )
-    c1 = pick == 1
-    q[c1] = np.stack(
-        [
-            (m[c1, 2, 1] - m[c1, 1, 2]) / s[c1],
-            s[c1] / 4,
-            (m[c1, 0, 1] + m[c1, 1, 0]) / s[c1],
-            (m[c1, 0, 2] + m[c1, 2, 0]) / s[c1],
-        ],
-        axis=1,
-    )
-    c2 = pick == 2
-    q[c2] = np.stack(
-        [
-            (m[c2, 0, 2] - m[c2, 2, 0]) / s[c2],
-            (m[c2, 0, 1] + m[c2, 1, 0]) / s[c2],
-            s[c2] / 4,
-            (m[c2, 1, 2] + m[c2, 2, 1]) / s[c2],
-        ],
-        axis=1,
-    )
-    c3 = pick == 3
-    q[c3] = np.stack(
-        [
-            (m[c3, 1, 0] - m[c3, 0, 1]) / s[c3],
-            (m[c3, 0, 2] + m[c3, 2, 0]) / s[c3],
-            (m[c3, 1, 2] + m[c3, 2, 1]) / s[c3],
-            s[c3] / 4,
-        ],
-        axis=1,
-    )
-    q /= np.linalg.norm(q, axis=1, keepdims=True)
-    return q.reshape(r.shape[:-2] + (4,))
 
 
 def dual_quaternions(skin: Skin, rotations: np.ndarray, translations: np.ndarray) -> np.ndarray:

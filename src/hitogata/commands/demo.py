@@ -1,7 +1,7 @@
 """`hitogata demo`: the main job on the built-in default bodies.
 
 The default female and male bodies with their figures, then the paper's
-experiment on the whole female body (`dynamics.demo.run_demo`): the rectus
+experiment on the whole female body (`simulation.demo.run_demo`): the rectus
 abdominis stretched and released, and trunk flexion with the arms raised forward.
 """
 
@@ -16,7 +16,7 @@ from hitogata.body import default_body
 from hitogata.commands.args import add_cache_argument
 from hitogata.commands.body import figures_line
 from hitogata.commands.paths import add_output
-from hitogata.dynamics.demo import run_demo
+from hitogata.simulation.demo import run_demo
 from hitogata.export.atomic import write_bytes_atomically
 from hitogata.export.body_files import body_figures, write_body
 

@@ -10,8 +10,8 @@ from hitogata import units
 from hitogata.commands.args import add_body_arguments, add_cache_argument, add_materials_argument
 from hitogata.commands.body import body_from_args
 from hitogata.commands.paths import add_output
-from hitogata.dynamics.scenario import Scenario, load_scenario, shipped_scenarios
 from hitogata.elastic.materials import load_materials
+from hitogata.motion.scenario import Scenario, load_scenario, shipped_scenarios
 from hitogata.errors import HitogataError
 from hitogata.export.atomic import write_bytes_atomically
 from hitogata.garment.ease import ease_csv, ease_json, elastic_surface, overall, sampled_frames, skinned_surface

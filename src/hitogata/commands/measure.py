@@ -53,7 +53,7 @@ def body_from_file(path: Path) -> tuple[Body, np.ndarray | None, np.ndarray | No
 
 def measure_results(path: Path, out: Path, workdir: Path) -> None:
     """Measurements and zone strains over time of a simulated motion: CSV and plot."""
-    from hitogata.dynamics.files import find_sequence, read_sequence_body  # the dynamics: only for results
+    from hitogata.export.motion_files import find_sequence, read_sequence_body  # the dynamics: only for results
     from hitogata.measure.timeseries import measure_sequence
     from hitogata.report.series import write_series
 

@@ -14,7 +14,7 @@ from hitogata.commands.body import body_from_args
 from hitogata.commands.paths import add_output
 from hitogata.elastic import BONE_MODES, CUT_MODES, DEFAULT_ELEMENT_SIZES, ELEMENTS, load_materials
 from hitogata.elastic.cache import cached_elastic_model
-from hitogata.elastic.files import write_frequencies, write_mode_pictures, write_vtu
+from hitogata.export.elastic_files import write_frequencies, write_mode_pictures, write_vtu
 from hitogata.errors import HitogataError
 from hitogata.fem.assembly import DILATATIONS
 from hitogata.export.atomic import write_bytes_atomically

@@ -8,7 +8,7 @@ from pathlib import Path
 from hitogata import units
 from hitogata.commands.paths import add_output, input_path
 from hitogata.config import MAX_BYTES as MAX_TOML_BYTES
-from hitogata.dynamics.scenario import BodySpec, load_scenario, shipped_scenarios
+from hitogata.motion.scenario import BodySpec, load_scenario, shipped_scenarios
 from hitogata.errors import HitogataError
 from hitogata.export.atomic import write_bytes_atomically
 from hitogata.motion.bvh import read_bvh, write_bvh
@@ -42,7 +42,7 @@ def run_import(args: argparse.Namespace) -> None:
 
 
 def run_export(args: argparse.Namespace) -> None:
-    from hitogata.dynamics.run import make_body
+    from hitogata.motion.scenario import make_body
     from hitogata.pose import poser_for
 
     out = Path(args.out)

@@ -23,6 +23,7 @@ from hitogata.export.pose_files import check_posed_path, write_posed
 from hitogata.export.posed_mesh import write_sidecar
 from hitogata.pose import Poser
 from hitogata.skeleton.shoulder import CHANNEL_RANGES, channel_names
+from hitogata.measure.fine_skin import body_fine_skin
 
 
 def list_names(poser: Poser) -> list[str]:
@@ -86,7 +87,7 @@ def run(args: argparse.Namespace) -> None:
                    "materials": materials_name(materials)}
         if held.slide is not None:  # its fine skin slid on its own: measured from its own file
             fine = mesh.with_name(mesh.stem + "_fine.ply")
-            written.append(write_mesh(fine, held.fine_vertices(), poser.body.fine_skin.faces))
+            written.append(write_mesh(fine, held.fine_vertices(), body_fine_skin(poser.body).faces))
             surface["fine_skin"] = fine.name
         written.append(write_sidecar(mesh, {**extras, **surface}))
         print(f"elastic body: {held.quality.line()}")

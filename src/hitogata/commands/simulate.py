@@ -8,13 +8,13 @@ from dataclasses import replace
 
 from hitogata.commands.args import add_cache_argument, add_materials_argument
 from hitogata.commands.paths import add_output, input_path
-from hitogata.dynamics.scenario import load_scenario, shipped_scenarios
+from hitogata.motion.scenario import load_scenario, shipped_scenarios
 
 
 def run(args: argparse.Namespace) -> None:
-    from hitogata.dynamics.checks import checked_scenario
-    from hitogata.dynamics.run import run_scenario
     from hitogata.elastic.materials import load_materials
+    from hitogata.motion.checks import checked_scenario
+    from hitogata.simulation.run import run_scenario
 
     given = None
     if args.body is not None:

@@ -16,42 +16,19 @@ Typical use::
     motion = simulate(dyn, timeline, duration=2.5, rate=30, on_limit="clamp")
     motion.skin, motion.nodes, motion.elastic     # (F, V, 3), (F, N, 3), (F, N, 3) per output frame
 
-or from a scenario file: `run_scenario(load_scenario("s.toml"), "results/")`
-(`hitogata simulate s.toml --out results/`; format in docs/scenarios.md).
+A scenario file's motion (`hitogata simulate s.toml --out results/`; format in docs/scenarios.md) is
+read and run by `hitogata.motion` (`load_scenario`, `run_scenario`), and its files are written by
+`hitogata.export.motion_files`: this package holds the physics and writes no file.
 
 Modules: `rigging` (skinning weights at the FE nodes), `rotations`,
 `volumes` (tet volumes and their gradients, fast), `quasistatic` (the
 tissue's rotation-invariant equilibrium on one prefactored matrix, warm-started
 by a `WarmStart` its caller hands on), `untangle`, `motion` (coupling and
-modal dynamics), `timeline`,
-`scenario`, `quality` (inversions, volumes, distortion vs skinning),
-`files` (GLB, VTU/PVD, PNG, GIF), `run`, `demo`.
-
-`files`, `run` and `demo` write files and draw pictures: they are reporting
-over the computation, so importing this package does not load them (nor
-matplotlib, meshio, pygltflib, pyvista); `run_scenario` imports `run` on first use.
+modal dynamics), `timeline`, `quality` (inversions, volumes, distortion vs skinning).
 """
-
-from typing import TYPE_CHECKING, Any
 
 from hitogata.dynamics.motion import BodyDynamics, Motion, simulate
 from hitogata.dynamics.quality import PoseQuality, compare_pose
-from hitogata.dynamics.scenario import Scenario, load_scenario, shipped_scenarios
 from hitogata.dynamics.timeline import Channel, Keyframe, Timeline
 
-if TYPE_CHECKING:
-    from hitogata.dynamics.run import run_scenario
-
-
-def __getattr__(name: str) -> Any:
-    """`run_scenario` from `hitogata.dynamics.run`, imported on first use (PEP 562)."""
-    if name == "run_scenario":
-        from hitogata.dynamics.run import run_scenario
-
-        return run_scenario
-    raise AttributeError(f"module 'hitogata.dynamics' has no attribute {name!r}")
-
-__all__ = [
-    "BodyDynamics", "Channel", "Keyframe", "Motion", "PoseQuality", "Scenario", "Timeline", "compare_pose",
-    "load_scenario", "run_scenario", "shipped_scenarios", "simulate",
-]
+__all__ = ["BodyDynamics", "Channel", "Keyframe", "Motion", "PoseQuality", "Timeline", "compare_pose", "simulate"]

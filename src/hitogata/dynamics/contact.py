@@ -18,7 +18,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from hitogata.geometry.contact import SelfContact
-from hitogata.measure.strain import skin_strain
+from hitogata.geometry.strain import principal_stretches
 
 if TYPE_CHECKING:
     from hitogata.dynamics.motion import BodyDynamics
@@ -150,7 +150,7 @@ def crease_tether(rest: np.ndarray, skinned: np.ndarray, faces: np.ndarray, fold
     bool of the contact barrier, where skin meets skin and the barrier gives the tissue's volume back
     as a swelling round the fold; each factor rises smoothly from 0 to 1, times CREASE_SHARE."""
     near = np.asarray(faces)[free[faces].any(axis=1)]  # every triangle of the free skin's vertices
-    stretch = skin_strain(rest, skinned, near).stretch_min
+    stretch = principal_stretches(rest, skinned, near)[1]  # the smallest
     least = np.full(len(rest), np.inf)
     np.fmin.at(least, near.ravel(), np.repeat(stretch, 3))
     (s0, s1), (a0, a1) = CREASE_STRETCH, CREASE_ANGLES

@@ -25,6 +25,7 @@ from hitogata.dynamics.motion import BodyDynamics
 from hitogata.dynamics.quasistatic import rotate
 from hitogata.dynamics.rigging import node_rig
 from hitogata.dynamics.volumes import corner_volumes
+from hitogata.geometry.normals import triangle_areas
 
 if TYPE_CHECKING:
     from hitogata.elastic import ElasticModel
@@ -67,7 +68,7 @@ def pose_quality(model: ElasticModel, x: np.ndarray, method: str) -> PoseQuality
                for k, name in enumerate(model.region_names) if np.any(model.region == k)}
     faces = model.volume.boundary_faces[model.volume.boundary_on_skin]
     tri0 = rest[faces]
-    area = 0.5 * np.linalg.norm(np.cross(tri0[:, 1] - tri0[:, 0], tri0[:, 2] - tri0[:, 0]), axis=1)
+    area = triangle_areas(tri0)
     skin = log_stretches(tri0, x[faces])
     corners = model.elements[:, :4]
     soft = model.region != model.region_names.index("bone")

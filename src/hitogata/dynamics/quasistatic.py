@@ -65,7 +65,7 @@ import numpy as np
 import scipy.sparse as sp
 from threadpoolctl import threadpool_limits
 
-from hitogata.dynamics.rotations import extract_rotations
+from hitogata.geometry.rotations import extract_rotations
 from hitogata.dynamics.untangle import Untangler
 from hitogata.dynamics.volumes import corner_gradients, corner_volumes, volumes_and_gradients
 from hitogata.fem.elements import element_order, quadrature, shape_gradients, tet_geometry

@@ -35,7 +35,7 @@ from scipy.sparse.csgraph import connected_components
 import scipy.sparse.linalg as sla
 from scipy.spatial import cKDTree
 
-from hitogata.dynamics.rotations import quaternion_matrices
+from hitogata.geometry.rotations import quaternion_matrices
 from hitogata.elastic.mapping import DEFAULT_FADE, skin_reach, skin_vertex_map
 from hitogata.errors import HitogataError
 from hitogata.fem.elements import P2_EDGES

@@ -36,14 +36,21 @@ from hitogata.geometry.contact import Penetrations
 from hitogata.geometry.skin_slide import SkinSlide, slide_posed_skin
 from hitogata.options import OnLimit
 from hitogata.pose import PosedBody
+from hitogata.measure.fine_skin import body_fine_skinning
 
 ELEMENT_SIZE = 40.0  # mm: the whole body's lattice for a held posture (as the large-motion tests)
+
+
+def held_dynamics(body: Body) -> dict[tuple[float, str], BodyDynamics]:
+    """The whole-body elastic dynamics built for the body's held postures, by element size (mm) and the
+    materials' values (JSON): filled by `elastic_dynamics`, which builds each once."""
+    return {}
 
 
 def elastic_dynamics(body: Body, element_size: float = ELEMENT_SIZE, materials: Materials | None = None,
                      n_modes: int = 2, cache: bool | None = None) -> BodyDynamics:
     """The whole body's elastic model ready for posing, built once per body, element size and materials
-    (kept in `Body.whole_body_dynamics`, and on disk: `dynamics.model_cache`; `cache` False: not read
+    (kept with the body, `held_dynamics`, and on disk: `dynamics.model_cache`; `cache` False: not read
     nor written there, None: as `HITOGATA_NO_CACHE` says; `materials` None: the shipped presets).
     Statics need no modes (2 by default); a model built with more serves a call asking for fewer."""
     from hitogata.dynamics.model_cache import cached_dynamics
@@ -52,11 +59,11 @@ def elastic_dynamics(body: Body, element_size: float = ELEMENT_SIZE, materials: 
 
     table = load_materials() if materials is None else materials
     key = (element_size, json.dumps(materials_values(table)))  # by value: a file's name is not its materials
-    cached = body.whole_body_dynamics.get(key)
+    built = body.prepared(held_dynamics)
+    cached = built.get(key)
     if cached is None or len(cached.eigenvalues) < n_modes:
-        body.whole_body_dynamics[key] = cached = cached_dynamics(body, cache=cache, extent="body",
-                                                                 element_size=element_size, n_modes=n_modes,
-                                                                 materials=table)
+        built[key] = cached = cached_dynamics(body, cache=cache, extent="body", element_size=element_size,
+                                              n_modes=n_modes, materials=table)
     return cached
 
 
@@ -93,7 +100,7 @@ class ElasticPose:
         if self.slide is not None:
             return self.slide.fine.vertices
         poser = self.dynamics.poser
-        return poser.body.fine_skinning.surface(self.posed.pose, self.dynamics.rig.method, self.vertices)
+        return body_fine_skinning(poser.body).surface(self.posed.pose, self.dynamics.rig.method, self.vertices)
 
 
 def elastic_pose(
@@ -126,7 +133,7 @@ def elastic_pose(
     else:
         _, skin, _, held = dynamics.frame(posed.pose.rotations[0], posed.pose.translations[0], r[0], delta, at_rest)
     nodes = g[0] + rotate(r[0], delta)
-    slid = slide_posed_skin(poser.body.fine_skinning, posed.pose, dynamics.rig.method, poser.body.vertices, skin,
+    slid = slide_posed_skin(body_fine_skinning(poser.body), posed.pose, dynamics.rig.method, poser.body.vertices, skin,
                             posed.faces) if slide else None
     skin = skin if slid is None else slid.coarse.vertices
     return ElasticPose(posed, skin.astype(float), nodes, pose_quality(dynamics.model, nodes, "elastic"), dynamics,

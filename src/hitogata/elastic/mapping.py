@@ -32,7 +32,7 @@ from scipy.spatial import cKDTree
 from hitogata.fem.elements import element_order, shape_values, tet_geometry
 from hitogata.geometry.tets import TET_FACES
 from hitogata.volume.integrity import face_pieces
-from hitogata.volume.surface import closest_points_on_triangles
+from hitogata.geometry.closest import nearest_on_triangles
 
 DEFAULT_FADE = 0.05  # m: the elastic displacement fades out over 5 cm past `reach`
 # Full weight reaches half an element past the mesh at most: where the mesh holds a part its
@@ -167,25 +167,10 @@ def _closest_on_boundary(points: np.ndarray, ids: np.ndarray, nodes: np.ndarray,
     _, inverse, counts = np.unique(key, axis=0, return_inverse=True, return_counts=True)
     outer = np.flatnonzero(counts[inverse.ravel()] == 1)
     owner, tri = outer // 4, nodes[faces[outer]]
-    tree = cKDTree(tri.mean(axis=1))
-    k = min(4 * _CANDIDATES, len(outer))
-    tet = np.zeros(len(points), dtype=np.int64)
-    closest = np.zeros((len(points), 3))
-    distance = np.full(len(points), np.inf)
-    for start in range(0, len(points), _BLOCK // 4):
-        block = np.arange(start, min(start + _BLOCK // 4, len(points)))
-        _, near = tree.query(points[block], k=k)
-        near = near.reshape(len(block), k)
-        t = tri[near.ravel()]
-        q = closest_points_on_triangles(np.repeat(points[block], k, axis=0), t[:, 0], t[:, 1], t[:, 2])
-        d = np.linalg.norm(q - np.repeat(points[block], k, axis=0), axis=1).reshape(len(block), k)
-        if agree is not None:
-            d[~agree(np.repeat(ids[block], k), tets[owner[near.ravel()]]).reshape(d.shape)] = np.inf
-        best = d.argmin(axis=1)
-        rows = np.arange(len(block))
-        tet[block] = owner[near[rows, best]]
-        closest[block] = q.reshape(len(block), k, 3)[rows, best]
-        distance[block] = d[rows, best]
+    admissible = None if agree is None else (lambda rows, near: agree(ids[rows], tets[owner[near]]))
+    distance, face, closest = nearest_on_triangles(cKDTree(tri.mean(axis=1)), tri, points, 4 * _CANDIDATES,
+                                                   admissible)
+    tet = owner[face]
     grads, _ = tet_geometry(nodes, tets[tet])
     bary = np.einsum("tij,tj->ti", grads, closest - nodes[tets[tet, 0]])
     bary[:, 0] += 1.0

@@ -26,7 +26,7 @@ from hitogata.export.body_files import check_body_path
 from hitogata.export.gltf import GlbBuilder, add_skinned_mesh
 from hitogata.export.meshfiles import write_mesh
 from hitogata.pose import PosedBody, Poser
-from hitogata.skinning import matrix_to_quaternion
+from hitogata.geometry.rotations import matrix_to_quaternion
 
 
 def local_rotations(rotations: np.ndarray, parents: np.ndarray) -> np.ndarray:

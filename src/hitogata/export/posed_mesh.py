@@ -29,6 +29,8 @@ from hitogata.export.body_files import body_from_extras
 from hitogata.options import Skinning
 from hitogata.pose import poser_for
 from hitogata.skinning import METHODS, skin_vertices
+from hitogata.measure.fine_skin import body_fine_skin
+from hitogata.measure.fine_skin import body_fine_skinning
 
 SURFACES = ("skinning", "elastic")
 
@@ -50,7 +52,7 @@ def posture(body: Body, angles: np.ndarray, skinning: Skinning = "lbs", vertices
     pose = poser.kinematics.pose(np.asarray(angles, dtype=float))  # as written: checked when it was posed
     joints = poser.rig_joints(pose.rotations[0], pose.translations[0])
     v = skin_vertices(poser.skin, pose.rotations, pose.translations, skinning)[0] if vertices is None else vertices
-    fine = body.fine_skinning.surface(pose, skinning, vertices)
+    fine = body_fine_skinning(body).surface(pose, skinning, vertices)
     return v, joints, fine
 
 
@@ -106,4 +108,4 @@ def _read_fine_skin(side: Path, name: Any, body: Body) -> np.ndarray:
     path = side.with_name(name)
     if not path.is_file():
         raise HitogataError(f"{side}: fine_skin = {name!r}: no such file; {allowed}")
-    return _mesh_vertices(path, len(body.fine_skin.vertices), "the hitogata fine skin")
+    return _mesh_vertices(path, len(body_fine_skin(body).vertices), "the hitogata fine skin")

@@ -26,6 +26,7 @@ from hitogata.fem.elements import (
     tet_geometry,
 )
 from hitogata.fem.materials import check_material, lame, per_element, per_sample
+from hitogata.geometry.normals import triangle_areas
 
 
 def fibre_eigenstrain(directions: np.ndarray, strain: float | np.ndarray, isochoric: bool = False) -> np.ndarray:
@@ -138,7 +139,7 @@ def traction_load(points: np.ndarray, faces: np.ndarray, traction: np.ndarray) -
     if faces.size and (faces.min() < 0 or faces.max() >= len(points)):
         raise HitogataError(f"face node index out of range; allowed: 0..{len(points) - 1}")
     x = points[faces[:, :3]]
-    area = 0.5 * np.linalg.norm(np.cross(x[:, 1] - x[:, 0], x[:, 2] - x[:, 0]), axis=1)
+    area = triangle_areas(x)
     share = np.full(3, 1.0 / 3.0) if faces.shape[1] == 3 else np.array([0, 0, 0, 1, 1, 1]) / 3.0
     t = np.broadcast_to(np.asarray(traction, dtype=float), (len(faces), 3))
     return _scatter(faces, area[:, None, None] * share[None, :, None] * t[:, None, :], len(points))

@@ -15,6 +15,7 @@ import numpy as np
 
 from hitogata.fit.model import POSE_NAMES, T_POSE, BodyModel
 from hitogata.fit.register import SIGMA, Registration, Surface, gauss_newton_step
+from hitogata.pose import poser_for
 
 ALIGN_POINTS = 800  # scan points per candidate
 ALIGN_STEPS = 3  # rigid-only iterations per candidate and round
@@ -67,7 +68,7 @@ def initial_alignments(model: BodyModel, points: np.ndarray, seed: int = 0) -> l
     candidates: list[tuple[float, Registration, Surface]] = []
     body = model.body(shape)
     for pose in arm_poses(model):
-        posed, _ = model.posed(body.poser, pose)
+        posed, _ = model.posed(poser_for(body), pose)
         surface = Surface.of(posed, body.faces, every=ALIGN_EVERY)
         body_axes, body_centre = principal_axes(posed), posed.mean(axis=0)
         for matching in axis_matchings():

@@ -2,7 +2,7 @@
 
 The candidates of a point are the triangles whose centroids are its k nearest
 (a `scipy.spatial.cKDTree` over the centroids), each tested exactly
-(`hitogata.volume.surface.nearest_on_triangles`); on a body surface
+(`hitogata.geometry.closest.nearest_on_triangles`); on a body surface
 with even triangles k = 8 finds the true nearest triangle.
 """
 
@@ -13,7 +13,8 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.spatial import cKDTree
 
-from hitogata.volume.surface import barycentric_on_triangles, nearest_on_triangles
+from hitogata.geometry.closest import barycentric_on_triangles, nearest_on_triangles
+from hitogata.geometry.normals import face_normals
 
 
 @dataclass(frozen=True)
@@ -45,13 +46,6 @@ def signed_closest(vertices: np.ndarray, faces: np.ndarray, points: np.ndarray) 
     distance (P,) along the normal of the face it is nearest (positive: outside an outward surface)."""
     near = SurfaceQuery(vertices, faces).closest(points)
     return near, np.einsum("ij,ij->i", face_normals(vertices, faces)[near.face], points - near.point)
-
-
-def face_normals(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
-    """(F, 3) unit face normals (outward on an outward-oriented surface)."""
-    tri = vertices[faces]
-    n = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
-    return n / np.maximum(np.linalg.norm(n, axis=1, keepdims=True), 1e-20)
 
 
 def signed_distances(vertices: np.ndarray, faces: np.ndarray, points: np.ndarray) -> np.ndarray:

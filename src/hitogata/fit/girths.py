@@ -4,7 +4,7 @@ Each girth's plane is the fitted body's in the scan's pose
 (`hitogata.measure.measurements.girth_planes`). The scan's points in that
 plane — the crossing points of a scan mesh, or the points of a cloud within
 `SLAB` of the plane — that lie against the girth's own skin (their nearest
-body vertex is skin the tape may rest on, `Body.tape_skin`) and near the
+body vertex is skin the tape may rest on, `tape_skin`) and near the
 fitted tape are binned by angle round the fitted tape's centre; in each bin
 the points' median radius stands for the bin (so scan noise does not widen
 the girth as the outermost points would); the medians joined round the
@@ -27,6 +27,7 @@ from hitogata.measure.landmarks import body_landmarks
 from hitogata.measure.measurements import GIRTHS, girth_planes, tapes
 from hitogata.measure.sections import hull_perimeter, plane_basis, section
 from hitogata.measure.topology import topology
+from hitogata.measure.measurements import tape_skin
 
 SLAB = 0.003  # m: half-thickness of the slab of cloud points taken as lying in a plane
 NEAR = 0.02  # m: scan points further than this (radially) from the fitted tape are not that part
@@ -45,7 +46,7 @@ def scan_girths(points: np.ndarray, faces: np.ndarray | None, body: Body, vertic
     rest, posed = JointSet(body.rig.names, body.rig.heads), JointSet(body.rig.names, joints)
     marks = body_landmarks(body)
     planes = girth_planes(vertices, marks, rest, posed)
-    fitted = tapes(vertices, body.faces, marks, rest, posed, body.tape_skin)
+    fitted = tapes(vertices, body.faces, marks, rest, posed, tape_skin(body))
     _, nearest = cKDTree(vertices).query(points)
     topo = topology(faces) if faces is not None else None
     out = {}
@@ -65,7 +66,7 @@ def scan_girths(points: np.ndarray, faces: np.ndarray | None, body: Body, vertic
             distance = (points - origin) @ normal
             slab = np.abs(distance) < SLAB
             candidates, owner = points[slab] - distance[slab, None] * normal, nearest[slab]
-        skin = body.tape_skin.get(name)
+        skin = tape_skin(body).get(name)
         own = np.ones(len(owner), dtype=bool) if skin is None else skin[owner]
         out[name] = _binned_girth(candidates[own], tape.path, tape.girth, normal)
     return out

@@ -6,7 +6,7 @@ Shape: the macro parameters of `ShapeParameters` except sex (given) and race
 complex's clinical flexion and abduction (`hitogata.skeleton.shoulder`: the
 girdle follows), the elbows' flexion and the hips' abduction, the last two
 relative to the rest pose — what tells an A-pose scan from a T-pose one and
-from the rest pose. The posed surface is the body's own (`Body.poser`, LBS).
+from the rest pose. The posed surface is the body's own (`poser_for`, LBS).
 """
 
 from __future__ import annotations
@@ -21,6 +21,7 @@ from hitogata.muscles.activation import MuscleLimitWarning
 from hitogata.muscles.geometry import MuscleGeometryWarning
 from hitogata.pose import Poser
 from hitogata.shape import OLD_YEARS, YOUNG_YEARS, ShapeParameters
+from hitogata.pose import poser_for
 
 SHAPE_NAMES = ("weight", "muscle", "height", "proportions", "cup", "firmness", "age")
 # (name, bounds in degrees, start in degrees); shoulder_* are clinical, the others rest-relative.
@@ -120,7 +121,7 @@ class BodyModel:
         body = self.body(shape)
         with warnings.catch_warnings():  # the solver's passing bodies: their muscle notes are not the user's
             warnings.simplefilter("ignore", MuscleGeometryWarning)
-            poser = body.poser
+            poser = poser_for(body)
         lo, hi = self.pose_bounds
         probes = [pose]
         steps = []

@@ -13,6 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from hitogata.errors import HitogataError
+from hitogata.geometry.normals import triangle_areas
 
 UNITS = {"mm": 1e-3, "m": 1.0}
 BODY_EXTENT = (1.0, 2.6)  # m: a standing adult's stature (1.4–2.1 m) or arm span, with margin
@@ -38,7 +39,7 @@ class Scan:
                 return self.points
             return self.points[rng.choice(len(self.points), count, replace=False)]
         tri = self.points[self.faces]
-        area = 0.5 * np.linalg.norm(np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]), axis=1)
+        area = triangle_areas(tri)
         chosen = rng.choice(len(tri), count, p=area / area.sum())
         r1, r2 = np.sqrt(rng.random(count)), rng.random(count)
         a, b, c = tri[chosen, 0], tri[chosen, 1], tri[chosen, 2]

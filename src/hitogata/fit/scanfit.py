@@ -26,6 +26,7 @@ from hitogata.fit.register import Registration, register
 from hitogata.fit.scan import Scan
 from hitogata.measure import Measurements, measure
 from hitogata.shape import ShapeParameters
+from hitogata.pose import poser_for
 
 FIT_POINTS = 6000  # scan points the shape and pose are solved on
 DETAIL_POINTS = 60_000  # scan points the detail is solved on
@@ -90,13 +91,13 @@ def fit_scan(scan: Scan, sex: float | str, *, detail: bool = True, density: floa
             reg, score = other, other_score
     params = model.params(reg.shape)
     plain = model.body(reg.shape)
-    posed, _ = model.posed(plain.poser, reg.pose)
+    posed, _ = model.posed(poser_for(plain), reg.pose)
     placed = reg.place(scan.points)
     distance, signed, corner = _distances(posed, plain.faces, placed)
     regions = region_residuals(vertex_regions(plain)[corner], distance, signed)
     offsets = solve_detail(posed, plain.faces, reg.place(scan.sample(DETAIL_POINTS, seed + 1))) if detail else None
     body = detailed_body(params, offsets, density)
-    fitted, joints = model.posed(body.poser, reg.pose)
+    fitted, joints = model.posed(poser_for(body), reg.pose)
     final = _distances(fitted, body.faces, placed)[0]
     return ScanFit(
         body=body,

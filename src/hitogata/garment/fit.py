@@ -27,6 +27,8 @@ from hitogata.measure.strain import skin_strain
 from hitogata.motion.clip import MotionClip
 from hitogata.pose import poser_for
 from hitogata.rig import posed_rig_heads
+from hitogata.garment.stretch import garment_zones
+from hitogata.geometry.normals import triangle_areas
 
 PressureSeries = tuple[np.ndarray, dict[str, np.ndarray]]  # times (T,), per level (T, 3): strain, mean, peak Pa
 
@@ -68,10 +70,10 @@ def peak_frames(answers: FitAnswers, motion: str) -> PeakFrames:
     strain over all zones' skin) and, with a garment, the frame of the highest peak pressure at any level."""
     body, clip = answers.body, answers.clips[motion]
     frames = sampled_frames(clip, answers.rate)
-    zones, _ = body.garment_zones
+    zones, _ = garment_zones(body)
     faces = np.unique(np.concatenate(list(zones.values())))
     tri = body.vertices[body.faces[faces]]
-    area = 0.5 * np.linalg.norm(np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]), axis=1)
+    area = triangle_areas(tri)
     posed = answers.surface(clip.angles[frames], clip.root[frames])
     scores = []
     for v in posed:

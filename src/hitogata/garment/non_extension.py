@@ -45,6 +45,8 @@ from scipy.spatial import cKDTree
 
 from hitogata.body import Body
 from hitogata.measure.strain import skin_strain
+from hitogata.measure.fine_skin import body_fine_skin
+from hitogata.geometry.normals import face_normals
 
 MARGIN = 0.02  # the principal stretches at least this far apart (λ2 ≤ 1 ≤ λ1)
 SPACING = 0.04  # m between seeds, and twice the least distance between lines of one family
@@ -81,12 +83,6 @@ class Line:
         return float(np.linalg.norm(np.diff(self.points, axis=0), axis=1).sum())
 
 
-def unit_normals(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
-    tri = vertices[faces]
-    n = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
-    return n / np.linalg.norm(n, axis=1, keepdims=True)
-
-
 def non_extension_directions(rest: np.ndarray, deformed: np.ndarray, faces: np.ndarray,
                              margin: float = MARGIN) -> NonExtension:
     """The rest directions of every triangle whose length `deformed` keeps (`measure.strain`'s F)."""
@@ -97,7 +93,7 @@ def non_extension_directions(rest: np.ndarray, deformed: np.ndarray, faces: np.n
         angle = np.full(len(faces), np.nan)
         angle[present] = np.arctan(np.sqrt((l1[present] ** 2 - 1.0) / (1.0 - l2[present] ** 2)))
     e1 = strain.direction
-    e2 = np.cross(unit_normals(rest, faces), e1)
+    e2 = np.cross(face_normals(rest, faces), e1)
     c, s = np.cos(angle)[:, None], np.sin(angle)[:, None]
     return NonExtension(np.stack([c * e1 + s * e2, c * e1 - s * e2], axis=1), angle)
 
@@ -107,7 +103,7 @@ class _Field:
 
     def __init__(self, vertices: np.ndarray, faces: np.ndarray, field: NonExtension) -> None:
         self.centroids = vertices[faces].mean(axis=1)
-        self.normals = unit_normals(vertices, faces)
+        self.normals = face_normals(vertices, faces)
         self.tree = cKDTree(self.centroids)
         self.reach = np.linalg.norm(vertices[faces] - self.centroids[:, None], axis=2).max(axis=1)
         self.field = field
@@ -228,7 +224,7 @@ def streamlines(vertices: np.ndarray, faces: np.ndarray, field: NonExtension, sp
 
 def non_extension_lines(body: Body, posed: np.ndarray) -> list[Line]:
     """The lines of non-extension on `body`'s rest fine skin for one posed skin (V, 3) of the body."""
-    fine = body.fine_skin
+    fine = body_fine_skin(body)
     field = non_extension_directions(fine.vertices, fine.carry(posed), fine.faces)
     return streamlines(fine.vertices, fine.faces, field)
 

@@ -34,6 +34,7 @@ from hitogata.measure.strain import skin_strain
 from hitogata.measure.zones import body_zones
 from hitogata.motion.clip import MotionClip
 from hitogata.pose import poser_for
+from hitogata.geometry.normals import triangle_normals
 
 BAND_BELOW_AXILLA = 0.08  # m
 WAIST_BAND = 0.04  # m each side of the waist level
@@ -65,8 +66,12 @@ class ZoneStretch:
 
 
 def garment_zones(body: Body) -> tuple[dict[str, np.ndarray], np.ndarray]:
-    """Face indices of each garment zone and the faces' lengthwise directions at rest (F, 3)
-    (`Body.garment_zones` keeps them with the body)."""
+    """Face indices of each garment zone and the faces' lengthwise directions at rest (F, 3), found
+    once per body and kept with it."""
+    return body.prepared(_find_garment_zones)
+
+
+def _find_garment_zones(body: Body) -> tuple[dict[str, np.ndarray], np.ndarray]:
     return _zones(body), _lengthwise(body)
 
 
@@ -74,7 +79,7 @@ def _zones(body: Body) -> dict[str, np.ndarray]:
     v, faces, rig = body.vertices, body.faces, body.rig
     centroid = v[faces].mean(axis=1)
     tri = v[faces]
-    normal = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
+    normal = triangle_normals(tri)
     normal /= np.linalg.norm(normal, axis=1, keepdims=True)
 
     def follows(bones: tuple[str, ...]) -> np.ndarray:
@@ -121,7 +126,7 @@ def _lengthwise(body: Body) -> np.ndarray:
     root = sk.parents < 0
     direction = np.where(root[part][:, None], np.array([0.0, 1.0, 0.0]), axis[part])
     tri = body.vertices[faces]
-    normal = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
+    normal = triangle_normals(tri)
     normal /= np.linalg.norm(normal, axis=1, keepdims=True)
     along = direction - np.einsum("ij,ij->i", direction, normal)[:, None] * normal
     return along / np.linalg.norm(along, axis=1, keepdims=True)
@@ -147,9 +152,9 @@ def zone_stretch(body: Body, name: str, clip: MotionClip, surface: Surface | Non
                  rate: float = 5.0) -> ZoneStretch:
     """The stretch each garment zone needs through one motion (sampled at `rate` frames per second)."""
     surface = surface or skinned_surface(body)
-    zones, along = body.garment_zones
+    zones, along = garment_zones(body)
     tri = body.vertices[body.faces]
-    normal = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
+    normal = triangle_normals(tri)
     area = 0.5 * np.linalg.norm(normal, axis=1)
     across = np.cross(normal / (2 * area[:, None]), along)
     frames = sampled_frames(clip, rate)

@@ -48,7 +48,8 @@ from dataclasses import dataclass, fields
 import numpy as np
 import scipy.sparse as sp
 
-from hitogata.volume.surface import barycentric_on_triangles, closest_points_on_triangles
+from hitogata.geometry.mesh_checks import winding_number
+from hitogata.geometry.closest import barycentric_on_triangles, closest_points_on_triangles
 
 # m: deepest penetration looked for; deeper, the closest surface is often the wrong one (a calf 6 cm
 # into the thigh at a 135° knee is closer to the thigh's side than to its back)
@@ -182,9 +183,7 @@ class SelfContact:
         above `COVERED`): inside another part, not tucked into a gap between two sheets of skin."""
         if not len(vertices):
             return np.zeros(0, dtype=bool)
-        import igl
-
-        return np.abs(igl.fast_winding_number(x, self.faces, x[vertices])) > COVERED
+        return np.abs(winding_number(x, self.faces, x[vertices], fast=True)) > COVERED
 
 
 def _point_triangle_distance(points: np.ndarray, tri: np.ndarray) -> np.ndarray:

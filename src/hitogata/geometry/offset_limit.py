@@ -40,7 +40,8 @@ from collections.abc import Callable
 import numpy as np
 from scipy.sparse.csgraph import dijkstra
 
-from hitogata.geometry.integrity import MOVED, _crossing_pairs, _folded, _intersect, _neighbour_pairs, _pair_keys, box_pairs
+from hitogata.geometry.broad_phase import box_pairs
+from hitogata.geometry.integrity import MOVED, _crossing_pairs, _folded, _intersect, _neighbour_pairs, _pair_keys
 from hitogata.geometry.mesh_checks import _apart, _faces, edge_graph, self_intersections
 
 ROUNDING = 1e-6  # m: boxes widened by this cover a float32 surface's rounding

@@ -51,12 +51,12 @@ import scipy.sparse.linalg as spla
 from scipy.sparse.csgraph import dijkstra
 
 from hitogata.geometry.mesh_checks import edge_graph, self_intersections
-from hitogata.geometry.normals import vertex_areas, vertex_normals
+from hitogata.geometry.normals import triangle_normals, vertex_areas, vertex_normals
 from hitogata.measure.fine_skin import FineSkinning
-from hitogata.measure.strain import skin_strain
+from hitogata.geometry.strain import principal_stretches
 from hitogata.options import Skinning
 from hitogata.skeleton.kinematics import Pose
-from hitogata.volume.surface import barycentric_on_triangles, closest_points_on_triangles
+from hitogata.geometry.closest import barycentric_on_triangles, closest_points_on_triangles
 
 DONE = 1.95  # fine skin stretched beyond this (or its area) slides; the sliding ends when none is
 LIMIT = 1.6  # principal stretch and area ratio an overstretched triangle is drawn back to
@@ -126,8 +126,10 @@ class _Carried:
     interpolation: sp.csr_matrix
 
 
-def _over(strain, limit: float) -> np.ndarray:
-    return (strain.stretch_max > limit) | (strain.area_ratio > limit)
+def _over(rest: np.ndarray, deformed: np.ndarray, faces: np.ndarray, limit: float) -> np.ndarray:
+    """(F,) bool: the triangles stretched, or grown in area, beyond `limit`."""
+    stretch_max, _, area_ratio, _, _ = principal_stretches(rest, deformed, faces)
+    return (stretch_max > limit) | (area_ratio > limit)
 
 
 def _gradient_operator(rest: np.ndarray, faces: np.ndarray) -> tuple[sp.csr_matrix, np.ndarray]:
@@ -201,7 +203,7 @@ def slide_skin(rest: np.ndarray, coarse: np.ndarray, faces: np.ndarray, fine_res
     (principal stretch and area ratio); unchanged where none is beyond (crossings: `_slide`)."""
     coarse = np.asarray(coarse, dtype=float)
     carried = _Carried(fine_base + interpolation @ coarse, fine_rest, fine_faces, interpolation)
-    over = _over(skin_strain(fine_rest, carried.vertices, fine_faces), DONE)
+    over = _over(fine_rest, carried.vertices, fine_faces, DONE)
     seeds = np.unique(np.asarray(interpolation[np.unique(fine_faces[over])].indices))
     return _slide(rest, coarse, faces, seeds, carried, COARSE)
 
@@ -211,7 +213,7 @@ def slide_fine_skin(rest: np.ndarray, fine: np.ndarray, faces: np.ndarray) -> Sl
     none of its triangles is stretched beyond `DONE`: the stretch the coarse skin's slide left where its
     own triangles may turn no further (the armpit's hollow overhead) spread over the fine triangles."""
     fine = np.asarray(fine, dtype=float)
-    over = _over(skin_strain(rest, fine, faces), DONE)
+    over = _over(rest, fine, faces, DONE)
     return _slide(rest, fine, faces, np.unique(faces[over]), None, FINE)
 
 
@@ -342,8 +344,8 @@ def _relax(rest: np.ndarray, start: np.ndarray, faces: np.ndarray, free: np.ndar
     # no triangle compressed below FLOOR by the sliding, nor more than it is (a crease's skin stays as short)
     floor = np.minimum(_svd(first)[1][:, 1], FLOOR)
     up = np.cross(first[:, :, 0], first[:, :, 1])  # each triangle's outward side as it lay
-    sheet = _normals(start, moving)  # as they lay (length: twice the area)
-    smallest = level.shrink * np.minimum(np.linalg.norm(sheet, axis=1), np.linalg.norm(_normals(rest, moving), axis=1))
+    sheet = triangle_normals(start[moving])  # as they lay (length: twice the area)
+    smallest = level.shrink * np.minimum(np.linalg.norm(sheet, axis=1), np.linalg.norm(triangle_normals(rest[moving]), axis=1))
     surface = _Surface(start, faces)
     on = surface.start(idx)
     facing = (lambda *_: sheet) if carried is not None else _surface_facing(surface, moving, idx)
@@ -399,11 +401,6 @@ def _surface_facing(surface: _Surface, moving: np.ndarray, idx: np.ndarray
     return facing
 
 
-def _normals(x: np.ndarray, faces: np.ndarray) -> np.ndarray:
-    tri = x[faces]
-    return np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
-
-
 def _unfolded(x: np.ndarray, idx: np.ndarray, trial: np.ndarray, on: np.ndarray, trial_on: np.ndarray,
               faces: np.ndarray, facing: Callable[[np.ndarray, np.ndarray], np.ndarray], smallest: np.ndarray,
               tilt: float
@@ -417,7 +414,7 @@ def _unfolded(x: np.ndarray, idx: np.ndarray, trial: np.ndarray, on: np.ndarray,
     for _ in range(HOLD_ROUNDS):
         y = x.copy()
         y[idx] = out
-        normals = _normals(y, faces)
+        normals = triangle_normals(y[faces])
         area = np.linalg.norm(normals, axis=1)
         sheet = facing(out, out_on)
         bad = (np.einsum("fi,fi->f", normals, sheet) < tilt * area * np.linalg.norm(sheet, axis=1)) \

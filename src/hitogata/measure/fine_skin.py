@@ -20,8 +20,10 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 
+from hitogata.body import Body
 from hitogata.measure.topology import topology
 from hitogata.options import Skinning
+from hitogata.pose import poser_for
 from hitogata.skeleton.kinematics import Pose
 from hitogata.skinning import Skin, prepare_skin, skin_vertices
 
@@ -108,6 +110,24 @@ class FineSkinning:
 
 def fine_skinning(fine: FineSkin, coarse: Skin) -> FineSkinning:
     """The fine skin prepared for skinning with the part weights of `coarse` (a `Poser.skin`)
-    interpolated (`Body.fine_skinning` keeps the body's own)."""
+    interpolated (`body_fine_skinning` is the body's own)."""
     weights = sp.csr_matrix(fine.interpolation @ coarse.weights)
     return FineSkinning(fine, prepare_skin(fine.vertices, weights, coarse.parents), coarse)
+
+
+def body_fine_skin(body: Body) -> FineSkin:
+    """The body's skin subdivided `LEVELS` times, found once per body and kept with it."""
+    return body.prepared(_subdivide_body)
+
+
+def body_fine_skinning(body: Body) -> FineSkinning:
+    """The body's fine skin prepared for skinning with its poser's part weights, once per body."""
+    return body.prepared(_fine_skinning_of_body)
+
+
+def _subdivide_body(body: Body) -> FineSkin:
+    return subdivide(body.vertices, body.faces)
+
+
+def _fine_skinning_of_body(body: Body) -> FineSkinning:
+    return fine_skinning(body_fine_skin(body), poser_for(body).skin)

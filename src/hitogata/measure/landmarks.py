@@ -64,6 +64,7 @@ from hitogata.measure.sections import section, tape_girth
 from hitogata.measure.surface_points import FaceSearch, SurfacePoint
 from hitogata.measure.topology import Topology, topology
 from hitogata.shape import ShapeParameters
+from hitogata.geometry.rotations import shortest_arc
 
 MIDLINE_TOLERANCE = 1e-3  # m: vertices this close to x = 0 lie on the body's midline
 ACROMION_TILT = 0.35  # lateral run per unit rise of the ray from the shoulder joint (≈ 19°)
@@ -132,8 +133,12 @@ LANDMARK_NAMES = tuple(f.name for f in fields(Landmarks) if f.type in ("int", "S
 
 
 def body_landmarks(body: Body) -> Landmarks:
-    """The landmarks of a body (`Body.landmarks`, found once per body: `landmarks_for`)."""
-    return body.landmarks
+    """The landmarks of a body, found once on its rest surface (`landmarks_for`) and kept with it."""
+    return body.prepared(_find_landmarks)
+
+
+def _find_landmarks(body: Body) -> Landmarks:
+    return landmarks_for(body.vertices, body.faces, JointSet(body.rig.names, body.rig.heads))
 
 
 def landmarks_for(vertices: np.ndarray, faces: np.ndarray, joints: JointSet) -> Landmarks:
@@ -318,16 +323,9 @@ def girdle_point(marks: Landmarks, rest: JointSet, posed: JointSet, side: str) -
     offset = np.asarray(marks.acromion_offsets[0 if side == "R" else 1])
     thorax = trunk_frame(posed, "thorax") @ trunk_frame(rest, "thorax").T
     a, b = thorax @ unit(rest[outer] - rest[inner]), unit(posed[outer] - posed[inner])
-    return posed[outer] + _least_rotation(a, b) @ thorax @ offset
-
-
-def _least_rotation(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """The rotation (3, 3) by the least angle taking unit vector a to unit vector b."""
-    v, c = np.cross(a, b), float(a @ b)
-    if c < -1.0 + 1e-12:
+    if float(a @ b) < -1.0 + 1e-12:
         raise HitogataError("shoulder girdle turned by 180°: the posture is broken")
-    k = np.array([[0.0, -v[2], v[1]], [v[2], 0.0, -v[0]], [-v[1], v[0], 0.0]])
-    return np.eye(3) + k + k @ k / (1.0 + c)
+    return posed[outer] + shortest_arc(a, b) @ thorax @ offset
 
 
 def _thigh_level(v: np.ndarray, crotch: int, joints: JointSet) -> float:

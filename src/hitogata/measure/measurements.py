@@ -101,8 +101,8 @@ TAPE_SKIN: dict[str, tuple[str, tuple[str, ...]]] = {
 }
 
 def tape_skin(body: Body) -> dict[str, np.ndarray]:
-    """Per girth, the (V,) mask of skin its tape may rest on (TAPE_SKIN), found once per body (`Body.tape_skin`)."""
-    return body.tape_skin
+    """Per girth, the (V,) mask of skin its tape may rest on (TAPE_SKIN), found once per body and kept with it."""
+    return body.prepared(find_tape_skin)
 
 
 def find_tape_skin(body: Body) -> dict[str, np.ndarray]:

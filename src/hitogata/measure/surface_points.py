@@ -17,7 +17,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from hitogata.volume.surface import barycentric_on_triangles, closest_points_on_triangles
+from hitogata.geometry.closest import barycentric_on_triangles, closest_points_on_triangles
 
 # Barycentric weights are kept at least this far inside a face when the point becomes a
 # vertex, so no new triangle is degenerate (moves the point by at most 1e-6 of an edge).

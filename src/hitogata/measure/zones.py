@@ -20,6 +20,7 @@ from hitogata.body import Body
 from hitogata.errors import HitogataError
 from hitogata.measure.strain import SkinStrain
 from hitogata.geometry.normals import vertex_normals
+from hitogata.measure.fine_skin import body_fine_skin
 
 MAIN_WEIGHT = 0.5  # a vertex follows a bone group when its summed weight on it is at least this
 
@@ -66,8 +67,8 @@ class ZoneStrain:
 
 
 def body_zones(body: Body) -> dict[str, np.ndarray]:
-    """Face indices of each zone on this body, found once on its rest shape (`Body.zones`)."""
-    return body.zones
+    """Face indices of each zone on this body, found once on its rest shape and kept with it."""
+    return body.prepared(find_zones)
 
 
 def find_zones(body: Body) -> dict[str, np.ndarray]:
@@ -105,7 +106,7 @@ def zone_strain(strain: SkinStrain, faces: np.ndarray) -> ZoneStrain:
 
 def fine_zones(body: Body) -> dict[str, np.ndarray]:
     """Face indices of each zone on the body's fine skin."""
-    parent = body.fine_skin.parent
+    parent = body_fine_skin(body).parent
     return {name: np.flatnonzero(np.isin(parent, faces)) for name, faces in body_zones(body).items()}
 
 
@@ -114,9 +115,9 @@ def zone_strains(body: Body, strain: SkinStrain) -> dict[str, ZoneStrain]:
     n = len(strain.rest_area)
     if n == len(body.faces):
         zones = body_zones(body)
-    elif n == len(body.fine_skin.faces):
+    elif n == len(body_fine_skin(body).faces):
         zones = fine_zones(body)
     else:
-        allowed = f"{len(body.faces)} (the skin) or {len(body.fine_skin.faces)} (the fine skin)"
+        allowed = f"{len(body.faces)} (the skin) or {len(body_fine_skin(body).faces)} (the fine skin)"
         raise HitogataError(f"strain of {n} faces: allowed {allowed}")
     return {name: zone_strain(strain, faces) for name, faces in zones.items()}

@@ -6,7 +6,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from hitogata.dynamics.scenario import Scenario
+from hitogata.motion.scenario import Scenario
 from hitogata.errors import HitogataError
 from hitogata.pose import Poser
 

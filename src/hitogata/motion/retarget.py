@@ -40,7 +40,8 @@ from hitogata.errors import HitogataError
 from hitogata.motion.bvh import Bvh, BvhJoint
 from hitogata.motion.clip import MotionClip
 from hitogata.motion.joint_map import JointMap, bare
-from hitogata.skeleton.kinematics import Kinematics, axis_rotations
+from hitogata.skeleton.kinematics import Kinematics
+from hitogata.geometry.rotations import axis_rotations, shortest_arc
 from hitogata.skeleton.placement import Skeleton
 
 UNITS = {"m": 1.0, "cm": 0.01, "mm": 0.001, "in": 0.0254}
@@ -236,16 +237,7 @@ def _align(ours: np.ndarray, theirs: np.ndarray) -> np.ndarray:
     b = theirs / np.linalg.norm(theirs, axis=1, keepdims=True)
     if len(a) == 1 or np.linalg.matrix_rank(a, tol=1e-6) < 2:
         u, v = a.mean(axis=0), b.mean(axis=0)
-        u, v = u / np.linalg.norm(u), v / np.linalg.norm(v)
-        axis, cos = np.cross(u, v), float(u @ v)
-        sin = np.linalg.norm(axis)
-        if sin < 1e-12:
-            if cos > 0:
-                return np.eye(3)
-            other = np.eye(3)[np.argmin(np.abs(u))]
-            axis = np.cross(u, other)
-            return Rotation.from_rotvec(np.pi * axis / np.linalg.norm(axis)).as_matrix()
-        return Rotation.from_rotvec(axis / sin * np.arctan2(sin, cos)).as_matrix()
+        return shortest_arc(u / np.linalg.norm(u), v / np.linalg.norm(v))
     h = a.T @ b
     u, _, vt = np.linalg.svd(h)
     d = np.sign(np.linalg.det(vt.T @ u.T))

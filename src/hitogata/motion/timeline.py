@@ -15,7 +15,7 @@ from pathlib import Path
 
 import numpy as np
 
-from hitogata.dynamics.scenario import BodySpec
+from hitogata.motion.scenario import BodySpec, make_body
 from hitogata.dynamics.timeline import MAX_RATE, Keyframe, RootTrack
 from hitogata.errors import HitogataError, excerpt
 from hitogata.motion.bvh import read_bvh
@@ -31,7 +31,6 @@ STILL = math.radians(0.01)  # a DOF that never moves more than this from rest is
 
 def body_skeleton(spec: BodySpec) -> Skeleton:
     """The shipped skeleton placed on the scenario's body."""
-    from hitogata.dynamics.run import make_body  # run → scenario → this module: import when called
 
     return place_skeleton(load_skeleton_spec(), make_body(spec).rig)
 

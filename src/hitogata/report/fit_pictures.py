@@ -29,6 +29,7 @@ from hitogata.garment.pressure_map import pressure_map
 from hitogata.garment.stretch import GARMENT_ZONES, MAP_RANGE
 from hitogata.geometry.mesh_checks import boundary_edges
 from hitogata.measure.strain import skin_strain
+from hitogata.garment.stretch import garment_zones
 
 if TYPE_CHECKING:
     from hitogata.render import Renderer
@@ -83,7 +84,7 @@ class FitPictures:
                              scalar_title="largest principal strain (%)")]
         lifted = vertices + OUTLINE_LIFT * vertex_normals(vertices, body.faces)
         colours = zone_colours()
-        for zone, faces in body.garment_zones[0].items():
+        for zone, faces in garment_zones(body)[0].items():
             edges = boundary_edges(body.faces[faces])
             if len(edges):
                 items.append(Lines(lifted[edges], color=colours[zone], width=OUTLINE_PIXELS))

@@ -31,6 +31,7 @@ from hitogata.measure.strain import skin_strain
 from hitogata.measure.zones import ZoneStrain, zone_strains
 from hitogata.report.heatmap import strain_heatmap
 from hitogata.report.surface import render_png
+from hitogata.measure.fine_skin import body_fine_skin
 
 LABELS = {
     "stature": "stature",
@@ -123,7 +124,7 @@ def measure_report(
     rest = None
     if posed:
         rest = measure(body)
-        fine = body.fine_skin
+        fine = body_fine_skin(body)
         surface = (v, body.faces) if fine_vertices is None else (fine_vertices, fine.faces)
         strain = skin_strain(body.vertices if fine_vertices is None else fine.vertices, *surface)
         zones = zone_strains(body, strain)

@@ -24,6 +24,7 @@ import numpy as np
 from PIL import Image, ImageDraw, ImageFont
 
 from hitogata.report.raster import Raster, rasterise
+from hitogata.geometry.normals import triangle_normals
 
 if TYPE_CHECKING:
     from matplotlib.colors import Colormap, Normalize
@@ -76,7 +77,7 @@ def view_faces(vertices: np.ndarray, faces: np.ndarray, view: str, colouring: Co
     right, looking = VIEWS[view]
     up = np.array([0.0, 1.0, 0.0])
     tri = vertices[faces]
-    normals = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
+    normals = triangle_normals(tri)
     normals /= np.maximum(np.linalg.norm(normals, axis=1, keepdims=True), 1e-300)
     facing = -(normals @ looking)
     kept = np.flatnonzero(facing > 0.0)

@@ -18,6 +18,7 @@ import numpy as np
 from hitogata.errors import HitogataError
 from hitogata.options import LIMIT_MODES, Limits
 from hitogata.skeleton.placement import Skeleton
+from hitogata.geometry.rotations import axis_rotations
 
 # Limits are shown to 0.1°: an angle within half that digit of a limit is on it (a value read
 # back from a message, a file or another unit is accepted, not refused as outside itself).
@@ -56,16 +57,6 @@ class Pose:
     def frames(self) -> np.ndarray:
         """(P, N, 3, 3) posed part orientations (columns: the part's x, y, z)."""
         return self.rotations @ self.skeleton.frames
-
-
-def axis_rotations(axes: np.ndarray, angles: np.ndarray) -> np.ndarray:
-    """Rodrigues: rotations (..., K, 3, 3) about unit axes (K, 3) by angles (..., K)."""
-    c, s = np.cos(angles)[..., None, None], np.sin(angles)[..., None, None]
-    k = np.zeros((len(axes), 3, 3))
-    k[:, 0, 1], k[:, 0, 2], k[:, 1, 2] = -axes[:, 2], axes[:, 1], -axes[:, 0]
-    k -= k.transpose(0, 2, 1)
-    outer = axes[:, :, None] * axes[:, None, :]
-    return c * np.eye(3) + s * k + (1.0 - c) * outer
 
 
 class Kinematics:

@@ -30,7 +30,8 @@ import math
 import numpy as np
 
 from hitogata.errors import HitogataError
-from hitogata.skeleton.kinematics import Kinematics, axis_rotations
+from hitogata.skeleton.kinematics import Kinematics
+from hitogata.geometry.rotations import axis_rotations
 from hitogata.skeleton.placement import Skeleton
 
 SIDES = ("l", "r")

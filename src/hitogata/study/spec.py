@@ -17,7 +17,7 @@ from typing import Any, Literal
 
 from hitogata import units
 from hitogata.body import STATURE_RANGE, WHOLE_BODY_DENSITY, check_density
-from hitogata.dynamics.scenario import load_scenario, shipped_scenarios
+from hitogata.motion.scenario import load_scenario, shipped_scenarios
 from hitogata.config import Entry, read_toml
 from hitogata.errors import HitogataError
 from hitogata.options import Skinning

@@ -164,7 +164,7 @@ def prepared(definition: BodyDef) -> Prepared:
 @lru_cache(maxsize=16)
 def scenario_of(motion: MotionDef):
     """The motion's scenario, parsed from its text (already checked where the study was read)."""
-    from hitogata.dynamics.scenario import parse_scenario
+    from hitogata.motion.scenario import parse_scenario
 
     return parse_scenario(tomllib.loads(motion.text), motion.name)
 
@@ -198,7 +198,7 @@ def postures(prep: Prepared, scenario, times: np.ndarray, model: ModelSettings) 
 def _elastic_postures(prep: Prepared, scenario, times: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """The elastic body simulated at the scenario's rate (its own [model]), taken at the nearest frames."""
     from hitogata.dynamics.motion import simulate
-    from hitogata.dynamics.run import build_dynamics
+    from hitogata.simulation.run import build_dynamics
     from hitogata.rig import posed_rig_heads
 
     dynamics = build_dynamics(prep.body, scenario)

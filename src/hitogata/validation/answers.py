@@ -34,10 +34,11 @@ import numpy as np
 from hitogata.body import Body, default_measurements
 from hitogata.elastic.materials import Materials, load_materials
 from hitogata.errors import HitogataError
-from hitogata.geometry.normals import vertex_normals
+from hitogata.geometry.normals import triangle_normals, vertex_normals
 from hitogata.measure.zones import BackZone, JointZone
 from hitogata.names import resolve_dofs
 from hitogata.validation.dataset import RESONANT, Dataset, Row, Source, Subjects
+from hitogata.pose import poser_for
 
 SURFACES = ("skinned", "elastic")
 MODEL_ELEMENT_SIZE = 40.0  # mm: the whole body's lattice, as a held posture's (`dynamics.single_pose`)
@@ -205,7 +206,7 @@ def _one(row: Row, body: Body, surface: str, cache: BodyCache) -> Answer:
 
 def _posture(row: Row, body: Body, surface: str, cache: BodyCache) -> tuple[np.ndarray, np.ndarray]:
     """(skin, rig joints) of the body in the row's posture on a surface; each posture solved once."""
-    poser = body.poser
+    poser = poser_for(body)
     from hitogata.skeleton.shoulder import channel_names
 
     known = poser.skeleton.dof_names + channel_names(poser.skeleton)
@@ -263,7 +264,7 @@ def _zone_directions(body: Body, faces: np.ndarray, zone, direction: str) -> tup
     """Per face, the rest direction of a line drawn along the limb or trunk ('vertical') or round it
     ('horizontal'), and the face's rest area."""
     tri = body.vertices[faces]
-    normal = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
+    normal = triangle_normals(tri)
     area = 0.5 * np.linalg.norm(normal, axis=1)
     normal /= np.maximum(2.0 * area, 1e-30)[:, None]
     axis = np.array([0.0, 1.0, 0.0])
@@ -335,7 +336,7 @@ def reachable(dataset: Dataset, body: Body) -> None:
     """A one-line error for the first posture the skeleton cannot take (names, ranges), before any work."""
     from hitogata.skeleton.shoulder import channel_names
 
-    poser = body.poser
+    poser = poser_for(body)
     known = poser.skeleton.dof_names + channel_names(poser.skeleton)
     for row in dataset.rows:
         if not row.posture:

@@ -29,6 +29,8 @@ from hitogata.garment.pressure import MMHG, Garment
 from hitogata.garment.pressure_map import pressure_map
 from hitogata.garment.stretch import MAP_RANGE
 from hitogata.measure import skin_strain
+from hitogata.garment.stretch import garment_zones
+from hitogata.geometry.normals import triangle_areas
 
 LIMIT_PERCENT = 30.0
 COLOUR_MAP = "RdBu_r"
@@ -56,7 +58,7 @@ class StrainColouring:
     def __init__(self, rest: np.ndarray, faces: np.ndarray) -> None:
         self.rest, self.faces = rest, faces
         tri = rest[faces]
-        area = 0.5 * np.linalg.norm(np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]), axis=1)
+        area = triangle_areas(tri)
         rows = faces.ravel()
         cols = np.repeat(np.arange(len(faces)), 3)
         incidence = sp.csr_matrix((np.repeat(area, 3), (rows, cols)), shape=(len(rest), len(faces)))
@@ -92,7 +94,7 @@ class SkinColours:
         """(V,) the vertices of the garment zones' faces."""
         if self._in_zones is None:
             mask = np.zeros(len(self.body.vertices), bool)
-            for faces in self.body.garment_zones[0].values():
+            for faces in garment_zones(self.body)[0].values():
                 mask[self.body.faces[faces].ravel()] = True
             self._in_zones = mask
         return self._in_zones

@@ -8,7 +8,7 @@ by kind of path (`load_sequence`):
   optionally `angles` (T, D) rad (the 65-part skeleton, rest-relative) and
   `joints` (T, B, 3) m (the rig's joint centres, as `hitogata.measure` takes them);
 - a results folder of `hitogata simulate`, holding such a file as
-  `<scenario>_sequence.npz` (`dynamics.files.write_sequence`);
+  `<scenario>_sequence.npz` (`export.motion_files.write_sequence`);
 - a `.toml` file of pose keyframes (muscle contractions or clinical angles
   at times), posed kinematically by the body's Poser at `FRAME_RATE`;
 - a dynamics scenario `.toml` (docs/scenarios.md), simulated on the viewer's
@@ -26,10 +26,10 @@ from pathlib import Path
 
 import numpy as np
 
-from hitogata.dynamics.files import find_sequence
+from hitogata.export.motion_files import find_sequence
 from hitogata.dynamics.motion import simulate
-from hitogata.dynamics.run import build_dynamics
-from hitogata.dynamics.scenario import load_scenario
+from hitogata.simulation.run import build_dynamics
+from hitogata.motion.scenario import load_scenario
 from hitogata.errors import HitogataError
 from hitogata.export.npz_read import read_npz
 from hitogata.pose import Poser

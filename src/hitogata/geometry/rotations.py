@@ -1,4 +1,6 @@
-"""Small rotation kernels, batched: quaternions to matrices, products, and rotation extraction.
+"""Rotations, batched, the one place for them: about an axis (Rodrigues), the shortest arc between two
+directions, quaternions to matrices and back, and rotation extraction. Where scipy does it
+(`scipy.spatial.transform.Rotation`: rotation vectors, Euler angles, slerp) its callers use it directly.
 
 `extract_rotations` finds the rotation R maximising tr(Rᵀ F) for many 3x3
 matrices F at once by the iteration of Müller et al. 2016 ("A robust
@@ -19,6 +21,35 @@ from __future__ import annotations
 import numpy as np
 
 STEPS = 4  # extraction steps per call (warm-started)
+
+
+def axis_rotations(axes: np.ndarray, angles: np.ndarray) -> np.ndarray:
+    """Rodrigues: rotations (..., K, 3, 3) about unit axes (K, 3) by angles (..., K)."""
+    c, s = np.cos(angles)[..., None, None], np.sin(angles)[..., None, None]
+    k = np.zeros((len(axes), 3, 3))
+    k[:, 0, 1], k[:, 0, 2], k[:, 1, 2] = -axes[:, 2], axes[:, 1], -axes[:, 0]
+    k -= k.transpose(0, 2, 1)
+    outer = axes[:, :, None] * axes[:, None, :]
+    return c * np.eye(3) + s * k + (1.0 - c) * outer
+
+
+def shortest_arc(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """The rotation (3, 3) by the least angle taking unit vector `a` (3,) to unit vector `b`; for opposite
+    vectors, a half turn about an axis perpendicular to `a`."""
+    v, c = np.cross(a, b), float(a @ b)
+    if c < -1.0 + 1e-12:
+        perpendicular = np.cross(a, np.eye(3)[np.argmin(np.abs(a))])
+        return axis_rotations(perpendicular[None] / np.linalg.norm(perpendicular), np.array([np.pi]))[0]
+    k = np.array([[0.0, -v[2], v[1]], [v[2], 0.0, -v[0]], [-v[1], v[0], 0.0]])
+    return np.eye(3) + k + k @ k / (1.0 + c)
+
+
+def matrix_to_quaternion(r: np.ndarray) -> np.ndarray:
+    """Unit quaternions (..., 4) as (w, x, y, z) of rotation matrices (..., 3, 3) (scipy's, scalar first)."""
+    from scipy.spatial.transform import Rotation
+
+    q = Rotation.from_matrix(np.asarray(r, dtype=np.float64).reshape(-1, 3, 3)).as_quat()
+    return np.roll(q, 1, axis=1).reshape(*np.shape(r)[:-2], 4)
 
 
 def quaternion_matrices(q: np.ndarray) -> np.ndarray:

@@ -5,7 +5,7 @@
   linear in between), so three.js and Blender play it as a shape-key
   animation; checked by the Khronos validator in the tests.
 - VTU + PVD: the FE mesh per frame (quadratic tets as VTK's tetra10) with
-  displacement, elastic displacement and the tissue (`elastic.tissue_data`:
+  displacement, elastic displacement and the tissue (`export.tissue_data`:
   per-sample labels, fractions, materials), a time series for ParaView.
 - PNG: front and side views of the region boundary surfaces, translucent,
   with the skeleton inside (the paper's Fig. 3(b)), at chosen times.
@@ -34,7 +34,7 @@ from hitogata.export.npz_read import read_npz
 from hitogata.export.body_files import DETAIL_KEY, body_from_extras, detail_extras, shape_extras
 from hitogata.export.gltf import GlbBuilder, add_material, named_node
 from hitogata.geometry.normals import vertex_normals
-from hitogata.elastic.tissue_data import tissue_cell_data, tissue_field_data
+from hitogata.export.tissue_data import tissue_cell_data, tissue_field_data
 from hitogata.export.vtu import write_vtu
 from hitogata.geometry.shells import region_boundary, smoothing_operator, taubin_smooth
 
@@ -130,7 +130,7 @@ def _add_morphing_mesh(builder: GlbBuilder, name: str, faces: np.ndarray, rest: 
 
 def write_pvd(folder: str | os.PathLike, motion: Motion, name: str = "motion") -> Path:
     """`name.pvd` and `name/frame_NNNN.vtu` in folder: the FE body at every frame, with its tissue
-    (`elastic.tissue_data`)."""
+    (`export.tissue_data`)."""
     folder = Path(folder)
     frames = folder / name
     frames.mkdir(parents=True, exist_ok=True)

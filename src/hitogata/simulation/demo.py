@@ -15,8 +15,8 @@ import time
 from pathlib import Path
 
 from hitogata.body import default_body
-from hitogata.dynamics.run import build_dynamics, run_scenario
-from hitogata.dynamics.scenario import OutputSpec, load_scenario, shipped_scenarios
+from hitogata.simulation.run import build_dynamics, run_scenario
+from hitogata.motion.scenario import OutputSpec, load_scenario, shipped_scenarios
 from hitogata.export.atomic import write_bytes_atomically
 
 EXPERIMENTS = (("a_rectus_stretch", "rectus_stretch"), ("b_trunk_flexion", "trunk_flexion_arms_raised"))

@@ -16,6 +16,7 @@ from pathlib import Path
 from typing import Any
 
 from hitogata import units
+from hitogata.body import Body, default_body
 from hitogata.config import Entry, read_toml
 from hitogata.dynamics.timeline import MAX_DURATION, MAX_RATE, MAX_SUBSTEPS, Keyframe, RootTrack, Timeline
 from hitogata.errors import HitogataError
@@ -293,3 +294,12 @@ def shipped_scenarios() -> dict[str, Path]:
     """The example scenarios shipped with the package, by name."""
     folder = resources.files("hitogata") / "data" / "scenarios"
     return {p.name.removesuffix(".toml"): Path(str(p)) for p in folder.iterdir() if p.name.endswith(".toml")}
+
+
+def make_body(spec: BodySpec) -> Body:
+    """The scenario's body: from stature and mass, or the shipped default of that sex."""
+    if spec.stature is None:
+        if spec.sex not in ("female", "male"):
+            raise HitogataError(f"body sex {spec.sex!r} without stature and mass: the default bodies are female, male")
+        return default_body(spec.sex)
+    return Body.from_measurements(sex=spec.sex, age=spec.age, stature=spec.stature, mass=spec.mass)

@@ -15,7 +15,7 @@ import dataclasses
 import numpy as np
 
 from hitogata.body import Body
-from hitogata.dynamics.scenario import KeyframeValue, Scenario
+from hitogata.motion.scenario import KeyframeValue, Scenario, make_body
 from hitogata.dynamics.timeline import Timeline
 from hitogata.errors import HitogataError
 from hitogata.names import resolve_dofs, resolve_muscles
@@ -26,8 +26,6 @@ KINDS = {"contractions": "contraction", "angles": "angle", "clinical": "clinical
 
 def scenario_body(scenario: Scenario) -> Body:
     """The scenario's body; a body outside the supported range blames the file's [body]."""
-    from hitogata.dynamics.run import make_body
-
     try:
         return make_body(scenario.body)
     except HitogataError as err:

@@ -10,13 +10,12 @@ from pathlib import Path
 
 import numpy as np
 
-from hitogata.body import Body, default_body
-from hitogata.dynamics import files
+from hitogata.body import Body
+from hitogata.export import motion_files as files
 from hitogata.dynamics.motion import BodyDynamics, Motion, simulate
 from hitogata.dynamics.motion_contact import MotionContact
 from hitogata.dynamics.quasistatic import corner_volumes
-from hitogata.dynamics.scenario import BodySpec, Scenario
-from hitogata.errors import HitogataError
+from hitogata.motion.scenario import Scenario, make_body
 from hitogata.export.atomic import write_bytes_atomically
 from hitogata.geometry.integrity import surface_integrity
 from hitogata.geometry.offset_limit import HELD
@@ -27,15 +26,6 @@ from hitogata.geometry.offset_limit import HELD
 # 0.4 m/s against its bone; a tear moves metres per second (240 mm in one 40 ms frame: 6 m/s).
 # See docs/scenarios.md.
 JUMP_SPEED = 1.0  # m/s
-
-
-def make_body(spec: BodySpec) -> Body:
-    """The scenario's body: from stature and mass, or the shipped default of that sex."""
-    if spec.stature is None:
-        if spec.sex not in ("female", "male"):
-            raise HitogataError(f"body sex {spec.sex!r} without stature and mass: the default bodies are female, male")
-        return default_body(spec.sex)
-    return Body.from_measurements(sex=spec.sex, age=spec.age, stature=spec.stature, mass=spec.mass)
 
 
 def build_dynamics(body: Body, scenario: Scenario) -> BodyDynamics:

@@ -20,7 +20,7 @@ from matplotlib.figure import Figure
 
 from hitogata.elastic.model import ElasticModel
 from hitogata.export.atomic import write_bytes_atomically
-from hitogata.elastic.tissue_data import tissue_cell_data, tissue_field_data
+from hitogata.export.tissue_data import tissue_cell_data, tissue_field_data
 from hitogata.export.vtu import write_vtu as write_mesh_vtu
 from hitogata.render import Layer, render_views
 

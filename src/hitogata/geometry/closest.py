@@ -1,0 +1,89 @@
+"""The closest point of a triangle surface: exact point–triangle closest points, the nearest of a
+point's candidate triangles (those whose centroids a k-d tree finds nearest: the true nearest on
+meshes of reasonably shaped triangles such as the body's) and barycentric weights on a triangle.
+
+The one place for these; the surface queries of the volume mesher (`volume.surface.SurfaceIndex`),
+the scan fit (`fit.closest`), the landmarks (`measure.surface_points`), the skin's contact and the
+tissue mapping (`elastic.mapping`) call them.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+import numpy as np
+from scipy.spatial import cKDTree
+
+# Pairs (query, triangle) evaluated at once: bounds the temporaries to ~100 MB.
+PAIRS_AT_ONCE = 1 << 20
+
+
+def closest_points_on_triangles(p: np.ndarray, a: np.ndarray, b: np.ndarray, c: np.ndarray) -> np.ndarray:
+    """Closest point of triangle (a[k], b[k], c[k]) to p[k], all (K, 3) (Ericson 2005, §5.1.5)."""
+    ab, ac = b - a, c - a
+    ap, bp, cp = p - a, p - b, p - c
+    d1, d2 = np.einsum("ij,ij->i", ab, ap), np.einsum("ij,ij->i", ac, ap)
+    d3, d4 = np.einsum("ij,ij->i", ab, bp), np.einsum("ij,ij->i", ac, bp)
+    d5, d6 = np.einsum("ij,ij->i", ab, cp), np.einsum("ij,ij->i", ac, cp)
+    va, vb, vc = d3 * d6 - d5 * d4, d5 * d2 - d1 * d6, d1 * d4 - d3 * d2
+    with np.errstate(divide="ignore", invalid="ignore"):
+        total = va + vb + vc
+        q = a + ab * (vb / total)[:, None] + ac * (vc / total)[:, None]
+        # Voronoi regions from the lowest to the highest precedence, so the first test in
+        # Ericson's order wins: edge BC, edge AC, vertex C, edge AB, vertex B, vertex A.
+        w_bc = (d4 - d3) / ((d4 - d3) + (d5 - d6))
+        on_bc = (va <= 0) & (d4 - d3 >= 0) & (d5 - d6 >= 0)
+        q = np.where(on_bc[:, None], b + (c - b) * w_bc[:, None], q)
+        on_ac = (vb <= 0) & (d2 >= 0) & (d6 <= 0)
+        q = np.where(on_ac[:, None], a + ac * (d2 / (d2 - d6))[:, None], q)
+        q = np.where(((d6 >= 0) & (d5 <= d6))[:, None], c, q)
+        on_ab = (vc <= 0) & (d1 >= 0) & (d3 <= 0)
+        q = np.where(on_ab[:, None], a + ab * (d1 / (d1 - d3))[:, None], q)
+        q = np.where(((d3 >= 0) & (d4 <= d3))[:, None], b, q)
+        q = np.where(((d1 <= 0) & (d2 <= 0))[:, None], a, q)
+    return q
+
+
+def nearest_on_triangles(tree: cKDTree, tri: np.ndarray, points: np.ndarray, k: int,
+                         admissible: Callable[[np.ndarray, np.ndarray], np.ndarray] | None = None
+                         ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """For each of `points` (P, 3): the distance (P,) to the nearest of the triangles `tri` (T, 3, 3) among the
+    k whose centroids (`tree`) are nearest, that triangle's index (P,) and the closest point on it (P, 3).
+    `admissible(point_rows, triangles)`, if given, says which candidate pairs may count (a point with none
+    gets distance inf).
+
+    >>> tri = np.array([[[0.0, 0, 0], [1, 0, 0], [0, 1, 0]], [[5.0, 0, 0], [6, 0, 0], [5, 1, 0]]])
+    >>> d, t, q = nearest_on_triangles(cKDTree(tri.mean(axis=1)), tri, np.array([[0.2, 0.2, 0.5]]), 2)
+    >>> float(d[0]), int(t[0]), np.round(q[0], 9).tolist()
+    (0.5, 0, [0.2, 0.2, 0.0])
+    """
+    points = np.asarray(points, dtype=np.float64).reshape(-1, 3)
+    k = min(k, len(tri))
+    dist, face, closest = np.empty(len(points)), np.empty(len(points), dtype=np.int64), np.empty_like(points)
+    step = max(1, PAIRS_AT_ONCE // k)
+    for s in range(0, len(points), step):
+        p = points[s:s + step]
+        _, near = tree.query(p, k=k)
+        near = near.reshape(len(p), k)
+        t = tri[near.ravel()]
+        q = closest_points_on_triangles(np.repeat(p, k, axis=0), t[:, 0], t[:, 1], t[:, 2]).reshape(len(p), k, 3)
+        d = np.linalg.norm(q - p[:, None, :], axis=2)
+        if admissible is not None:
+            d[~admissible(np.repeat(np.arange(s, s + len(p)), k), near.ravel()).reshape(d.shape)] = np.inf
+        best = d.argmin(axis=1)
+        rows = np.arange(len(p))
+        dist[s:s + step], face[s:s + step], closest[s:s + step] = d[rows, best], near[rows, best], q[rows, best]
+    return dist, face, closest
+
+
+def barycentric_on_triangles(points: np.ndarray, tri: np.ndarray) -> np.ndarray:
+    """(K, 3) barycentric weights of points lying on triangles (K, 3, 3), clipped to the triangle."""
+    a, b, c = tri[:, 0], tri[:, 1], tri[:, 2]
+    v0, v1, v2 = b - a, c - a, points - a
+    d00, d01, d11 = (v0 * v0).sum(1), (v0 * v1).sum(1), (v1 * v1).sum(1)
+    d20, d21 = (v2 * v0).sum(1), (v2 * v1).sum(1)
+    den = np.maximum(d00 * d11 - d01 * d01, 1e-300)
+    v = (d11 * d20 - d01 * d21) / den
+    w = (d00 * d21 - d01 * d20) / den
+    bary = np.clip(np.stack([1.0 - v - w, v, w], axis=1), 0.0, 1.0)
+    return bary / bary.sum(axis=1, keepdims=True)
