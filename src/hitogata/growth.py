@@ -124,14 +124,21 @@ def percentile_of(quantity: str, sex: float, age: float, value: float) -> float:
 def check_child(sex: float, age: float, stature: float, mass: float) -> None:
     """A one-line error if a child's stature (m) or mass (kg) lies outside the references'
     0.1–99.9 percentiles for the age and sex."""
+    check_within("stature", sex, age, stature)
+    check_within("mass", sex, age, mass)
+
+
+def check_within(quantity: str, sex: float, age: float, value: float) -> None:
+    """A one-line error if a child's stature (m) or mass (kg) lies outside the references'
+    0.1–99.9 percentiles for the age and sex."""
     low, high = OUTER_PERCENTILES
-    for quantity, value, unit, scale in (("stature", stature, "cm", 100.0), ("mass", mass, "kg", 1.0)):
-        lo, hi = (at_percentile(quantity, sex, age, p) for p in (low, high))
-        if not lo <= value <= hi:
-            raise HitogataError(
-                f"{quantity} {shown(value * scale)} {unit} at age {age:g}: allowed {lo * scale:.1f}–{hi * scale:.1f} "
-                f"{unit} for this sex and age, the growth references' percentiles {low:g}–{high:g}"
-            )
+    unit, scale = {"stature": ("cm", 100.0), "mass": ("kg", 1.0)}[quantity]
+    lo, hi = (at_percentile(quantity, sex, age, p) for p in (low, high))
+    if not lo <= value <= hi:
+        raise HitogataError(
+            f"{quantity} {shown(value * scale)} {unit} at age {age:g}: allowed {lo * scale:.1f}–{hi * scale:.1f} "
+            f"{unit} for this sex and age, the growth references' percentiles {low:g}–{high:g}"
+        )
 
 
 GIRTH_TABLE = ("growth", "nhanes_child_girths.csv")
