@@ -19,6 +19,17 @@ from hitogata.study.spec import load_study
 STUDIES = Path(__file__).parents[1] / "src" / "hitogata" / "data" / "studies"
 
 
+def test_bmi_for_age_gives_whos_figures_and_a_toddlers_bmi_is_on_length():
+    # WHO 2007 BMI-for-age, boys 72 months: M 15.3062, +2 SD 18.5 (the z-score table, to 0.1)
+    assert growth.median("bmi", 1.0, 6.0) == pytest.approx(15.3062, abs=1e-4)
+    assert growth.at_percentile("bmi", 1.0, 6.0, 100 * 0.977250) == pytest.approx(18.5, abs=0.05)
+    # WHO 2006 BMI-for-age, girls 24 months (the 2–5 years table, on height): M 15.6881
+    assert growth.median("bmi", 0.0, 2.0) == pytest.approx(15.6881, abs=1e-4)
+    # below 24 months WHO's BMI is on recumbent length: the standing stature plus 0.7 cm
+    assert growth.mass_of_bmi(np.array(16.0), np.array(0.75), 1.0) == pytest.approx(16.0 * 0.757**2)
+    assert growth.mass_of_bmi(np.array(16.0), np.array(0.90), 2.0) == pytest.approx(16.0 * 0.90**2)
+
+
 @pytest.mark.parametrize("sex", ["female", "male"])
 def test_sampled_six_year_olds_follow_the_references_percentiles(sex):
     """Stature's 5th/50th/95th percentiles are the height-for-age's (the truncation to 0.1–99.9 and
