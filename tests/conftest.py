@@ -135,3 +135,20 @@ def female() -> Body:
 @pytest.fixture(scope="session")
 def male() -> Body:
     return default_body("male")
+
+
+@pytest.fixture(scope="module")
+def client():
+    """A dask.distributed LocalCluster of 2 worker processes and its client, per test module."""
+    import dask
+
+    from hitogata.study.runner import local_cluster
+
+    # Generous connection timeouts: the machine is shared and a worker may take long to start.
+    with dask.config.set({"distributed.comm.timeouts.connect": "300s", "distributed.comm.timeouts.tcp": "300s"}):
+        cluster, client = local_cluster(2, "2GiB", dashboard=None)
+        try:
+            yield client
+        finally:
+            client.close()
+            cluster.close()

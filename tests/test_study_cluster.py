@@ -18,7 +18,7 @@ import pytest
 from hitogata.measure.measurements import MEASUREMENT_NAMES
 from hitogata.measure.zones import ZONE_NAMES
 from hitogata.study.results import percentile_table, read_failures, read_rows, write_tables
-from hitogata.study.runner import FAILED, ROWS, local_cluster, run_on_client, run_serial
+from hitogata.study.runner import FAILED, ROWS, run_on_client, run_serial
 from hitogata.study.spec import load_study
 from waiting import wait_for
 
@@ -53,18 +53,6 @@ def serial(study_file, tmp_path_factory) -> Path:
     summary = run_serial(load_study(study_file), out)
     assert (summary.done, summary.failed, summary.skipped) == (TASKS - FAILED_TASKS, FAILED_TASKS, 0)
     return out
-
-
-@pytest.fixture(scope="module")
-def client():
-    # Generous connection timeouts: the machine is shared and a worker may take long to start.
-    with dask.config.set({"distributed.comm.timeouts.connect": "300s", "distributed.comm.timeouts.tcp": "300s"}):
-        cluster, client = local_cluster(2, "2GiB", dashboard=None)
-        try:
-            yield client
-        finally:
-            client.close()
-            cluster.close()
 
 
 def task_files(out: Path) -> dict[str, Path]:

@@ -131,20 +131,7 @@ class Body:
             default_stature, default_mass = default_measurements(sex, age)
             stature = default_stature if stature is None else stature
             mass = default_mass / default_stature**2 * stature**2 if mass is None else mass
-        _check_positive("stature", stature, "m")
-        _check_positive("mass", mass, "kg")
-        if growth.covers(age):
-            growth.check_child(params.sex, age, stature, mass)
-        elif not STATURE_RANGE[0] <= stature <= STATURE_RANGE[1]:
-            lo, hi = STATURE_RANGE
-            raise HitogataError(
-                f"stature {shown(stature * 100)} cm: allowed {lo * 100:.0f}–{hi * 100:.0f} cm"
-            )
-        elif mass / stature**2 > ADULT_BMI_MAX:
-            raise HitogataError(
-                f"mass {shown(mass)} kg at stature {shown(stature * 100)} cm: BMI {mass / stature**2:.1f}, "
-                f"allowed up to {ADULT_BMI_MAX:g} ({ADULT_BMI_MAX * stature**2:.1f} kg) for adults"
-            )
+        check_stature_mass(params.sex, age, stature, mass)
         solved = _solve_build(params, stature, mass, density, free_muscle=muscle is None)
         assert isinstance(solved, ShapeParameters)
         return cls.from_parameters(solved, density)
@@ -229,6 +216,24 @@ def check_density(value: object, where: str) -> float:
         raise HitogataError(f"{where} {excerpt(value)} kg/m³: allowed a whole-body density {low:g}–{high:g} kg/m³ "
                             "(fat 900, fat-free tissue 1100)")
     return float(value)  # type: ignore[arg-type]
+
+
+def check_stature_mass(sex: float | str, age: float, stature: float, mass: float) -> None:
+    """A one-line error if a stature (m) and mass (kg) lie outside what hitogata takes for the
+    sex and age: a child's growth references' 0.1–99.9 percentiles, an adult's stature range
+    and BMI up to `ADULT_BMI_MAX`. The build path may still refuse a shape (`mass_range`)."""
+    _check_positive("stature", stature, "m")
+    _check_positive("mass", mass, "kg")
+    if growth.covers(age):
+        growth.check_child(sex_value(sex), age, stature, mass)
+    elif not STATURE_RANGE[0] <= stature <= STATURE_RANGE[1]:
+        lo, hi = STATURE_RANGE
+        raise HitogataError(f"stature {shown(stature * 100)} cm: allowed {lo * 100:.0f}–{hi * 100:.0f} cm")
+    elif mass / stature**2 > ADULT_BMI_MAX:
+        raise HitogataError(
+            f"mass {shown(mass)} kg at stature {shown(stature * 100)} cm: BMI {mass / stature**2:.1f}, "
+            f"allowed up to {ADULT_BMI_MAX:g} ({ADULT_BMI_MAX * stature**2:.1f} kg) for adults"
+        )
 
 
 def _check_positive(name: str, value: float, unit: str) -> None:

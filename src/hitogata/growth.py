@@ -3,10 +3,12 @@
 The shipped table `data/growth/growth_references.csv` holds the LMS parameters of
 WHO's child growth standards (2006, 1–5 years), WHO's growth reference (2007,
 stature 5–19 years, mass 5–10 years) and CDC's growth charts (2000, mass over 10
-years), as published (its header names the tables). A value X at z-score z is
+years), and WHO's BMI-for-age (2006 and 2007) for sampling populations, as published
+(its header names the tables). A value X at z-score z is
 M (1 + L S z)^(1/L) (Cole 1990); between tabulated months the parameters are
 interpolated linearly. Statures below 24 months are WHO's recumbent lengths less
-0.7 cm, WHO's own conversion to standing height.
+0.7 cm, WHO's own conversion to standing height; BMI below 24 months is on recumbent
+length, as WHO defines it (`mass_of_bmi`).
 
 SI at this module's edge: stature in metres, mass in kilograms, age in years.
 """
@@ -18,6 +20,7 @@ import math
 from functools import cache
 from importlib import resources
 from statistics import NormalDist
+from typing import Any
 
 import numpy as np
 
@@ -28,7 +31,8 @@ TABLE = ("growth", "growth_references.csv")
 FIRST_YEAR, LAST_YEAR = 1.0, 18.0  # the ages hitogata takes from these references (below its adults' 18)
 LENGTH_TO_HEIGHT_CM = 0.7  # WHO 2006: standing height is on average 0.7 cm less than recumbent length
 OUTER_PERCENTILES = (0.1, 99.9)  # requests outside these percentiles for age and sex are refused
-UNITS = {"stature": 0.01, "mass": 1.0}  # table unit (cm, kg) → SI
+UNITS = {"stature": 0.01, "mass": 1.0, "bmi": 1.0}  # table unit (cm, kg, kg/m²) → SI
+LENGTH_MONTHS = 24.0  # below this age WHO measures recumbent length (and BMI on it)
 SEXES = ("female", "male")
 
 
@@ -39,7 +43,7 @@ def _tables() -> dict[tuple[str, str], np.ndarray]:
     text = resources.files("hitogata").joinpath("data", *TABLE).read_text()
     for row in csv.DictReader(line for line in text.splitlines() if not line.startswith("#")):
         lms = [float(row["age_months"]), float(row["L"]), float(row["M"]), float(row["S"])]
-        if row["measure"] == "length":  # normal (L = 1): the shift keeps the SD, M S
+        if row["quantity"] == "stature" and row["measure"] == "length":  # normal (L = 1): the shift keeps the SD, M S
             months, box_cox, median, cv = lms
             height = median - LENGTH_TO_HEIGHT_CM
             lms = [months, box_cox, height, cv * median / height]
@@ -53,10 +57,11 @@ def _lms(quantity: str, sex: str, age: float) -> tuple[float, float, float]:
     return tuple(float(np.interp(months, table[:, 0], table[:, k])) for k in (1, 2, 3))  # type: ignore[return-value]
 
 
-def _value_at_z(lms: tuple[float, float, float], z: float) -> float:
+def _value_at_z(lms: tuple[float, float, float], z: Any) -> Any:
+    """The value at z-score `z` (a number or an array)."""
     box_cox, median, cv = lms
     if abs(box_cox) < 1e-9:
-        return median * math.exp(cv * z)
+        return median * np.exp(cv * z)
     return median * (1.0 + box_cox * cv * z) ** (1.0 / box_cox)
 
 
@@ -78,12 +83,30 @@ def _check_age(age: float) -> None:
 
 
 def at_percentile(quantity: str, sex: float, age: float, percentile: float) -> float:
-    """The `quantity` ("stature" m, "mass" kg) at a percentile (0–100) for age (years) and sex
-    (0 female … 1 male; a blend interpolates the two references)."""
+    """The `quantity` ("stature" m, "mass" kg, "bmi" kg/m²) at a percentile (0–100) for age
+    (years) and sex (0 female … 1 male; a blend interpolates the two references)."""
     _check_age(age)
     z = NormalDist().inv_cdf(percentile / 100.0)
     values = [_value_at_z(_lms(quantity, s, age), z) for s in SEXES]
-    return ((1.0 - sex) * values[0] + sex * values[1]) * UNITS[quantity]
+    return float((1.0 - sex) * values[0] + sex * values[1]) * UNITS[quantity]
+
+
+def at_z(quantity: str, sex: str, age: float, z: np.ndarray) -> np.ndarray:
+    """The `quantity` (SI) at z-scores `z` (an array) for age (years) and sex ("female", "male")."""
+    _check_age(age)
+    return _value_at_z(_lms(quantity, sex, age), np.asarray(z, dtype=float)) * UNITS[quantity]
+
+
+def outer_z() -> tuple[float, float]:
+    """The z-scores of the references' outer percentiles (0.1 and 99.9): ±3.09."""
+    return NormalDist().inv_cdf(OUTER_PERCENTILES[0] / 100.0), NormalDist().inv_cdf(OUTER_PERCENTILES[1] / 100.0)
+
+
+def mass_of_bmi(bmi: np.ndarray, stature: np.ndarray, age: float) -> np.ndarray:
+    """Mass (kg) of a child of BMI-for-age `bmi` (kg/m²) and standing stature (m): below 24 months
+    WHO's BMI is on recumbent length, the stature plus WHO's 0.7 cm."""
+    length = stature + (LENGTH_TO_HEIGHT_CM / 100.0 if age * 12.0 < LENGTH_MONTHS else 0.0)
+    return np.asarray(bmi) * length**2
 
 
 def median(quantity: str, sex: float, age: float) -> float:
@@ -101,14 +124,21 @@ def percentile_of(quantity: str, sex: float, age: float, value: float) -> float:
 def check_child(sex: float, age: float, stature: float, mass: float) -> None:
     """A one-line error if a child's stature (m) or mass (kg) lies outside the references'
     0.1–99.9 percentiles for the age and sex."""
+    check_within("stature", sex, age, stature)
+    check_within("mass", sex, age, mass)
+
+
+def check_within(quantity: str, sex: float, age: float, value: float) -> None:
+    """A one-line error if a child's stature (m) or mass (kg) lies outside the references'
+    0.1–99.9 percentiles for the age and sex."""
     low, high = OUTER_PERCENTILES
-    for quantity, value, unit, scale in (("stature", stature, "cm", 100.0), ("mass", mass, "kg", 1.0)):
-        lo, hi = (at_percentile(quantity, sex, age, p) for p in (low, high))
-        if not lo <= value <= hi:
-            raise HitogataError(
-                f"{quantity} {shown(value * scale)} {unit} at age {age:g}: allowed {lo * scale:.1f}–{hi * scale:.1f} "
-                f"{unit} for this sex and age, the growth references' percentiles {low:g}–{high:g}"
-            )
+    unit, scale = {"stature": ("cm", 100.0), "mass": ("kg", 1.0)}[quantity]
+    lo, hi = (at_percentile(quantity, sex, age, p) for p in (low, high))
+    if not lo <= value <= hi:
+        raise HitogataError(
+            f"{quantity} {shown(value * scale)} {unit} at age {age:g}: allowed {lo * scale:.1f}–{hi * scale:.1f} "
+            f"{unit} for this sex and age, the growth references' percentiles {low:g}–{high:g}"
+        )
 
 
 GIRTH_TABLE = ("growth", "nhanes_child_girths.csv")

@@ -44,6 +44,7 @@ from hitogata.body import (
     default_measurements,
     sex_value,
 )
+from hitogata import growth
 from hitogata.errors import HitogataError
 from hitogata.measure.measurements import measure
 from hitogata.measure.values import MEASUREMENT_NAMES, aliases
@@ -154,7 +155,7 @@ def body_to_measure(
 ) -> MadeToMeasure:
     """The body with the asked measurements (metres; `mass` in kg), any subset of those `measure`
     reports (girths also without `_girth`). See the module note."""
-    requested = checked_request(measurements)
+    requested = checked_request(measurements, sex, age)
     problem = _Problem(ShapeParameters(sex=sex_value(sex), age=age), requested, density, muscle, proportions)
     x = problem.solve()
     body = problem.body(x)
@@ -164,9 +165,10 @@ def body_to_measure(
     return fit
 
 
-def checked_request(measurements: Mapping[str, float]) -> dict[str, float]:
+def checked_request(measurements: Mapping[str, float], sex: float | str = 0.0, age: float = 30.0) -> dict[str, float]:
     """Asked measurements by their `measure` names in `measure`'s order (the mass last), each a
-    positive finite number; stature in range."""
+    positive finite number; stature in range (a child's stature and mass: within the growth
+    references' percentiles for the age and sex)."""
     requested: dict[str, float] = {}
     for given, value in measurements.items():
         name = "mass" if given == "mass" else measurement_name(given)
@@ -181,7 +183,11 @@ def checked_request(measurements: Mapping[str, float]) -> dict[str, float]:
     order = [*MEASUREMENT_NAMES, "mass"]
     requested = dict(sorted(requested.items(), key=lambda item: order.index(item[0])))
     lo, hi = STATURE_RANGE
-    if "stature" in requested and not lo <= requested["stature"] <= hi:
+    if growth.covers(age):
+        for quantity in ("stature", "mass"):
+            if quantity in requested:
+                growth.check_within(quantity, sex_value(sex), age, requested[quantity])
+    elif "stature" in requested and not lo <= requested["stature"] <= hi:
         raise HitogataError(f"stature {shown(requested['stature'] * 100)} cm: allowed {lo * 100:.0f}–{hi * 100:.0f} cm")
     for (a, b), (low, high) in PROPORTIONS.items():  # no person is shaped so: said before the long search
         if a in requested and b in requested and not low <= requested[a] / requested[b] <= high:

@@ -131,7 +131,7 @@ def register(sub: argparse._SubParsersAction) -> None:
                         type=input_path("file", suffixes=(".csv",), names=shipped_size_charts),
                         help="a CSV with one row per size: a 'size' column, then measurements with their unit "
                         "in the header (e.g. stature_cm, chest_girth_cm, mass_kg); or a shipped example: "
-                        "women_example")
+                        "women_example, children_example (sizes 92–176 by stature, an age_years column)")
     group = parser.add_argument_group("measurements (any of those `hitogata measure` reports; the shape is "
                                       "solved to meet them)")
     options = measurement_options()

@@ -3,7 +3,9 @@
 The CSV has one row per size: a `size` column (the size's name, which names its
 file), then one column per measurement, its unit in the header: `stature_cm`,
 `chest_girth_cm` (or `chest_cm`), `inside_leg_mm`, `mass_kg`, ... An empty cell
-leaves that measurement out for that size. The whole file is checked before any
+leaves that measurement out for that size. An `age_years` column gives each size its
+own age (a children's chart, where sizes are statures and ages follow them); without
+it, or in an empty cell, the size takes `--age`. The whole file is checked before any
 body is made; each mistake is one line naming the file, the row, the column and
 the value. The folder gets `<size>.glb` per size and `sizes.csv` (asked against
 made, cm and kg), written in a staging folder and renamed when all are done.
@@ -24,15 +26,17 @@ from hitogata import units
 from hitogata.commands.args import BODY_DEFAULTS
 from hitogata.errors import HitogataError, excerpt
 from hitogata.export.atomic import write_bytes_atomically
+from hitogata.shape import MIN_AGE_YEARS, OLD_YEARS
 
 SIZE_COLUMN = "size"
+AGE_COLUMN = "age_years"  # optional: the age of each size's body
 MAX_BYTES = 2**20  # a size chart is a few kilobytes: a row per size
 MAX_ROWS = 1001  # the header and up to 1000 sizes
 SIZE_NAME = re.compile(r"^[A-Za-z0-9][A-Za-z0-9._+-]{0,39}$")  # a size's name is also its file's name
 UNITS = {**{u: (units.LENGTH_UNITS, "a length") for u in units.LENGTH_UNITS},
          **{u: (units.MASS_UNITS, "a mass") for u in units.MASS_UNITS}}
 
-Chart = list[tuple[str, dict[str, float]]]
+Chart = list[tuple[str, dict[str, float], float | None]]  # size, measurements (m, kg), age (years) or None
 
 
 def shipped_size_charts() -> dict[str, Path]:
@@ -69,6 +73,9 @@ def read_size_chart(path: Path) -> Chart:
     known = {**aliases(), "mass": "mass"}
     columns: list[tuple[str, float]] = []
     for column in header[1:]:
+        if column == AGE_COLUMN:
+            columns.append((AGE_COLUMN, 1.0))
+            continue
         name, _, unit = column.rpartition("_")
         if name not in known or unit not in UNITS or (name == "mass") != (UNITS[unit][1] == "a mass"):
             allowed = ", ".join(sorted({n for n in known.values() if n != "mass"}))
@@ -83,12 +90,12 @@ def read_size_chart(path: Path) -> Chart:
         raise HitogataError(f"{path}: no sizes; allowed one row per size under the header")
     chart: Chart = []
     for number, row in enumerate(rows[1:], start=2):
-        chart.append(_size_row(path, number, header, row, columns, [size for size, _ in chart]))
+        chart.append(_size_row(path, number, header, row, columns, [size for size, _, _ in chart]))
     return chart
 
 
 def _size_row(path: Path, number: int, header: list[str], row: list[str], columns: list[tuple[str, float]],
-              sizes: list[str]) -> tuple[str, dict[str, float]]:
+              sizes: list[str]) -> tuple[str, dict[str, float], float | None]:
     where = f"{path}: row {number}"
     if len(row) != len(header):
         raise HitogataError(f"{where}: {len(row)} cells; allowed {len(header)} (one per header column)")
@@ -108,10 +115,14 @@ def _size_row(path: Path, number: int, header: list[str], row: list[str], column
             raise HitogataError(f"{where}, column {column}: {excerpt(cell.strip())}; allowed a number") from None
         if not value > 0 or value == float("inf"):
             raise HitogataError(f"{where}, column {column}: {excerpt(cell.strip())}; allowed a positive number")
+        if name == AGE_COLUMN and not MIN_AGE_YEARS <= value <= OLD_YEARS:
+            raise HitogataError(f"{where}, column {column}: {excerpt(cell.strip())}; allowed years, "
+                                f"{MIN_AGE_YEARS:g}..{OLD_YEARS:g}")
         asked[name] = value
+    age = asked.pop(AGE_COLUMN, None)
     if not asked:
         raise HitogataError(f"{where}: size {size!r} has no measurement; allowed at least one")
-    return size, asked
+    return size, asked, age
 
 
 def write_size_chart(args: argparse.Namespace) -> None:
@@ -126,15 +137,16 @@ def write_size_chart(args: argparse.Namespace) -> None:
         raise HitogataError(f"{given[0]}: does not apply with --size-chart (the chart gives the measurements); "
                             f"leave out {', '.join(given)}")
     chart = read_size_chart(args.size_chart)
-    for size, asked in chart:  # every size's request checked before the first body is made
+    for size, asked, age in chart:  # every size's request checked before the first body is made
         try:
-            checked_request(asked)
+            checked_request(asked, args.sex, args.age if age is None else age)
         except HitogataError as err:
             raise HitogataError(f"{args.size_chart}: size {size}: {err}") from None
     lines = ["size,measurement,asked,made,difference,unit"]
-    for size, asked in chart:
+    for size, asked, age in chart:
         try:
-            body, fit = solve_from_args(args, asked)
+            body, fit = solve_from_args(argparse.Namespace(**{**vars(args), "age": args.age if age is None else age}),
+                                        asked)
         except HitogataError as err:
             raise HitogataError(f"{args.size_chart}: size {size}: {err}") from None
         path = write_body(args.workdir / f"{size}.glb", body)
@@ -145,4 +157,4 @@ def write_size_chart(args: argparse.Namespace) -> None:
             made = fit.achieved[name]
             lines.append(f"{size},{name},{value * scale:.2f},{made * scale:.2f},{(made - value) * scale:.2f},{unit}")
     write_bytes_atomically(args.workdir / "sizes.csv", ("\n".join(lines) + "\n").encode())
-    print(f"{len(chart)} sizes; wrote {', '.join(f'{s}.glb' for s, _ in chart)} and sizes.csv in {Path(args.out)}/")
+    print(f"{len(chart)} sizes; wrote {', '.join(f'{s}.glb' for s, _, _ in chart)} and sizes.csv in {Path(args.out)}/")

@@ -174,7 +174,7 @@ def run(args: argparse.Namespace) -> None:
 
 def register(sub: argparse._SubParsersAction) -> None:
     parser = sub.add_parser("study", help="a population study on dask.distributed: bodies × motions → ease, stretch")
-    parser.add_argument("study", help="a study file (docs/study.md) or a shipped one: example")
+    parser.add_argument("study", help="a study file (docs/study.md) or a shipped one: example (adults), children (six-year-olds)")
     parser.add_argument("--out", default="results", help="results folder; a rerun computes only missing tasks")
     parser.add_argument("--workers", type=workers, default=os.cpu_count() or 1,
                         help="local worker processes (one thread each); default: the CPU count; capped by the "

@@ -36,6 +36,7 @@ from hitogata.options import (
     OnLimit,
     Skinning,
 )
+from hitogata.shape import MIN_AGE_YEARS, OLD_YEARS
 
 TIME_UNITS = {"s": 1.0, "ms": 1e-3, "": 1.0}
 FREQUENCY_UNITS = {"hz": 1.0}
@@ -157,12 +158,20 @@ def _body(source: str, table: Any) -> BodySpec:
     number = isinstance(sex, (int, float)) and not isinstance(sex, bool)
     if not (sex in SEXES or (number and 0 <= sex <= 1)):
         raise r.error(f"{sex!r}; allowed female, male or a number 0 (female) … 1 (male)", "sex")
-    age = r.quantity("age", {"": 1.0, "years": 1.0, "y": 1.0}, 30.0, 18.0, 90.0, "years, 18..90")
+    age = r.quantity("age", {"": 1.0, "years": 1.0, "y": 1.0}, 30.0, MIN_AGE_YEARS, OLD_YEARS,
+                     f"years, {MIN_AGE_YEARS:g}..{OLD_YEARS:g}")
     stature = r.quantity("stature", units.LENGTH_UNITS, None, 0.5, 2.5, "a length like 165cm")
-    mass = r.quantity("mass", units.MASS_UNITS, None, 20.0, 250.0, "a mass like 62kg")
+    mass = r.quantity("mass", units.MASS_UNITS, None, 3.0, 250.0, "a mass like 62kg")
     if (stature is None) != (mass is None):
         raise r.error("give stature and mass together (or neither: the default body)",
                       "stature" if stature is None else "mass")
+    if stature is not None and mass is not None:
+        from hitogata.body import check_stature_mass  # here: the body module loads the shape data
+
+        try:
+            check_stature_mass(sex, age, stature, mass)
+        except HitogataError as err:
+            raise r.error(str(err)) from None
     return BodySpec(sex, age, stature, mass)
 
 

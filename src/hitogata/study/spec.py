@@ -15,20 +15,26 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Literal
 
-from hitogata import units
-from hitogata.body import STATURE_RANGE, WHOLE_BODY_DENSITY, check_density
+from hitogata import growth, units
+from hitogata.body import STATURE_RANGE, WHOLE_BODY_DENSITY, check_density, sex_value
 from hitogata.motion.scenario import load_scenario, shipped_scenarios
 from hitogata.config import Entry, read_toml
 from hitogata.errors import HitogataError
 from hitogata.options import Skinning
+from hitogata.shape import MIN_AGE_YEARS, OLD_YEARS
+from hitogata.study.child_sampling import sample_children
 from hitogata.study.sampling import SEXES, Joint, clusters, sample_stature_mass, sex_counts
 
 OUTPUTS = ("measurements", "dynamic_ease", "zone_stretch")
 Posing = Literal["skinning", "elastic"]
 POSINGS: tuple[Posing, ...] = ("skinning", "elastic")
 SKINNINGS: tuple[Skinning, ...] = ("dqs", "lbs")
-MASS_RANGE = (30.0, 200.0)  # kg accepted in a file; the shape solver says per body what it can build
-AGE_RANGE = (18.0, 90.0)
+MASS_RANGE = (30.0, 200.0)  # kg of an adult population's statistics; the shape solver says per body what it builds
+AGE_RANGE = (MIN_AGE_YEARS, OLD_YEARS)  # below 18 years, stature and mass as the growth references allow
+CHILD_SOURCE = ("stature from WHO height-for-age and BMI from WHO BMI-for-age (2006 to 5 years, 2007 after), "
+                "independent, within their 0.1-99.9 percentiles, the mass within weight-for-age's and the shape's reach")
+CHILD_STATURES = (0.5, STATURE_RANGE[1])  # m, a child's row; then checked against the growth references
+CHILD_MASSES = (3.0, MASS_RANGE[1])  # kg, likewise
 CHART_COLUMNS = {"stature": units.LENGTH_UNITS, "mass": units.MASS_UNITS, "age": {"years": 1.0}}
 
 
@@ -174,20 +180,32 @@ def _joint(t: Entry, sex: str) -> Joint:
 def _sampled(t: Entry, seed: int) -> tuple[tuple[BodyDef, ...], str]:
     count = t.integer("sampled", 0, 1, 1_000_000)  # present: `_bodies` chose this kind by it
     share = t.quantity("female", units.FRACTION_UNITS, 0.5, 0.0, 1.0, "a share of women like 0.5 or 50%")
-    age = t.quantity("age", {"": 1.0, "years": 1.0}, 30.0, *AGE_RANGE, "years, 18..90")
+    age = t.quantity("age", {"": 1.0, "years": 1.0}, 30.0, *AGE_RANGE, f"years, {AGE_RANGE[0]:g}..{AGE_RANGE[1]:g}")
     k = t.integer("clusters", 3, 1, 50)
+    child = growth.covers(age)
+    if child and ("women" in t.table or "men" in t.table):
+        t.fail(f"age {age:g} with {'women' if 'women' in t.table else 'men'} statistics; allowed for adults "
+               "(18..90): children are drawn from the growth references", "women" if "women" in t.table else "men")
     bodies: list[BodyDef] = []
     sources = []
     for sex, n in sex_counts(count, share).items():
         if n == 0:
             continue
-        joint = _joint(t, sex)
-        sources.append(f"{sex}: {joint.source}")
-        values = sample_stature_mass(joint, n, seed, sex)
+        if child:
+            drawn = sample_children(sex, age, n, seed)
+            values = drawn.values
+            sources.append(f"{sex} {100 * (1 - drawn.kept_share):.1f} %")
+        else:
+            joint = _joint(t, sex)
+            sources.append(f"{sex}: {joint.source}")
+            values = sample_stature_mass(joint, n, seed, sex)
         labels = clusters(values, k, seed)
         names = {c: _cluster_name(sex, values[labels == c]) for c in set(labels.tolist())}
         bodies += [BodyDef(f"{sex}-{i:06d}", names[int(c)], sex, age, float(s), float(m))
                    for i, ((s, m), c) in enumerate(zip(values, labels))]
+    if child:
+        return tuple(bodies), (f"{count} sampled children aged {age:g} (seed {seed}): {CHILD_SOURCE}; "
+                               f"draws drawn again: {', '.join(sources)}")
     return tuple(bodies), f"{count} sampled bodies (seed {seed}); " + "; ".join(sources)
 
 
@@ -224,8 +242,11 @@ def _chart(t: Entry, path: Path) -> tuple[tuple[BodyDef, ...], str]:
         where = f"{path}: row {number} (size {size!r})"
         if sex not in SEXES:
             raise HitogataError(f"{where}: sex {sex!r}; allowed {', '.join(SEXES)}")
-        values = {}
-        for name, (low, high) in (("stature", STATURE_RANGE), ("mass", MASS_RANGE), ("age", AGE_RANGE)):
+        values: dict[str, float] = {}
+        for name in ("age", "stature", "mass"):
+            child = "age" in values and growth.covers(values["age"])
+            low, high = {"age": AGE_RANGE, "stature": CHILD_STATURES if child else STATURE_RANGE,
+                         "mass": CHILD_MASSES if child else MASS_RANGE}[name]
             column = columns.get(name)
             if column is None:
                 values[name] = 30.0
@@ -240,6 +261,11 @@ def _chart(t: Entry, path: Path) -> tuple[tuple[BodyDef, ...], str]:
                 raise HitogataError(f"{where}: {column} {cells[column]!r}; allowed a number "
                                     f"{low * scale:g}..{high * scale:g} {'cm' if name == 'stature' else unit}")
             values[name] = value
+        if growth.covers(values["age"]):  # an adult's is refused where it is built, a row of the results
+            try:
+                growth.check_child(sex_value(sex), values["age"], values["stature"], values["mass"])
+            except HitogataError as err:
+                raise HitogataError(f"{where}: {err}") from None
         bodies.append(BodyDef(f"{size}-{number}", size, sex, values["age"], values["stature"], values["mass"]))
     if not bodies:
         raise HitogataError(f"{path}: no rows; allowed one row per size")
