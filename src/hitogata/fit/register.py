@@ -34,11 +34,12 @@ TRUST = {"rotation": np.radians(5.0), "translation": 0.03, "shape": 0.15, "pose"
 SIGMA = (0.03, 0.003)  # m: the Cauchy scale, first and last
 SIGMA_DECAY = 0.75
 # A weak pull of the joint angles towards the rest pose (all but the shoulders' abduction: A- or
-# T-pose is the scan's to say), as if every scan point the angle moves (`MOVES`) were 1 mm off per
+# T-pose is the scan's to say), as if every scan point the angle moves (`MOVES`) were 0.1 mm off per
 # 10° away: it settles the angles the surface hardly sees (flexion of an arm held out sideways turns
 # it about its own axis) without moving what the scan shows, and weighs as little against a finger's
-# few points as against the trunk's many.
-POSE_PRIOR = 0.001 / np.radians(10.0)
+# few points as against the trunk's many. The data rows it stands against are Cauchy-weighted and
+# the prior's are not: at 1 mm per 10° it held a trunk bent 15° at 13° and a forearm turned 40° at 18°.
+POSE_PRIOR = 0.0001 / np.radians(10.0)
 MOVES = 0.01  # m per radian: a scan point moves with a joint angle whose turn carries its body point this fast
 # The iteration from which each stage of the pose (`model.POSE_STAGES`: trunk, limbs, distal) is solved.
 STAGE_FROM = (0, 3, 6)
@@ -115,7 +116,7 @@ def register(
     for k in range(first, first + iterations):
         if k in (STAGE_FROM[LIMBS], STAGE_FROM[DISTAL]):
             state = replace(state, pose=search_hands(model, model.poser(state.shape), state.pose, state.place(points),
-                                                     CLIP))
+                                                     CLIP, fingers=k == STAGE_FROM[DISTAL]))
         moving = POSE_STAGES <= max(stage for stage, at in enumerate(STAGE_FROM) if k >= at)
         body, _, posed, jac = model.jacobian(state.shape, state.pose, moving)
         s = max(sigma[1], sigma[0] * SIGMA_DECAY**k)
