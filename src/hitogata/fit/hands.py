@@ -6,7 +6,7 @@ matched to the back of the hand; fingers lying side by side pair with their
 neighbours' scan points, and a finger bent the wrong way then pulls the wrist
 after it. So when the forearms join the fit the wrist's three angles (the
 forearm's pronation, the wrist's flexion and deviation), and when the fingers
-join each finger's three, are tried on a grid about their current values
+join the wrist's and each finger's three in turn, twice over, are tried on a grid about their current values
 (`Poser.pose_many`, both sides at once), then on a narrower grid about the
 best (`ROUNDS`). A candidate's score is the mean distance of the moved part's
 skin to its nearest scan points plus that of the scan points about the hand to
@@ -41,6 +41,7 @@ HAND_PARTS = ("hand_{s}", *(p for parts, _ in DIGITS for p in parts))
 ARM_PARTS = ("upper_arm_{s}", "forearm_{s}", *HAND_PARTS)
 REACH = 0.1  # m: the scan points this near the hand's skin as it stands are the hand's, whatever its turn
 ROUNDS = (1.0, 0.4, 0.15)  # the grid's scale in each round, about the round before's best
+SWEEPS = 2  # wrist then fingers, again: a wrist searched with the fingers straight bends to make up for them
 
 
 def search_hands(model: BodyModel, poser: Poser, pose: np.ndarray, points: np.ndarray, clip: float,
@@ -61,7 +62,7 @@ def search_hands(model: BodyModel, poser: Poser, pose: np.ndarray, points: np.nd
         hand = now[skin(HAND_PARTS, side)]
         about[side] = points[cKDTree(hand).query(points, distance_upper_bound=REACH)[0] < REACH]
     out = pose.copy()
-    for parts, grid in (WRIST, *DIGITS) if fingers else (WRIST,):
+    for parts, grid in (WRIST, *DIGITS) * SWEEPS if fingers else (WRIST,):
         for scale in ROUNDS:
             candidates = _candidates(model, out, grid, scale)
             surfaces = poser.pose_many(np.stack([model.angles(poser, p, rest) for p in candidates]))
