@@ -1,12 +1,16 @@
-"""The body the fit moves: MakeHuman shape parameters and a few joint angles, as one vector each.
+"""The body the fit moves: MakeHuman shape parameters and the joint angles a scan shows, as one vector each.
 
 Shape: the macro parameters of `ShapeParameters` except sex (given) and race
 (kept), each in its 0..1 range; age as a fraction of MakeHuman's adult span
-(25 → 90 years; younger bodies share the 25-year shape). Pose: the shoulder
-complex's clinical flexion and abduction (`hitogata.skeleton.shoulder`: the
-girdle follows), the elbows' flexion and the hips' abduction, the last two
-relative to the rest pose — what tells an A-pose scan from a T-pose one and
-from the rest pose. The posed surface is the body's own (`Body.poser`, LBS).
+(25 → 90 years; younger bodies share the 25-year shape). Pose (`POSE_SPEC`):
+the thoracolumbar spine's and the neck's flexion, lateral bending and rotation
+(each a region's angle shared among its vertebrae, `skeleton.stretches`); the
+shoulder complex's clinical flexion and abduction (`hitogata.skeleton.shoulder`:
+the girdle follows); the upper arm's turn, the elbow's flexion, the forearm's
+pronation, the wrist's flexion and deviation, each finger's and the thumb's
+joints; the hips' flexion, abduction and turn, the knees, the ankles and toes —
+all but the shoulders relative to the rest pose, each in three stages from the
+trunk out (`POSE_STAGES`). The posed surface is the body's own (`Body.poser`, LBS).
 """
 
 from __future__ import annotations
