@@ -48,8 +48,8 @@ def search_hands(model: BodyModel, poser: Poser, pose: np.ndarray, points: np.nd
                  fingers: bool) -> np.ndarray:
     """The pose with each wrist's angles (and, with `fingers`, each finger's) the best of their grids for the
     scan points (P, 3) in the body frame."""
-    rest = model.rest_complex(poser)
-    now = poser.pose_many(model.angles(poser, pose, rest)[None])[0]
+    q = model.angles(poser, pose)
+    now = poser.pose_many(q[None])[0]
     part = np.asarray(poser.skin.weights.argmax(axis=1)).ravel()
     names = poser.skeleton.names
 
@@ -65,7 +65,7 @@ def search_hands(model: BodyModel, poser: Poser, pose: np.ndarray, points: np.nd
     for parts, grid in (WRIST, *DIGITS) * SWEEPS if fingers else (WRIST,):
         for scale in ROUNDS:
             candidates = _candidates(model, out, grid, scale)
-            surfaces = poser.pose_many(np.stack([model.angles(poser, p, rest) for p in candidates]))
+            surfaces = poser.pose_many(np.stack([model.moved_angles(poser, pose, q, p) for p in candidates]))
             for side in SIDES:
                 moved = skin(parts, side)
                 score = np.minimum(tree.query(surfaces[:, moved].reshape(-1, 3))[0], clip).reshape(

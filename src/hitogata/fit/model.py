@@ -164,18 +164,22 @@ class BodyModel:
         q0 = self.angles(poser, pose, rest)
         out = [q0]
         for j, step in probes:
-            name = POSE_NAMES[j]
-            if not name.startswith(ALONE):
-                moved = pose.copy()
-                moved[j] += step
-                out.append(self.angles(poser, moved, rest))
-                continue
-            q = q0.copy()
-            before, after = self._own(poser, name, float(pose[j])), self._own(poser, name, float(pose[j] + step))
-            for dof, value in after.items():
-                q[poser.skeleton.dof_index(dof)] += value - before[dof]
-            out.append(q)
+            moved = pose.copy()
+            moved[j] += step
+            alone = POSE_NAMES[j].startswith(ALONE)
+            out.append(self.moved_angles(poser, pose, q0, moved) if alone else self.angles(poser, moved, rest))
         return np.stack(out)
+
+    @classmethod
+    def moved_angles(cls, poser: Poser, pose: np.ndarray, q: np.ndarray, moved: np.ndarray) -> np.ndarray:
+        """(D,) the joint angles of `moved`, a pose that differs from `pose` (angles `q`) in `ALONE` entries only."""
+        out = q.copy()
+        for j in np.flatnonzero(moved != pose):
+            name = POSE_NAMES[j]
+            before, after = cls._own(poser, name, float(pose[j])), cls._own(poser, name, float(moved[j]))
+            for dof, value in after.items():
+                out[poser.skeleton.dof_index(dof)] += value - before[dof]
+        return out
 
     @classmethod
     def _complex(cls, poser: Poser, pose: np.ndarray) -> np.ndarray:

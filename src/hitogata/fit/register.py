@@ -23,6 +23,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 from scipy.optimize import lsq_linear
 from scipy.spatial import cKDTree
+from threadpoolctl import threadpool_limits
 
 from hitogata.fit.closest import SurfaceQuery, face_normals
 from hitogata.fit.hands import search_hands
@@ -111,6 +112,12 @@ def register(
 
     Returns the registration and the score (`score`) of the last iteration.
     """
+    with threadpool_limits(1, user_api="blas"):  # small products and solves: a second BLAS thread only spins
+        return _register(model, points, start, iterations, first, sigma)
+
+
+def _register(model: BodyModel, points: np.ndarray, start: Registration, iterations: int, first: int,
+              sigma: tuple[float, float]) -> tuple[Registration, float]:
     state = start
     score = np.inf
     for k in range(first, first + iterations):

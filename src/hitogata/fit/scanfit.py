@@ -15,7 +15,6 @@ from __future__ import annotations
 from dataclasses import dataclass, replace
 
 import numpy as np
-from threadpoolctl import threadpool_limits
 
 from hitogata.body import WHOLE_BODY_DENSITY, Body, sex_value
 from hitogata.fit.align import initial_alignments
@@ -80,11 +79,6 @@ def _distances(posed: np.ndarray, faces: np.ndarray, points: np.ndarray) -> tupl
 def fit_scan(scan: Scan, sex: float | str, *, detail: bool = True, density: float = WHOLE_BODY_DENSITY,
              iterations: int = ITERATIONS, seed: int = 0) -> ScanFit:
     """The body of sex `sex` fitted to the scan (see the module note)."""
-    with threadpool_limits(1, user_api="blas"):  # small products and solves: a second BLAS thread only spins
-        return _fit(scan, sex, detail, density, iterations, seed)
-
-
-def _fit(scan: Scan, sex: float | str, detail: bool, density: float, iterations: int, seed: int) -> ScanFit:
     model = BodyModel(ShapeParameters(sex=sex_value(sex)), density)
     sample = scan.sample(FIT_POINTS, seed)
     tried = [register(model, sample, start, TRIAL) for start in initial_alignments(model, scan.points, seed)[:TRIED]]
