@@ -8,7 +8,7 @@ after it. So when the forearms join the fit the wrist's three angles (the
 forearm's pronation, the wrist's flexion and deviation), and when the fingers
 join the wrist's and each finger's three in turn, twice over, are tried on a grid about their current values
 (`Poser.pose_many`, both sides at once), then on a narrower grid about the
-best (`ROUNDS`). A candidate's score is the mean distance of the moved part's
+best (`SCALES`). A candidate's score is the mean distance of the moved part's
 skin to its nearest scan points plus that of the scan points about the hand to
 the candidate's hand and arm skin, each distance clipped at `register.CLIP` so
 that a far stray point does not decide.
@@ -40,7 +40,7 @@ DIGITS = (
 HAND_PARTS = ("hand_{s}", *(p for parts, _ in DIGITS for p in parts))
 ARM_PARTS = ("upper_arm_{s}", "forearm_{s}", *HAND_PARTS)
 REACH = 0.1  # m: the scan points this near the hand's skin as it stands are the hand's, whatever its turn
-ROUNDS = (1.0, 0.4, 0.15)  # the grid's scale in each round, about the round before's best
+SCALES = (1.0, 0.4, 0.15)  # the grid's spread in turn, each time about the best of the wider grid
 SWEEPS = 2  # wrist then fingers, again: a wrist searched with the fingers straight bends to make up for them
 
 
@@ -63,7 +63,7 @@ def search_hands(model: BodyModel, poser: Poser, pose: np.ndarray, points: np.nd
         about[side] = points[cKDTree(hand).query(points, distance_upper_bound=REACH)[0] < REACH]
     out = pose.copy()
     for parts, grid in (WRIST, *DIGITS) * SWEEPS if fingers else (WRIST,):
-        for scale in ROUNDS:
+        for scale in SCALES:
             candidates = _candidates(model, out, grid, scale)
             surfaces = poser.pose_many(np.stack([model.moved_angles(poser, pose, q, p) for p in candidates]))
             for side in SIDES:
