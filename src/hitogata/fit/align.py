@@ -12,6 +12,7 @@ from __future__ import annotations
 import itertools
 
 import numpy as np
+from threadpoolctl import threadpool_limits
 
 from hitogata.fit.model import POSE_NAMES, T_POSE, BodyModel
 from hitogata.fit.register import SIGMA, Registration, Surface, gauss_newton_step
@@ -61,6 +62,11 @@ def initial_alignments(model: BodyModel, points: np.ndarray, seed: int = 0) -> l
     A body facing the wrong way differs mostly at the feet and face, which a rigid
     fit of the average body cannot always tell: the caller tries the first few further.
     """
+    with threadpool_limits(1, user_api="blas"):  # small solves: a second BLAS thread only spins
+        return _alignments(model, points, seed)
+
+
+def _alignments(model: BodyModel, points: np.ndarray, seed: int) -> list[Registration]:
     rng = np.random.default_rng(seed)
     sample = points[rng.choice(len(points), min(ALIGN_POINTS, len(points)), replace=False)]
     shape = model.shape_start()

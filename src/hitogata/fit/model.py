@@ -1,12 +1,16 @@
-"""The body the fit moves: MakeHuman shape parameters and a few joint angles, as one vector each.
+"""The body the fit moves: MakeHuman shape parameters and the joint angles a scan shows, as one vector each.
 
 Shape: the macro parameters of `ShapeParameters` except sex (given) and race
 (kept), each in its 0..1 range; age as a fraction of MakeHuman's adult span
-(25 → 90 years; younger bodies share the 25-year shape). Pose: the shoulder
-complex's clinical flexion and abduction (`hitogata.skeleton.shoulder`: the
-girdle follows), the elbows' flexion and the hips' abduction, the last two
-relative to the rest pose — what tells an A-pose scan from a T-pose one and
-from the rest pose. The posed surface is the body's own (`poser_for`, LBS).
+(25 → 90 years; younger bodies share the 25-year shape). Pose (`POSE_SPEC`):
+the thoracolumbar spine's and the neck's flexion, lateral bending and rotation
+(each a region's angle shared among its vertebrae, `skeleton.stretches`); the
+shoulder complex's clinical flexion and abduction (`hitogata.skeleton.shoulder`:
+the girdle follows); the upper arm's turn, the elbow's flexion, the forearm's
+pronation, the wrist's flexion and deviation, each finger's and the thumb's
+joints; the hips' flexion, abduction and turn, the knees, the ankles and toes —
+all but the shoulders relative to the rest pose, each in three stages from the
+trunk out (`POSE_STAGES`). The posed surface is the body's own (`poser_for`, LBS).
 """
 
 from __future__ import annotations
@@ -19,23 +23,59 @@ import numpy as np
 from hitogata.body import Body
 from hitogata.muscles.activation import MuscleLimitWarning
 from hitogata.muscles.geometry import MuscleGeometryWarning
-from hitogata.pose import Poser
+from hitogata.pose import Poser, poser_for
 from hitogata.shape import OLD_YEARS, YOUNG_YEARS, ShapeParameters
-from hitogata.pose import poser_for
+from hitogata.skeleton.stretches import spread
 
 SHAPE_NAMES = ("weight", "muscle", "height", "proportions", "cup", "firmness", "age")
-# (name, bounds in degrees, start in degrees); shoulder_* are clinical, the others rest-relative.
+TRUNK, LIMBS, DISTAL = 0, 1, 2  # the stages of the pose, coarse to fine (`register.STAGE_FROM`)
+
+
+def _sides(*entries: tuple[str, tuple[float, float], float, int]) -> tuple[tuple[str, tuple[float, float], float, int], ...]:
+    """Each '{s}' entry for the left and the right side."""
+    return tuple((name.format(s=s), bounds, start, stage) for name, bounds, start, stage in entries for s in "lr")
+
+
+FINGERS = ("index", "middle", "ring", "little")
+# (name, bounds in degrees, start in degrees, stage). shoulder_* are clinical (the girdle follows),
+# spine.* and neck.* a region's angle shared among its vertebrae (`skeleton.stretches`), the others
+# single DOFs relative to the rest pose. The bounds lie within the skeleton's ranges of motion, for a
+# person standing to be scanned: the trunk bent or turned a little, the head turned, the arms anywhere
+# from hanging to a T, the hands and fingers as they fall or are held.
 POSE_SPEC = (
-    ("shoulder_l.abduction", (0.0, 120.0), 42.0),
-    ("shoulder_r.abduction", (0.0, 120.0), 42.0),
-    ("shoulder_l.flexion", (-30.0, 60.0), 0.0),
-    ("shoulder_r.flexion", (-30.0, 60.0), 0.0),
-    ("forearm_l.flexion", (-38.0, 60.0), 0.0),
-    ("forearm_r.flexion", (-38.0, 60.0), 0.0),
-    ("thigh_l.abduction", (-15.0, 30.0), 0.0),
-    ("thigh_r.abduction", (-15.0, 30.0), 0.0),
+    ("spine.flexion", (-20.0, 40.0), 0.0, TRUNK),
+    ("spine.lateral_bending", (-20.0, 20.0), 0.0, TRUNK),
+    ("spine.rotation", (-25.0, 25.0), 0.0, TRUNK),
+    *_sides(("shoulder_{s}.abduction", (0.0, 120.0), 42.0, TRUNK),
+            ("shoulder_{s}.flexion", (-30.0, 60.0), 0.0, TRUNK),
+            ("thigh_{s}.abduction", (-15.0, 30.0), 0.0, TRUNK),
+            ("thigh_{s}.flexion", (-20.0, 40.0), 0.0, TRUNK)),
+    ("neck.flexion", (-30.0, 30.0), 0.0, LIMBS),
+    ("neck.lateral_bending", (-25.0, 25.0), 0.0, LIMBS),
+    ("neck.rotation", (-60.0, 60.0), 0.0, LIMBS),
+    *_sides(("upper_arm_{s}.internal_rotation", (-60.0, 60.0), 0.0, LIMBS),
+            ("forearm_{s}.flexion", (-38.0, 60.0), 0.0, LIMBS),
+            ("forearm_{s}.pronation", (-80.0, 80.0), 0.0, LIMBS),
+            ("thigh_{s}.internal_rotation", (-30.0, 30.0), 0.0, LIMBS),
+            ("shank_{s}.flexion", (-9.0, 60.0), 0.0, LIMBS)),
+    *_sides(("hand_{s}.flexion", (-70.0, 80.0), 0.0, LIMBS),
+            ("hand_{s}.radial_deviation", (-30.0, 20.0), 0.0, LIMBS),
+            ("thumb_metacarpal_{s}.flexion", (-20.0, 15.0), 0.0, DISTAL),
+            ("thumb_metacarpal_{s}.abduction", (0.0, 60.0), 0.0, DISTAL),
+            ("thumb_phalanges_{s}.flexion", (-25.0, 20.0), 0.0, DISTAL),
+            *((f"{f}_proximal_{{s}}.flexion", (-15.0, 60.0), 0.0, DISTAL) for f in FINGERS),
+            *((f"{f}_proximal_{{s}}.abduction", (-15.0, 15.0), 0.0, DISTAL) for f in FINGERS),
+            *((f"{f}_distal_{{s}}.flexion", (-10.0, 60.0), 0.0, DISTAL) for f in FINGERS),
+            ("foot_{s}.dorsiflexion", (-30.0, 20.0), 0.0, DISTAL),
+            ("foot_{s}.inversion", (-15.0, 20.0), 0.0, DISTAL),
+            ("toes_{s}.flexion", (-30.0, 30.0), 0.0, DISTAL)),
 )
-POSE_NAMES = tuple(name for name, _, _ in POSE_SPEC)
+POSE_NAMES = tuple(name for name, _, _, _ in POSE_SPEC)
+POSE_STAGES = np.array([stage for *_, stage in POSE_SPEC])
+STRETCH_CHANNELS = ("spine", "neck")  # pose names 'spine.flexion', 'neck.rotation', …: a region's angle
+# Entries whose joints take no part in the shoulder complex or a combined limit (`skeleton.combined`:
+# the spine as a whole, the two hips): a change of one moves its own DOFs and nothing else.
+ALONE = ("neck.", "upper_arm_", "forearm_", "shank_", "hand_", "thumb_", *(f"{f}_" for f in FINGERS), "foot_", "toes_")
 T_POSE = np.radians(90.0)  # shoulder abduction of a T-pose
 SHAPE_STEP = 0.01  # finite-difference steps: parameter units
 POSE_STEP = np.radians(0.5)
@@ -54,14 +94,14 @@ class BodyModel:
 
     @property
     def pose_bounds(self) -> tuple[np.ndarray, np.ndarray]:
-        return (np.radians([b[0] for _, b, _ in POSE_SPEC]), np.radians([b[1] for _, b, _ in POSE_SPEC]))
+        return (np.radians([b[0] for _, b, _, _ in POSE_SPEC]), np.radians([b[1] for _, b, _, _ in POSE_SPEC]))
 
     def shape_start(self) -> np.ndarray:
         return self.shape_vector(self.base)
 
     @staticmethod
     def pose_start() -> np.ndarray:
-        return np.radians([start for _, _, start in POSE_SPEC])
+        return np.radians([start for _, _, start, _ in POSE_SPEC])
 
     @staticmethod
     def shape_vector(params: ShapeParameters) -> np.ndarray:
@@ -76,17 +116,30 @@ class BodyModel:
     def body(self, shape: np.ndarray) -> Body:
         return Body.from_parameters(self.params(shape), self.density)
 
+    def poser(self, shape: np.ndarray) -> Poser:
+        """The body's poser (`poser_for`); the solver's passing bodies' muscle notes are not the user's."""
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", MuscleGeometryWarning)
+            return poser_for(self.body(shape))
+
     @classmethod
-    def angles(cls, poser: Poser, pose: np.ndarray) -> np.ndarray:
+    def rest_complex(cls, poser: Poser) -> np.ndarray:
+        """(D,) the shoulder complex's angles at the rest pose (`angles`' `rest`)."""
+        return cls._complex(poser, cls.pose_start())
+
+    @classmethod
+    def angles(cls, poser: Poser, pose: np.ndarray, rest: np.ndarray | None = None) -> np.ndarray:
         """(D,) rest-relative joint angles of a pose vector (clamped onto the ranges of motion, silently).
 
         MakeHuman's rest pose holds the arms at 42° with the shoulder girdle at 0,
         where the scapulohumeral rhythm would have raised it a little: the complex's
         angles at the rest pose's own values are taken off, in full there and fading
         out by a T-pose, so that the rest pose is one the fit can reach exactly.
+        `rest`: the complex's angles at the rest pose, if known (`_complex` of `pose_start`).
         """
         q = cls._complex(poser, pose)
-        rest = cls._complex(poser, cls.pose_start())
+        if rest is None:
+            rest = cls.rest_complex(poser)
         names = poser.skeleton.dof_names
         for side in ("l", "r"):
             k = POSE_NAMES.index(f"shoulder_{side}.abduction")
@@ -96,9 +149,45 @@ class BodyModel:
         return q
 
     @staticmethod
-    def _complex(poser: Poser, pose: np.ndarray) -> np.ndarray:
+    def _own(poser: Poser, name: str, value: float) -> dict[str, float]:
+        """The rest-relative DOF angles one pose entry (not a shoulder's) sets."""
+        region, _, dof = name.partition(".")
+        if region in STRETCH_CHANNELS:
+            return spread(poser.skeleton, region, dof, value, f"pose {name}")
+        return {name: value}
+
+    def _probe_angles(self, poser: Poser, pose: np.ndarray, probes: list[tuple[int, float]]) -> np.ndarray:
+        """(1 + n, D) joint angles of the pose and of each probe (entry, step). An entry of `ALONE` moves its
+        own DOFs only, so its probe is the pose's angles with those changed; the others go through the
+        shoulder complex and the combined limits again."""
+        rest = self.rest_complex(poser)
+        q0 = self.angles(poser, pose, rest)
+        out = [q0]
+        for j, step in probes:
+            moved = pose.copy()
+            moved[j] += step
+            alone = POSE_NAMES[j].startswith(ALONE)
+            out.append(self.moved_angles(poser, pose, q0, moved) if alone else self.angles(poser, moved, rest))
+        return np.stack(out)
+
+    @classmethod
+    def moved_angles(cls, poser: Poser, pose: np.ndarray, q: np.ndarray, moved: np.ndarray) -> np.ndarray:
+        """(D,) the joint angles of `moved`, a pose that differs from `pose` (angles `q`) in `ALONE` entries only."""
+        out = q.copy()
+        for j in np.flatnonzero(moved != pose):
+            name = POSE_NAMES[j]
+            before, after = cls._own(poser, name, float(pose[j])), cls._own(poser, name, float(moved[j]))
+            for dof, value in after.items():
+                out[poser.skeleton.dof_index(dof)] += value - before[dof]
+        return out
+
+    @classmethod
+    def _complex(cls, poser: Poser, pose: np.ndarray) -> np.ndarray:
         clinical = {n: float(v) for n, v in zip(POSE_NAMES, pose) if n.startswith("shoulder_")}
-        relative = {n: float(v) for n, v in zip(POSE_NAMES, pose) if not n.startswith("shoulder_")}
+        relative: dict[str, float] = {}
+        for name, value in zip(POSE_NAMES, pose):
+            if not name.startswith("shoulder_"):
+                relative |= cls._own(poser, name, float(value))
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", MuscleLimitWarning)
             return poser.angles(angles=relative, clinical=clinical, on_limit="clamp")
@@ -110,31 +199,26 @@ class BodyModel:
         vertices = poser.pose_many(q[None])[0]
         return vertices, poser.rig_joints(kin.rotations[0], kin.translations[0])
 
-    def jacobian(self, shape: np.ndarray, pose: np.ndarray) -> tuple[Body, Poser, np.ndarray, np.ndarray]:
+    def jacobian(self, shape: np.ndarray, pose: np.ndarray,
+                 moving: np.ndarray | None = None) -> tuple[Body, Poser, np.ndarray, np.ndarray]:
         """The body, its poser, the posed skin (V, 3) and d(posed skin)/d(shape, pose) (V, 3, S + Q).
 
-        Pose columns are finite differences of the skinned surface. Shape columns are
-        finite differences of the rest surface carried by each vertex's blended rotation
-        (LBS's linear part): the joints' own move with the shape is left to the next
-        iteration, which rebuilds the body.
+        Pose columns are finite differences of the skinned surface, for the joint
+        angles `moving` (Q,) allows (all when None; the others' columns are zero).
+        Shape columns are finite differences of the rest surface carried by each
+        vertex's blended rotation (LBS's linear part): the joints' own move with the
+        shape is left to the next iteration, which rebuilds the body.
         """
-        body = self.body(shape)
-        with warnings.catch_warnings():  # the solver's passing bodies: their muscle notes are not the user's
-            warnings.simplefilter("ignore", MuscleGeometryWarning)
-            poser = poser_for(body)
+        poser = self.poser(shape)
+        body = poser.body
         lo, hi = self.pose_bounds
-        probes = [pose]
-        steps = []
-        for j in range(len(pose)):
-            step = POSE_STEP if pose[j] + POSE_STEP <= hi[j] else -POSE_STEP
-            probe = pose.copy()
-            probe[j] += step
-            probes.append(probe)
-            steps.append(step)
-        q = np.stack([self.angles(poser, p) for p in probes])
+        columns = np.flatnonzero(np.ones(len(pose), bool) if moving is None else moving)
+        steps = [POSE_STEP if pose[j] + POSE_STEP <= hi[j] else -POSE_STEP for j in columns]
+        q = self._probe_angles(poser, pose, list(zip(columns, steps)))
         surfaces = poser.pose_many(q)
         posed = surfaces[0]
-        pose_cols = (surfaces[1:] - posed) / np.asarray(steps)[:, None, None]
+        pose_cols = np.zeros((len(pose), *posed.shape))
+        pose_cols[columns] = (surfaces[1:] - posed) / np.asarray(steps)[:, None, None]
         kin = poser.kinematics.pose(q[:1])
         linear = (poser.skin.weights @ kin.rotations[0].reshape(-1, 9)).reshape(-1, 3, 3)
         shape_cols = []

@@ -9,8 +9,11 @@ directions count: scan → body holds the body to the scan where it was seen,
 body → scan pulls limbs onto scanned limbs. Holes in the scan (armpits,
 crotch) leave body vertices far from any scan point; the Cauchy weights
 w = 1 / (1 + (r/σ)²), σ shrinking over the iterations, make those and
-outliers count for little. A weak prior (`POSE_PRIOR`) keeps joint angles
-the surface hardly shows near rest.
+outliers count for little. The pose comes coarse to fine (`STAGE_FROM`): the
+trunk, shoulders and hips first, then the neck, elbows, forearms' and upper
+arms' turn and knees, then the wrists, fingers and feet, each stage joining
+once the one before has brought its parts near their scan points. A weak prior
+(`POSE_PRIOR`) keeps joint angles the surface hardly shows near rest.
 """
 
 from __future__ import annotations
@@ -20,9 +23,11 @@ from dataclasses import dataclass, replace
 import numpy as np
 from scipy.optimize import lsq_linear
 from scipy.spatial import cKDTree
+from threadpoolctl import threadpool_limits
 
 from hitogata.fit.closest import SurfaceQuery, face_normals
-from hitogata.fit.model import POSE_NAMES, BodyModel
+from hitogata.fit.hands import search_hands
+from hitogata.fit.model import DISTAL, LIMBS, POSE_NAMES, POSE_STAGES, BodyModel
 from hitogata.geometry.normals import vertex_normals
 
 BODY_TO_SCAN = 0.5  # weight of the body → scan rows against the scan → body rows
@@ -30,10 +35,15 @@ TRUST = {"rotation": np.radians(5.0), "translation": 0.03, "shape": 0.15, "pose"
 SIGMA = (0.03, 0.003)  # m: the Cauchy scale, first and last
 SIGMA_DECAY = 0.75
 # A weak pull of the joint angles towards the rest pose (all but the shoulders' abduction: A- or
-# T-pose is the scan's to say), as if every scan point were 1 mm off per 10° away: it settles the
-# angles the surface hardly sees (flexion of an arm held out sideways turns it about its own axis)
-# without moving what the scan shows.
-POSE_PRIOR = 0.001 / np.radians(10.0)
+# T-pose is the scan's to say), as if every scan point the angle moves (`MOVES`) were 0.1 mm off per
+# 10° away: it settles the angles the surface hardly sees (flexion of an arm held out sideways turns
+# it about its own axis) without moving what the scan shows, and weighs as little against a finger's
+# few points as against the trunk's many. The data rows it stands against are Cauchy-weighted and
+# the prior's are not: at 1 mm per 10° it held a trunk bent 15° at 13° and a forearm turned 40° at 18°.
+POSE_PRIOR = 0.0001 / np.radians(10.0)
+MOVES = 0.01  # m per radian: a scan point moves with a joint angle whose turn carries its body point this fast
+# The iteration from which each stage of the pose (`model.POSE_STAGES`: trunk, limbs, distal) is solved.
+STAGE_FROM = (0, 3, 6)
 CLIP = 0.05  # m: distances are clipped here in the fit's score (a mean that still sees feet turned backwards)
 
 
@@ -102,12 +112,22 @@ def register(
 
     Returns the registration and the score (`score`) of the last iteration.
     """
+    with threadpool_limits(1, user_api="blas"):  # small products and solves: a second BLAS thread only spins
+        return _register(model, points, start, iterations, first, sigma)
+
+
+def _register(model: BodyModel, points: np.ndarray, start: Registration, iterations: int, first: int,
+              sigma: tuple[float, float]) -> tuple[Registration, float]:
     state = start
     score = np.inf
     for k in range(first, first + iterations):
-        body, _, posed, jac = model.jacobian(state.shape, state.pose)
+        if k in (STAGE_FROM[LIMBS], STAGE_FROM[DISTAL]):
+            state = replace(state, pose=search_hands(model, model.poser(state.shape), state.pose, state.place(points),
+                                                     CLIP, fingers=k == STAGE_FROM[DISTAL]))
+        moving = POSE_STAGES <= max(stage for stage, at in enumerate(STAGE_FROM) if k >= at)
+        body, _, posed, jac = model.jacobian(state.shape, state.pose, moving)
         s = max(sigma[1], sigma[0] * SIGMA_DECAY**k)
-        state, score = gauss_newton_step(model, points, state, Surface.of(posed, body.faces), s, jac)
+        state, score = gauss_newton_step(model, points, state, Surface.of(posed, body.faces), s, jac, moving)
     return state, score
 
 
@@ -123,8 +143,10 @@ def gauss_newton_step(
     surface: Surface,
     sigma: float,
     jac: np.ndarray | None = None,
+    moving: np.ndarray | None = None,
 ) -> tuple[Registration, float]:
-    """One step from `state` on the posed surface; `jac` (V, 3, S + Q) its Jacobian there, None: rigid only.
+    """One step from `state` on the posed surface; `jac` (V, 3, S + Q) its Jacobian there, None: rigid only;
+    `moving` (Q,): the joint angles the step may change (all when None).
 
     Returns the new registration and the score (`score`) before the step.
     """
@@ -140,8 +162,8 @@ def gauss_newton_step(
     r2 = np.einsum("ij,ij->i", vn, posed[rows] - placed[nearest])
     a1, a2 = _rows(fn, placed, centre), _rows(vn, placed[nearest], centre)
     if jac is not None:
-        a1 = np.concatenate([a1, np.einsum("pi,pkic->pc", fn, near.bary[:, :, None, None] * jac[faces[near.face]])],
-                            axis=1)
+        at_points = np.einsum("pk,pkic->pic", near.bary, jac[faces[near.face]])  # (P, 3, S + Q)
+        a1 = np.concatenate([a1, np.einsum("pi,pic->pc", fn, at_points)], axis=1)
         a2 = np.concatenate([a2, np.einsum("vi,vic->vc", vn, jac[rows])], axis=1)
     w1, w2 = cauchy(r1, sigma), BODY_TO_SCAN * np.sqrt(len(r1) / len(r2)) * cauchy(r2, sigma)
     a = np.concatenate([a1 * w1[:, None], a2 * w2[:, None]])
@@ -149,12 +171,13 @@ def gauss_newton_step(
     if jac is not None:  # the prior on the pose: rows for (pose − rest pose) but the arms' abduction
         n_pose = len(state.pose)
         free = np.array([n.startswith("shoulder_") and n.endswith(".abduction") for n in POSE_NAMES])
-        weight = POSE_PRIOR * np.sqrt(len(r1)) * ~free
+        moved = np.count_nonzero(np.linalg.norm(at_points[:, :, -n_pose:], axis=1) > MOVES, axis=0)
+        weight = POSE_PRIOR * np.sqrt(np.maximum(moved, 1)) * ~free
         prior = np.zeros((n_pose, a.shape[1]))
         prior[:, -n_pose:] = np.diag(weight)
         a = np.concatenate([a, prior])
         b = np.concatenate([b, -weight * (state.pose - model.pose_start())])
-    lower, upper = _step_bounds(model, state)
+    lower, upper = _step_bounds(model, state, moving)
     r, qtb = _small_factor(a, b)
     step = np.zeros(len(lower))
     if jac is None:
@@ -174,16 +197,18 @@ def _small_factor(a: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray]
     return upper, np.linalg.solve(upper.T, a.T @ b)
 
 
-def _step_bounds(model: BodyModel, state: Registration) -> tuple[np.ndarray, np.ndarray]:
-    """The step's box: each parameter's own bounds within the trust box."""
+def _step_bounds(model: BodyModel, state: Registration,
+                 moving: np.ndarray | None) -> tuple[np.ndarray, np.ndarray]:
+    """The step's box: each parameter's own bounds within the trust box; joint angles not `moving` held."""
     rigid = np.array([TRUST["rotation"]] * 3 + [TRUST["translation"]] * 3)
     s_lo, s_hi = model.shape_bounds
     p_lo, p_hi = model.pose_bounds
+    held = np.zeros(len(state.pose), bool) if moving is None else ~moving
     tiny = 1e-12  # lsq_linear wants lower < upper even for a parameter at its bound
     lower = np.concatenate([-rigid, np.maximum(s_lo - state.shape, -TRUST["shape"]) - tiny,
-                            np.maximum(p_lo - state.pose, -TRUST["pose"]) - tiny])
+                            np.where(held, 0.0, np.maximum(p_lo - state.pose, -TRUST["pose"])) - tiny])
     upper = np.concatenate([rigid, np.minimum(s_hi - state.shape, TRUST["shape"]) + tiny,
-                            np.minimum(p_hi - state.pose, TRUST["pose"]) + tiny])
+                            np.where(held, 0.0, np.minimum(p_hi - state.pose, TRUST["pose"])) + tiny])
     return lower, upper
 
 

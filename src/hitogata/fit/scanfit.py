@@ -1,8 +1,9 @@
 """Fit the body to a scan: align, solve shape and pose, add the detail, and say how well it fits.
 
 The steps (docs/body.md, "A body from a scan"): a rigid start in any orientation
-(`align.initial_alignment`); rigid motion, MakeHuman shape parameters and arm and
-leg angles together (`register.register`); optional per-vertex detail along the
+(`align.initial_alignment`); rigid motion, MakeHuman shape parameters and the
+scan's whole pose together, coarse to fine (`register.register`, with the hands'
+grid search `hands.search_hands`); optional per-vertex detail along the
 normals (`detail.solve_detail`). The result is a `Body` like any other — rig,
 skin weights, skeleton and muscles placed on it — at rest, with the scan's pose
 beside it; and the scan → body distances of the shape model alone (per region:

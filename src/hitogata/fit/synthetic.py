@@ -25,13 +25,15 @@ ARMPIT_DROP = 0.08  # m below the shoulder joint: where the armpit's hole is cen
 
 @dataclass(frozen=True)
 class Perturbation:
-    """How a synthetic scan differs from the body: noise (m, per axis), a rigid offset, the file's unit."""
+    """How a synthetic scan differs from the body: noise (m, per axis), a rigid offset, the file's unit,
+    holes, and a fraction of its points dropped at random (a mesh loses their triangles)."""
 
     noise: float = 0.0015
     rotation: tuple[float, float, float] = (0.1, 0.6, -0.05)  # rotation vector, radians
     translation: tuple[float, float, float] = (0.25, 0.1, -0.3)  # m
     unit: str = "mm"
     holes: bool = True
+    dropped: float = 0.0
 
 
 def hole_centres(body: Body, vertices: np.ndarray, joints: np.ndarray) -> np.ndarray:
@@ -71,13 +73,14 @@ def synthetic_scan(body: Body, vertices: np.ndarray, joints: np.ndarray, perturb
         cloud = cloud + slide - np.einsum("ij,ij->i", slide, normals)[:, None] * normals
     else:
         cloud, tris = Scan(vertices, faces, "m").sample(points, seed), None
+    seen = rng.random(len(cloud)) >= perturbation.dropped if perturbation.dropped else np.ones(len(cloud), bool)
     if perturbation.holes:
         centres = hole_centres(body, vertices, joints)
-        seen = np.min(np.linalg.norm(cloud[:, None, :] - centres[None], axis=2), axis=1) > HOLE_RADIUS
-        if tris is not None:
-            tris = tris[seen[tris].all(axis=1)]
-        else:
-            cloud = cloud[seen]
+        seen &= np.min(np.linalg.norm(cloud[:, None, :] - centres[None], axis=2), axis=1) > HOLE_RADIUS
+    if tris is not None:
+        tris = tris[seen[tris].all(axis=1)]
+    else:
+        cloud = cloud[seen]
     cloud = cloud + rng.normal(0.0, perturbation.noise, cloud.shape)
     cloud = cloud @ rotation_vector(np.asarray(perturbation.rotation)).T + np.asarray(perturbation.translation)
     return cloud / UNITS[perturbation.unit], tris

@@ -37,8 +37,9 @@ from hitogata.errors import HitogataError
 from hitogata.geometry.normals import triangle_normals, vertex_normals
 from hitogata.measure.zones import BackZone, JointZone
 from hitogata.names import resolve_dofs
-from hitogata.validation.dataset import RESONANT, Dataset, Row, Source, Subjects
 from hitogata.pose import poser_for
+from hitogata.skeleton.stretches import spread
+from hitogata.validation.dataset import RESONANT, Dataset, Row, Source, Subjects
 
 SURFACES = ("skinned", "elastic")
 MODEL_ELEMENT_SIZE = 40.0  # mm: the whole body's lattice, as a held posture's (`dynamics.single_pose`)
@@ -114,7 +115,7 @@ def _build_body(sex: str, subjects: Subjects) -> Body:
                                   subjects.mass or mass)
 
 
-SPINE = {"lumbar": ("lumbar_",), "thoracic": ("thoracic_",), "spine": ("lumbar_", "thoracic_")}
+SPINE_STRETCHES = ("lumbar", "thoracic", "spine")  # the posture names that bend a stretch of the spine
 
 
 def clinical_posture(row: Row, known: tuple[str, ...], where: str, skeleton=None) -> dict[str, float]:
@@ -124,26 +125,13 @@ def clinical_posture(row: Row, known: tuple[str, ...], where: str, skeleton=None
     out: dict[str, float] = {}
     for name, degrees in row.posture.items():
         part, _, dof = name.partition(".")
-        if part in SPINE and skeleton is not None:
-            out.update(_spine(skeleton, SPINE[part], dof, math.radians(degrees), f"{where}: {name}"))
+        if part in SPINE_STRETCHES and skeleton is not None:
+            shares = spread(skeleton, part, dof, math.radians(degrees), f"{where}: {name}")
+            out.update({n: float(skeleton.rest[skeleton.dof_index(n)]) + a for n, a in shares.items()})
             continue
         for resolved in resolve_dofs(name, known, where):
             out[resolved] = math.radians(degrees)
     return out
-
-
-def _spine(skeleton, prefixes: tuple[str, ...], dof: str, angle: float, where: str) -> dict[str, float]:
-    """Clinical angles of the vertebrae's `dof` summing to `angle`, each in proportion to its range."""
-    names = [n for n in skeleton.dof_names if n.startswith(prefixes) and n.endswith(f".{dof}")]
-    if not names:
-        raise HitogataError(f"{where}: the spine has no {dof!r}; allowed flexion, lateral_bending")
-    reach = np.array([skeleton.upper[skeleton.dof_index(n)] if angle >= 0 else -skeleton.lower[skeleton.dof_index(n)]
-                      for n in names])
-    if abs(angle) > reach.sum() + 1e-9:
-        raise HitogataError(f"{where} = {math.degrees(angle):.1f}°: that stretch of the spine allows "
-                            f"{math.degrees(reach.sum()):.1f}° at most")
-    share = angle * reach / reach.sum()
-    return {n: float(skeleton.rest[skeleton.dof_index(n)] + a) for n, a in zip(names, share)}
 
 
 def answer_dataset(dataset: Dataset, materials: Materials | None = None, surfaces: Iterable[str] = SURFACES,
