@@ -45,11 +45,59 @@ def shortest_arc(a: np.ndarray, b: np.ndarray) -> np.ndarray:
 
 
 def matrix_to_quaternion(r: np.ndarray) -> np.ndarray:
-    """Unit quaternions (..., 4) as (w, x, y, z) of rotation matrices (..., 3, 3) (scipy's, scalar first)."""
-    from scipy.spatial.transform import Rotation
-
-    q = Rotation.from_matrix(np.asarray(r, dtype=np.float64).reshape(-1, 3, 3)).as_quat()
-    return np.roll(q, 1, axis=1).reshape(*np.shape(r)[:-2], 4)
+    """Unit quaternions (..., 4) as (w, x, y, z) of rotation matrices (..., 3, 3), by the stable branch of
+    the four (Shepperd's method). Kept rather than scipy's `Rotation.from_matrix`, which agrees to 1e-16 but
+    not bit for bit: dual-quaternion skinning starts from these, and the skin contact's decisions, taken at
+    the barrier's tolerance, follow the last digits of the skinned postures."""
+    m = r.reshape(-1, 3, 3)
+    tr = np.trace(m, axis1=1, axis2=2)
+    diag = np.stack([tr, m[:, 0, 0], m[:, 1, 1], m[:, 2, 2]], axis=1)
+    pick = np.argmax(diag, axis=1)  # the largest of 4w², 4x², 4y², 4z² (minus constants): stable
+    q = np.empty((len(m), 4))
+    x0 = 1.0 + 2.0 * diag[np.arange(len(m)), pick] - tr
+    s = 2.0 * np.sqrt(np.maximum(x0, 1e-300))
+    c0 = pick == 0
+    q[c0] = np.stack(
+        [
+            s[c0] / 4,
+            (m[c0, 2, 1] - m[c0, 1, 2]) / s[c0],
+            (m[c0, 0, 2] - m[c0, 2, 0]) / s[c0],
+            (m[c0, 1, 0] - m[c0, 0, 1]) / s[c0],
+        ],
+        axis=1,
+    )
+    c1 = pick == 1
+    q[c1] = np.stack(
+        [
+            (m[c1, 2, 1] - m[c1, 1, 2]) / s[c1],
+            s[c1] / 4,
+            (m[c1, 0, 1] + m[c1, 1, 0]) / s[c1],
+            (m[c1, 0, 2] + m[c1, 2, 0]) / s[c1],
+        ],
+        axis=1,
+    )
+    c2 = pick == 2
+    q[c2] = np.stack(
+        [
+            (m[c2, 0, 2] - m[c2, 2, 0]) / s[c2],
+            (m[c2, 0, 1] + m[c2, 1, 0]) / s[c2],
+            s[c2] / 4,
+            (m[c2, 1, 2] + m[c2, 2, 1]) / s[c2],
+        ],
+        axis=1,
+    )
+    c3 = pick == 3
+    q[c3] = np.stack(
+        [
+            (m[c3, 1, 0] - m[c3, 0, 1]) / s[c3],
+            (m[c3, 0, 2] + m[c3, 2, 0]) / s[c3],
+            (m[c3, 1, 2] + m[c3, 2, 1]) / s[c3],
+            s[c3] / 4,
+        ],
+        axis=1,
+    )
+    q /= np.linalg.norm(q, axis=1, keepdims=True)
+    return q.reshape(r.shape[:-2] + (4,))
 
 
 def quaternion_matrices(q: np.ndarray) -> np.ndarray:
