@@ -66,10 +66,10 @@ def add_materials_argument(parser: argparse.ArgumentParser, help: str = "the tis
     from hitogata.commands.paths import input_path
     from hitogata.options import MATERIALS_PRESETS
 
-    def presets() -> dict[str, Path]:
+    def presets() -> dict[str, Path]:  # imported when an argument is checked: the materials module is slow to load
         from hitogata.elastic.materials import shipped_materials
 
-        return dict(shipped_materials())
+        return shipped_materials()
 
     parser.add_argument("--materials", default=None, type=input_path("file", suffixes=(".toml",), names=presets),
                         help=f"{help}: a preset ({', '.join(MATERIALS_PRESETS)}) or a materials TOML file (e.g. "
