@@ -51,6 +51,11 @@ SEX_WORDS = {"female": 0.0, "f": 0.0, "woman": 0.0, "male": 1.0, "m": 1.0, "man"
 AVERAGE = 0.5  # MakeHuman's neutral value of a 0..1 parameter
 STATURE_TOLERANCE = 1e-4  # m: the solver stops well inside the 2 mm promise
 MASS_TOLERANCE = 2e-4  # relative: well inside the 2 % promise
+# solves of the build path at most: the first, and again asking for the volume a heavy body's rest
+# contact took (`_touching`), until the mass is within TOUCHING_MASS_TOLERANCE (relative); the skin held
+# back moves in steps, so the mass there is not a smooth function of the weight and no closer is sought
+MASS_ROUNDS = 4
+TOUCHING_MASS_TOLERANCE = 1e-3
 
 
 def sex_value(sex: float | str) -> float:
@@ -87,8 +92,14 @@ class Body:
 
     @classmethod
     def from_parameters(cls, params: ShapeParameters, density: float = WHOLE_BODY_DENSITY) -> "Body":
-        """The body of MakeHuman shape parameters, standing on the floor."""
-        return cls(params, _stand(load_assets(), blend(load_assets(), params)), density)
+        """The body of MakeHuman shape parameters, standing on the floor; beyond MakeHuman's weight slider
+        (weight above 1) with its skin touching where it meets itself, not passing through
+        (`hitogata.rest_contact`)."""
+        assets = load_assets()
+        vertices = _stand(assets, blend(assets, params))
+        if params.weight > 1.0:
+            vertices = _touching(assets, params, vertices)
+        return cls(params, vertices, density)
 
     @classmethod
     def from_measurements(
@@ -107,7 +118,8 @@ class Body:
         reports (m; e.g. chest=0.92, waist=0.74, hip=1.0, inside_leg=0.76).
 
         Stature and mass alone: MakeHuman's shape parameters solved, stature met within
-        0.1 mm and mass within 0.02 %; a missing one is the default body's (its stature,
+        0.1 mm and mass within 0.02 % (0.1 % past MakeHuman's weight slider, where the skin meeting
+        itself is resolved: `from_parameters`); a missing one is the default body's (its stature,
         its BMI; for a child of 1 up to 18 years the growth references' medians for age and
         sex, and a request outside their 0.1–99.9 percentiles is refused: `hitogata.growth`). With `muscle` given, only weight and height are solved; without it,
         the mass follows MakeHuman's build path (see `_build_path`). A target outside
@@ -132,9 +144,15 @@ class Body:
             stature = default_stature if stature is None else stature
             mass = default_mass / default_stature**2 * stature**2 if mass is None else mass
         check_stature_mass(params.sex, age, stature, mass)
-        solved = _solve_build(params, stature, mass, density, free_muscle=muscle is None)
-        assert isinstance(solved, ShapeParameters)
-        return cls.from_parameters(solved, density)
+        sought = mass
+        for _ in range(MASS_ROUNDS):  # a heavy body's skin held back where it folds gives up a little volume
+            solved = _solve_build(params, stature, sought, density, free_muscle=muscle is None)
+            assert isinstance(solved, ShapeParameters)
+            body = cls.from_parameters(solved, density)
+            if abs(body.mass / mass - 1.0) <= TOUCHING_MASS_TOLERANCE:
+                break
+            sought *= mass / body.mass
+        return body
 
     @cached_property
     def vertices(self) -> np.ndarray:
@@ -247,6 +265,22 @@ def _stand(assets: Assets, vertices: np.ndarray) -> np.ndarray:
     rig = place_rig(assets, vertices)
     ankles = rig.heads[[rig.index("foot.L"), rig.index("foot.R")]].mean(axis=0)
     return vertices - np.array([ankles[0], skin[:, 1].min(), ankles[2]])
+
+
+def _touching(assets: Assets, params: ShapeParameters, vertices: np.ndarray) -> np.ndarray:
+    """A body's vertices (all of them, standing) beyond weight 1 with the skin touching where it meets
+    itself: reached along weights from 1 (`hitogata.rest_contact`)."""
+    from hitogata.rest_contact import WEIGHT_STEP, contact_groups, touching_skin  # here: bodies within the slider load no contact code
+
+    steps = math.ceil((params.weight - 1.0) / WEIGHT_STEP)
+    path = [_stand(assets, blend(assets, params.with_(weight=float(w)))) for w in np.linspace(1.0, params.weight,
+                                                                                             steps + 1)[:-1]]
+    path.append(vertices)
+    groups, folding = contact_groups(place_rig(assets, path[0]), assets.skin_weights)
+    skin = touching_skin([skin_points(assets, v) for v in path], assets.triangles, groups, folding)
+    out = vertices.copy()
+    out[: assets.n_surface] = skin[: assets.n_surface]
+    return out
 
 
 def _stature(assets: Assets, vertices: np.ndarray) -> float:
