@@ -17,8 +17,11 @@ every pair that crosses in the extrapolated body, grown by a few rings.
 
 Skin meeting its own neighbourhood (a pleat under the belly or a breast, a finger into the next:
 nearer at rest than the barrier lets meet) is held back towards the path's start where it would
-still cross or fold (`hitogata.geometry.offset_limit`), which takes a little volume; the body's
-builder asks for that much more mass (`hitogata.body.Body.from_measurements`).
+still cross (`hitogata.geometry.offset_limit`, crossings only), which takes a little volume; the
+body's builder asks for that much more mass (`hitogata.body.Body.from_measurements`). Folds are
+left: the lower belly of a heavy body folds under onto the pubis, a crease as on a living body,
+and holding the folds back as well pulled it back 8 cm towards MakeHuman's heaviest belly (3 cm
+for the crossings alone).
 
 Contact groups come from the rig (this layer has no skeleton): a vertex belongs to the limb of the
 bone holding most of its skinning weight, found up the rig's chain (thigh, shank, foot, upper arm,
@@ -76,5 +79,5 @@ def touching_skin(path: Sequence[np.ndarray], faces: np.ndarray, groups: np.ndar
     free = contact_regions(path[1:], test) | _grow(crossing & ~crossing_at_start, test, CROSSING_RINGS)[None]
     free &= ~_grow(crossing_at_start, test, RINGS)[None]  # the base mesh's own crossings: no barrier starts there
     skin = barrier_resolve(path, test, folding=folding, free=free).vertices if free.any() else target
-    limited, _ = OffsetLimiter(start, faces)(start, skin - start)
+    limited, _ = OffsetLimiter(start, faces).hold_crossings(start, skin - start)
     return np.asarray(limited)
