@@ -24,7 +24,7 @@ LAYERS: tuple[tuple[str, ...], ...] = (
     # base: the package root (its version and folder; its names are resolved to their own modules), errors,
     # units, options, caches, the atomic file writing every layer's cache uses, and geometry
     ("", "errors", "units", "options", "lazy", "config", "machine", "disk_cache", "export.atomic", "geometry"),
-    ("body", "assets", "shape", "rig", "growth"),
+    ("body", "assets", "shape", "rig", "growth", "rest_contact"),
     ("posing", "pose", "skinning", "names", "skeleton", "muscles"),
     ("volume", "fem"),
     ("elastic",),
