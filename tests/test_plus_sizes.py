@@ -18,6 +18,8 @@ from hitogata.study.spec import load_study
 
 pytestmark = pytest.mark.slow  # whole-body meshes
 
+GIRTHS = ("waist_girth", "hip_girth", "thigh_girth", "upper_arm_girth", "chest_girth")
+
 
 def test_the_example_study_refuses_none_of_its_bodies():
     """Every sampled body lies inside the build path's mass range at its stature and under the BMI cap,
@@ -67,13 +69,27 @@ def test_plus_size_bodies_build_close_and_measure(sex):
     own pairs at the eyes, toes and fingers: 0–35): where heavy skin meets skin it touches. Without the
     rest contact the extrapolated skin crossed itself at 116–228 pairs at BMI 50."""
     for stature in (1.55, 1.90):
-        waists = []
+        rows = []
         for bmi in (35.0, 42.0, 50.0):
             body = Body.from_measurements(sex, 30.0, stature, bmi * stature**2)
             assert body.stature == pytest.approx(stature, abs=1e-3) and body.bmi == pytest.approx(bmi, rel=1e-3)
             assert is_closed(body.faces) and is_consistently_oriented(body.faces)
             assert enclosed_volume(body.vertices, body.faces) > 0
             girths = measure(body).as_dict()
-            waists.append(girths["waist_girth"])
+            rows.append([girths[name] for name in GIRTHS])
+            # one thigh: here 0.56–0.63 of the hip girth at BMI 50 (both thighs together would be over 1)
+            assert girths["thigh_girth"] < 0.7 * girths["hip_girth"], girths
             assert not _new_crossings_off_hands_and_feet(body), (stature, bmi)
-        assert waists[0] < waists[1] < waists[2]
+        assert np.all(np.diff(rows, axis=0) > 0.005), rows  # every girth grows with BMI
+
+
+def test_contact_groups_part_the_limbs_and_the_trunk():
+    """The rig's limbs, each side apart, and the trunk; hands, feet and head do not fold onto themselves."""
+    body = Body.from_measurements("female")
+    groups, folding = contact_groups(body.rig, body.skin_weights)
+    assert groups.shape == (len(body.vertices),) and groups.max() + 1 == 1 + 2 * 7 + 2  # trunk, 7 limbs a side, neck, head
+    assert len(folding) == groups.max() + 1 - 5
+    x = body.vertices[:, 0]
+    for g in range(groups.max() + 1):  # a limb's skin lies on its own side; the trunk, neck and head across the middle
+        side = np.sign(np.median(x[groups == g]))
+        assert np.mean(np.sign(x[groups == g]) == side) > 0.99 or abs(np.median(x[groups == g])) < 0.01
