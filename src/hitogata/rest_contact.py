@@ -72,12 +72,16 @@ def touching_skin(path: Sequence[np.ndarray], faces: np.ndarray, groups: np.ndar
     the first did not cross (module note)."""
     start, target = np.asarray(path[0], dtype=float), np.asarray(path[-1], dtype=float)
     test = SelfContact(start, faces, groups)
-    crossing_at_start = np.zeros(len(start), dtype=bool)
-    crossing_at_start[np.unique(faces[self_intersections(start, faces).ravel()])] = True
-    crossing = np.zeros(len(start), dtype=bool)
-    crossing[np.unique(faces[self_intersections(target, faces).ravel()])] = True
+    crossing_at_start, crossing = _crossing_vertices(start, faces), _crossing_vertices(target, faces)
     free = contact_regions(path[1:], test) | _grow(crossing & ~crossing_at_start, test, CROSSING_RINGS)[None]
     free &= ~_grow(crossing_at_start, test, RINGS)[None]  # the base mesh's own crossings: no barrier starts there
     skin = barrier_resolve(path, test, folding=folding, free=free).vertices if free.any() else target
     limited, _ = OffsetLimiter(start, faces).hold_crossings(start, skin - start)
     return np.asarray(limited)
+
+
+def _crossing_vertices(x: np.ndarray, faces: np.ndarray) -> np.ndarray:
+    """(V,) bool: the corners of every crossing face pair of the skin x."""
+    out = np.zeros(len(x), dtype=bool)
+    out[np.unique(faces[self_intersections(x, faces).ravel()])] = True
+    return out
