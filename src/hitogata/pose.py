@@ -29,6 +29,7 @@ from hitogata.muscles.geometry import MuscleSet, place_muscles
 from hitogata.names import dof_candidates, suggestion
 from hitogata.muscles.spec import MuscleListSpec, load_muscle_spec
 from hitogata.options import ON_LIMIT, OnLimit, Skinning
+from hitogata.skeleton.child_ranges import with_age_ranges
 from hitogata.skeleton.combined import clamp_combined, combined_violation
 from hitogata.skeleton.kinematics import LIMIT_TOLERANCE, Kinematics, Pose, limit_violations
 from hitogata.skeleton.placement import Skeleton, place_skeleton
@@ -126,7 +127,7 @@ class Poser:
         else:
             spec = load_skeleton_spec(skeleton)
             muscle_spec = load_muscle_spec(spec, muscles)
-        sk = place_skeleton(spec, body.rig)
+        sk = with_age_ranges(place_skeleton(spec, body.rig), body.params.sex, body.params.age)
         ms = place_muscles(muscle_spec, sk)
         weights = part_weights(sk, body.rig, body.skin_weights, body.vertices)
         return cls(body, sk, ms, Kinematics(sk), prepare_skin(body.vertices, weights, sk.parents))

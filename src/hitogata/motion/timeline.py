@@ -22,6 +22,7 @@ from hitogata.motion.bvh import read_bvh
 from hitogata.motion.clip import MotionClip
 from hitogata.motion.joint_map import choose_joint_map
 from hitogata.motion.retarget import Retargeted, retarget
+from hitogata.skeleton.child_ranges import with_age_ranges
 from hitogata.skeleton.placement import Skeleton, place_skeleton
 from hitogata.skeleton.spec import load_skeleton_spec
 
@@ -32,7 +33,8 @@ STILL = math.radians(0.01)  # a DOF that never moves more than this from rest is
 def body_skeleton(spec: BodySpec) -> Skeleton:
     """The shipped skeleton placed on the scenario's body."""
 
-    return place_skeleton(load_skeleton_spec(), make_body(spec).rig)
+    body = make_body(spec)
+    return with_age_ranges(place_skeleton(load_skeleton_spec(), body.rig), body.params.sex, body.params.age)
 
 
 def bvh_timeline(source: str, data: dict, body: BodySpec) -> tuple[list[Keyframe], RootTrack]:

@@ -143,6 +143,7 @@ def prepared(definition: BodyDef) -> Prepared:
     from hitogata.pose import Poser
     from hitogata.shape import ShapeParameters
     from hitogata.skeleton.kinematics import Kinematics
+    from hitogata.skeleton.child_ranges import with_age_ranges
     from hitogata.skeleton.placement import place_skeleton
     from hitogata.skeleton.weights import part_weights
     from hitogata.skinning import prepare_skin
@@ -154,7 +155,7 @@ def prepared(definition: BodyDef) -> Prepared:
                                       density=definition.density)
     # Poser.from_body with the lists read once per process instead of once per body.
     spec, muscle_spec = shared_lists()
-    skeleton = place_skeleton(spec, body.rig)
+    skeleton = with_age_ranges(place_skeleton(spec, body.rig), body.params.sex, body.params.age)
     weights = part_weights(skeleton, body.rig, body.skin_weights, body.vertices)
     poser = Poser(body, skeleton, place_muscles(muscle_spec, skeleton), Kinematics(skeleton),
                   prepare_skin(body.vertices, weights, skeleton.parents))
