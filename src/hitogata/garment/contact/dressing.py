@@ -121,12 +121,14 @@ class Placement:
     radii: np.ndarray
 
 
-def place(body: Body, spec: GarmentSpec, posture: Posture, count: int | None = None) -> Placement:
-    """The garment's levels and stations on the body in `posture` (`count` stations: a dressed garment's
-    rings carried into it), with the body's sections there."""
+def place(body: Body, spec: GarmentSpec, posture: Posture, carried: Stations | None = None) -> Placement:
+    """The garment's levels and stations on the body in `posture`, with the body's sections there;
+    carried: a dressed garment's stations, carried into this posture (as many, the first one's in-plane
+    direction turned into its new plane)."""
     posed = JointSet(body.rig.names, posture.heads)
     levels = segment_levels(body, posture.vertices, posed, spec.levels)
-    stations, arc, level_arc = stations_along(levels, SPACING, count=count)
+    count, first_u = (None, None) if carried is None else (len(carried.origins), carried.u[0])
+    stations, arc, level_arc = stations_along(levels, SPACING, count=count, first_u=first_u)
     girths, radii = section_hulls(posture.vertices, body.faces, stations, station_skin(levels, arc, level_arc),
                                   spec.per_ring)
     return Placement(levels, stations, arc, level_arc, girths, radii)

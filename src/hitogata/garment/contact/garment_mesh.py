@@ -21,7 +21,7 @@ import numpy as np
 
 from hitogata.errors import HitogataError
 
-SECTIONS = 101  # relaxed circumferences sampled at this many shares of the way along the axis
+SECTIONS = 401  # relaxed circumferences sampled at this many shares of the way along the axis (every 2 mm of a legging)
 MESH_UNITS = {"m": 1.0, "cm": 0.01, "mm": 0.001}
 THINNEST = 1e-6  # least height of a triangle over its longest edge: below it the triangle is degenerate
 

@@ -31,7 +31,9 @@ from hitogata.motion.clip import MotionClip
 from hitogata.pose import poser_for
 from hitogata.rig import carried_heads, carrying_parts
 
-LIFT = 0.5 * DHAT  # m: a carried garment's start this much further out than the skin's move
+# m: a carried garment's start this much further out than the skin's move: none first, then half the
+# barrier's reach (the carried tissue's facets and the garment's rings differ between the tissue's sections)
+LIFTS = (0.0, 0.5 * DHAT)
 
 
 @dataclass(frozen=True, eq=False)
@@ -66,11 +68,10 @@ def carried(points: np.ndarray, sections: np.ndarray, before: Stations, after: S
             + local[:, 2:] * after.axis[sections])
 
 
-def followed(coords: np.ndarray, before: np.ndarray, after: np.ndarray, lift: float = LIFT) -> np.ndarray:
+def followed(coords: np.ndarray, before: np.ndarray, after: np.ndarray, lift: float) -> np.ndarray:
     """In-plane garment coordinates (M, N, 2) moved out or in with the skin: each point along its ray by
     the change of its section's hull radius there, from `before` to `after` (M, N) at N even angles
-    (periodic interpolation), and `lift` further out (the carried tissue's facets and the garment's rings
-    differ between the tissue's sections by less than that)."""
+    (periodic interpolation), and `lift` further out."""
     per_ring = before.shape[1]
     radius = np.linalg.norm(coords, axis=2)
     angle = np.mod(np.arctan2(coords[..., 1], coords[..., 0]), 2 * np.pi) * per_ring / (2 * np.pi)
@@ -86,7 +87,7 @@ def dress_frame(previous: Dressing, posture: Posture, materials: Materials | Non
     """The garment of a solved dressing on the body in the next `posture`, from the previous equilibrium
     (see the module note); whether the warm start was taken."""
     body, spec, old = previous.body, previous.spec, previous.tube
-    at = place(body, spec, posture, count=old.n_rings)
+    at = place(body, spec, posture, carried=old.stations)
     tube = Tube(at.stations, old.per_ring, old.faces, old.membrane, old.relaxed)
     tissue: LimbTissue | None = None
     tissue_start = None
@@ -96,14 +97,16 @@ def dress_frame(previous: Dressing, posture: Posture, materials: Materials | Non
         sections = previous.tissue.stations[previous.tissue.section]
         tissue_start = tissue.body.points + carried(moved, sections, old.stations, at.stations)
     coords = old.stations.coordinates(previous.garment.reshape(old.n_rings, old.per_ring, 3))
-    if previous.hull_radii is not None:
-        coords = followed(coords, previous.hull_radii, at.radii)
-    start = at.stations.place(coords).reshape(-1, 3)
+    before = at.radii if previous.hull_radii is None else previous.hull_radii  # the skin's sections it lay on
     args = (body, spec, posture, at.levels, at.arc, at.level_arc, at.radii, tube, tissue)
-    try:
-        return solve(*args, start, stiffness=previous.barrier_stiffness, tissue_start=tissue_start), True
-    except HitogataError:  # the carried garment crosses the posed skin: shrunk on again from outside
-        return solve(*args, body_rings(at.radii, at.stations).reshape(-1, 3)), False
+    for lift in LIFTS:  # as it lay, then lifted off the skin a little
+        start = at.stations.place(followed(coords, before, at.radii, lift)).reshape(-1, 3)
+        try:
+            return solve(*args, start, stiffness=previous.barrier_stiffness, tissue_start=tissue_start), True
+        except HitogataError:
+            continue
+    # the carried garment crosses the posed skin: shrunk on again from outside
+    return solve(*args, body_rings(at.radii, at.stations).reshape(-1, 3)), False
 
 
 def dress_through(standing: Dressing, clip: MotionClip, rate: float,
