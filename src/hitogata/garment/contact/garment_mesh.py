@@ -20,6 +20,7 @@ from pathlib import Path
 import numpy as np
 
 from hitogata.errors import HitogataError
+from hitogata.geometry.normals import triangle_areas
 
 SECTIONS = 401  # relaxed circumferences sampled at this many shares of the way along the axis (every 2 mm of a legging)
 MESH_UNITS = {"m": 1.0, "cm": 0.01, "mm": 0.001}
@@ -93,12 +94,12 @@ def _check_triangles(vertices: np.ndarray, faces: np.ndarray, where: str) -> Non
     corners = vertices[faces]
     edges = np.linalg.norm(corners - np.roll(corners, -1, axis=1), axis=2)
     longest = edges.max(axis=1)
-    double_area = np.linalg.norm(np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0]), axis=1)
-    thin = ~(double_area > THINNEST * longest ** 2)
+    area = triangle_areas(corners)
+    thin = ~(2 * area > THINNEST * longest ** 2)
     if thin.any():
         f = int(np.flatnonzero(thin)[0])
         raise HitogataError(f"{where}: triangle {f} (vertices {faces[f].tolist()}) is degenerate (area "
-                            f"{0.5 * double_area[f]:.3g} m²); allowed triangles of non-zero area")
+                            f"{area[f]:.3g} m²); allowed triangles of non-zero area")
 
 
 def _boundary_loops(faces: np.ndarray, where: str, allowed: str) -> list[np.ndarray]:
