@@ -16,6 +16,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+from scipy.ndimage import maximum_filter1d
 
 from hitogata.body import Body
 from hitogata.elastic.materials import Materials
@@ -24,7 +25,7 @@ from hitogata.garment.contact.answers import GarmentContact, garment_contact
 from hitogata.garment.contact.dressing import Dressing, Posture, place, solve
 from hitogata.garment.contact.equilibrium import DHAT
 from hitogata.garment.contact.segments import body_rings
-from hitogata.garment.contact.tissue import LimbTissue, limb_tissue
+from hitogata.garment.contact.tissue import ALONG, LimbTissue, limb_tissue
 from hitogata.garment.contact.tube import Stations, Tube
 from hitogata.garment.ease import sampled_frames
 from hitogata.motion.clip import MotionClip
@@ -70,14 +71,16 @@ def carried(points: np.ndarray, sections: np.ndarray, before: Stations, after: S
 
 def followed(coords: np.ndarray, before: np.ndarray, after: np.ndarray, lift: float) -> np.ndarray:
     """In-plane garment coordinates (M, N, 2) moved out or in with the skin: each point along its ray by
-    the change of its section's hull radius there, from `before` to `after` (M, N) at N even angles
-    (periodic interpolation), and `lift` further out."""
+    the change of the sections' hull radii there, from `before` to `after` (M, N) at N even angles
+    (periodic interpolation), and `lift` further out. A ring takes the largest change of its own section
+    and its neighbours' within the tissue's spacing (`tissue.ALONG`): the tissue between its sections is
+    their straight join, and a ring between two sections must clear it however the skin moved there."""
     per_ring = before.shape[1]
     radius = np.linalg.norm(coords, axis=2)
     angle = np.mod(np.arctan2(coords[..., 1], coords[..., 0]), 2 * np.pi) * per_ring / (2 * np.pi)
     low = np.floor(angle).astype(int) % per_ring
     share = angle - np.floor(angle)
-    change = after - before
+    change = maximum_filter1d(after - before, 2 * ALONG - 1, axis=0, mode="nearest")
     rows = np.arange(len(coords))[:, None]
     shift = (1 - share) * change[rows, low] + share * change[rows, (low + 1) % per_ring]
     return coords * ((radius + shift + lift) / radius)[..., None]
