@@ -6,9 +6,11 @@ standing body, the same number of stations (the garment's rings are carried alon
 lengthens, over a bent knee, its wale stretches), and on a limb the tissue is meshed again round the
 posed bones. The garment is the standing one (its relaxed sizes and rest shape: an ease is taken on
 the standing girths, not a frame's), and the solve starts warm: the last frame's garment in its rings'
-planes and the tissue's displacements, each carried in its station's frame into the new posture, with
-the standing solve's barrier stiffness κ. Where that start crosses the posed skin (a fast move between
-frames) the frame starts cold as the standing solve does: the rings outside the sections, shrunk on.
+planes and the tissue's displacements, each carried in its station's frame into the new posture, each
+garment point moved out or in with the skin's section under it (`followed`), with the standing solve's
+barrier stiffness κ. Where that start crosses or touches the posed skin even lifted half a barrier's
+reach (a fast move between frames) the frame starts cold as the standing solve does: the rings outside
+the sections, shrunk on (decision 0029).
 """
 
 from __future__ import annotations
