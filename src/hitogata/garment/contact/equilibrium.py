@@ -198,6 +198,8 @@ def settle(tube: Tube, start: np.ndarray, body: ContactBody, dhat: float = DHAT,
         scale = min(1.0, MAX_STEP / longest)
         step, move = step * scale, move * scale
         alpha = min(1.0, _collision_free(problem, v, v + move))
+        if alpha <= 0.0:  # CCD allows no move at all (a vertex at its gap): stuck, not converged
+            break
         slope = float(gradient @ step)
         while True:
             trial = z + alpha * step

@@ -9,7 +9,7 @@ the standing girths, not a frame's), and the solve starts warm: the last frame's
 planes and the tissue's displacements, each carried in its station's frame into the new posture, each
 garment point moved out or in with the skin's section under it (`followed`), with the standing solve's
 barrier stiffness κ. Where that start crosses or touches the posed skin even lifted half a barrier's
-reach (a fast move between frames) the frame starts cold as the standing solve does: the rings outside
+reach (a fast move between frames), or Newton sticks from it, the frame starts cold as the standing solve does: the rings outside
 the sections, shrunk on (decision 0029).
 """
 
@@ -107,10 +107,12 @@ def dress_frame(previous: Dressing, posture: Posture, materials: Materials | Non
     for lift in LIFTS:  # as it lay, then lifted off the skin a little
         start = at.stations.place(followed(coords, before, at.radii, lift)).reshape(-1, 3)
         try:
-            return solve(*args, start, stiffness=previous.barrier_stiffness, tissue_start=tissue_start), True
+            warm = solve(*args, start, stiffness=previous.barrier_stiffness, tissue_start=tissue_start)
         except HitogataError:
             continue
-    # the carried garment crosses the posed skin: shrunk on again from outside
+        if warm.converged:
+            return warm, True
+    # the carried garment crosses the posed skin (or Newton stuck from it): shrunk on again from outside
     return solve(*args, body_rings(at.radii, at.stations).reshape(-1, 3)), False
 
 
