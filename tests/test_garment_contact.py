@@ -149,7 +149,7 @@ def test_shipped_garments_load():
     ('ease = "-10%"\n[fabric]\n', "fabric: missing key 'course'"),
     ('ease = "-10%"\nlevels = ["ankle", "hip"]\n[fabric]\ncourse = "400N/m"\n',
      "file.levels: 'hip'; allowed levels of the leg: ankle, calf, knee, thigh"),
-    ('ease = "-10%"\n[relaxed]\nankle = "14cm"\n[fabric]\ncourse = "400N/m"\n', "give `ease` or a [relaxed] table"),
+    ('ease = "-10%"\n[relaxed]\nankle = "14cm"\n[fabric]\ncourse = "400N/m"\n', "give one of `ease`, a [relaxed] table"),
     ('ease = "-10%"\n[fabric]\ncourse = "missing.csv"\n', "missing.csv: no such fabric file"),
 ])
 def test_garment_file_mistakes_are_one_line(tmp_path, text, message):
@@ -161,7 +161,7 @@ def test_garment_file_mistakes_are_one_line(tmp_path, text, message):
 
 
 def test_unknown_garment_name_lists_the_shipped():
-    with pytest.raises(HitogataError, match="allowed a garment file or a shipped garment: legging, sleeve"):
+    with pytest.raises(HitogataError, match="allowed a garment file or a shipped garment: legging, legging_mesh, sleeve"):
         load_garment("no-such-garment")
 
 

@@ -60,6 +60,14 @@ def load_motions(text: str) -> dict[str, Scenario]:
     return {motion_name(path): load_scenario(path) for path in map(scenario_path, names)}
 
 
+def check_rate(rate: float, scenarios: dict[str, Scenario]) -> None:
+    """--rate: frames per second > 0, at most the motions' own."""
+    fastest = min(s.rate for s in scenarios.values())
+    if not 0 < rate <= fastest:
+        raise HitogataError(f"--rate {rate:g}: allowed frames per second > 0 and at most {fastest:g} "
+                            "(the motions' own frame rate)")
+
+
 def garment_from_args(args: argparse.Namespace) -> tuple[Garment, Fabric] | None:
     """The stretch garment of --garment-ease and --fabric, or None when neither is given."""
     if args.garment_ease is None and args.fabric is None:
@@ -77,10 +85,7 @@ def garment_from_args(args: argparse.Namespace) -> tuple[Garment, Fabric] | None
 def checked_inputs(args: argparse.Namespace) -> tuple[dict[str, Scenario], tuple[Garment, Fabric] | None]:
     """The motions and the garment of the shared options, checked before any long work."""
     scenarios = load_motions(args.motions)
-    fastest = min(s.rate for s in scenarios.values())
-    if not 0 < args.rate <= fastest:
-        raise HitogataError(f"--rate {args.rate:g}: allowed frames per second > 0 and at most {fastest:g} "
-                            "(the motions' own frame rate)")
+    check_rate(args.rate, scenarios)
     if args.surface == "elastic" and args.skinning != "dqs":
         raise HitogataError(f"--surface elastic: the elastic body stands on dual-quaternion skinning; "
                             f"drop --skinning {args.skinning}")

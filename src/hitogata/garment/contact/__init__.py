@@ -2,13 +2,14 @@
 
 - `membrane`: the fabric's tensile curve along course and wale on a triangle mesh;
 - `tube`: a tubular garment's rings along a segment;
-- `spec`: garment files (TOML) and the shipped examples;
+- `spec`: garment files (TOML) and the shipped examples; `garment_mesh`: a garment given as its rest mesh (OBJ/PLY);
 - `equilibrium`: the garment's (and a soft body's) equilibrium with the barrier;
 - `pressure`: the contact forces as pressure on the skin;
 - `verify`: bodies with known answers (cylinders, ellipses, Lamé's thick-walled cylinder);
 - `segments`: the levels and stations of a body segment;
 - `dressing`: a garment put on the body; `answers`: its pressure at the levels and on the skin;
-  `files`: the tables, GLB and picture of `hitogata dress`.
+  `files`: the tables, GLB and picture of `hitogata dress`; `motion`: the garment through a motion, each
+  frame solved from the last.
 
 `dress_garment(body, "legging")` is the one call from a body and a garment to its answers.
 """

@@ -113,8 +113,9 @@ def sensor_pressure(points: np.ndarray, faces: np.ndarray, force: np.ndarray) ->
     return out
 
 
-def garment_contact(dressing: Dressing) -> GarmentContact:
-    """The answers of a solved dressing (see the module note)."""
+def garment_contact(dressing: Dressing, laplace: bool = True) -> GarmentContact:
+    """The answers of a solved dressing (see the module note); laplace: Laplace's estimate beside them (on
+    the standing body: a motion's frames leave it NaN)."""
     body, spec, tube = dressing.body, dressing.spec, dressing.tube
     skin, faces = dressing.skin, body.faces
     pressing, _ = pressing_forces(skin, faces, dressing.force)
@@ -127,7 +128,7 @@ def garment_contact(dressing: Dressing) -> GarmentContact:
     axis = stations.axis
     under = dressing.contact_skin & ((skin - stations.origins[0]) @ axis[0] >= 0) \
         & ((skin - stations.origins[-1]) @ axis[-1] <= 0)
-    laplace = _laplace(dressing)
+    quick = _laplace(dressing) if laplace else {}
     _, wale = tube.membrane.strains(dressing.garment)
     ring_strain = tube.ring_strains(dressing.garment)
     ring_of_face = tube.faces[:, 0] // tube.per_ring
@@ -141,7 +142,7 @@ def garment_contact(dressing: Dressing) -> GarmentContact:
         rings = np.abs(dressing.arc[ring_of_vertex] - at) <= BAND
         soft = _soft_level(dressing, at, standing.girth)
         rows.append(LevelContact(level.name, patch_pressure(pushed, garment_areas, rings),
-                                 laplace.get(level.name, np.nan), float(sensor[band].max()) if band.any() else np.nan,
+                                 quick.get(level.name, np.nan), float(sensor[band].max()) if band.any() else np.nan,
                                  standing.girth, float(tube.relaxed[ring] * (1 + ring_strain[ring])),
                                  float(ring_strain[ring]), float(wale[np.abs(ring_of_face - ring) <= 1].mean()),
                                  float(holding[band].sum()) / pressed if pressed > 0 else np.nan, *soft))
@@ -190,7 +191,10 @@ def _laplace(dressing: Dressing) -> dict[str, float]:
     known = tuple(level for level in spec.levels if level in LEVELS)
     if not known:
         return {}
-    if spec.relaxed is not None:
+    if spec.mesh is not None:  # the mesh's relaxed circumference at the levels
+        relaxed = np.interp(dressing.level_arc, dressing.arc, dressing.tube.relaxed)
+        garment = Garment(relaxed={level: float(c) for level, c in zip(spec.levels, relaxed) if level in known})
+    elif spec.relaxed is not None:
         garment = Garment(relaxed={level: spec.relaxed[level] for level in known})
     else:
         garment = Garment(ease=spec.ease, levels=known)

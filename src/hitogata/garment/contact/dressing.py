@@ -37,7 +37,7 @@ from hitogata.garment.contact.segments import (
 )
 from hitogata.garment.contact.tissue import LIMB_BONES, LimbTissue, limb_tissue
 from hitogata.garment.contact.spec import GarmentSpec
-from hitogata.garment.contact.tube import Tube, build_tube
+from hitogata.garment.contact.tube import Stations, Tube, build_tube
 from hitogata.fit.closest import SurfaceQuery
 from hitogata.measure.axes import JointSet
 
@@ -68,13 +68,17 @@ class Dressing:
     min_distance: float
     tissue: LimbTissue | None = None  # the soft limb under the garment (None: the rigid body)
     tissue_nodes: np.ndarray | None = None  # (T, 3) its nodes at equilibrium
+    barrier_stiffness: float = float("nan")  # the barrier's κ of the solve (a motion's frames keep it)
+    hull_radii: np.ndarray | None = None  # (M, N) m: the body's sections round the stations (`section_hulls`)
 
 
 def relaxed_at_stations(spec: GarmentSpec, girths: np.ndarray, arc: np.ndarray, level_arc: np.ndarray) -> np.ndarray:
-    """The relaxed circumference (m) at each station: the ease × the body's girth there, or the levels'
-    relaxed circumferences interpolated along the segment; refused (one line) where the fabric would be
+    """The relaxed circumference (m) at each station: the ease × the body's girth there, the levels'
+    relaxed circumferences interpolated along the segment, or the garment mesh's section there; refused (one line) where the fabric would be
     stretched beyond the strain its tensile test reached."""
-    if spec.relaxed is not None:
+    if spec.mesh is not None:  # its openings at the first and last stations (`garment_mesh`)
+        relaxed = spec.mesh.relaxed(arc / arc[-1])
+    elif spec.relaxed is not None:
         relaxed = np.interp(arc, level_arc, [spec.relaxed[level] for level in spec.levels])
     else:
         relaxed = (1.0 + float(spec.ease or 0.0)) * girths
@@ -83,7 +87,7 @@ def relaxed_at_stations(spec: GarmentSpec, girths: np.ndarray, arc: np.ndarray, 
     tested = spec.course.tested_strain
     if strain[worst] > tested:
         level = spec.levels[int(np.argmin(np.abs(level_arc - arc[worst])))]
-        value = f"{100 * relaxed[worst]:.1f} cm" if spec.relaxed is not None else f"{100 * (spec.ease or 0):+.0f}%"
+        value = f"{100 * (spec.ease or 0):+.0f}%" if spec.ease is not None else f"{100 * relaxed[worst]:.1f} cm"
         raise HitogataError(f"{spec.where(level)}: {value} is smaller than the fabric can stretch to near the "
                             f"{level} ({100 * girths[worst]:.1f} cm round: {100 * strain[worst]:.0f} % strain); "
                             f"allowed at least {100 * girths[worst] / (1 + tested):.1f} cm there (the fabric's "
@@ -91,17 +95,54 @@ def relaxed_at_stations(spec: GarmentSpec, girths: np.ndarray, arc: np.ndarray, 
     return relaxed
 
 
+@dataclass(frozen=True, eq=False)
+class Posture:
+    """The body as the garment meets it: its skin's vertices (V, 3) and the rig's bone heads and tails (B, 3)."""
+
+    vertices: np.ndarray
+    heads: np.ndarray
+    tails: np.ndarray
+
+    @classmethod
+    def standing(cls, body: Body) -> Posture:
+        return cls(np.asarray(body.vertices, dtype=float), body.rig.heads, body.rig.tails)
+
+
+@dataclass(frozen=True, eq=False)
+class Placement:
+    """Where a garment lies on a posture: its levels, stations, the stations' and levels' arc lengths (m),
+    the sections' tape girths (M,) (m) and hull radii (M, N) (m)."""
+
+    levels: list[Level]
+    stations: Stations
+    arc: np.ndarray
+    level_arc: np.ndarray
+    girths: np.ndarray
+    radii: np.ndarray
+
+
+def place(body: Body, spec: GarmentSpec, posture: Posture, carried: Stations | None = None) -> Placement:
+    """The garment's levels and stations on the body in `posture`, with the body's sections there;
+    carried: a dressed garment's stations, carried into this posture (as many, the first one's in-plane
+    direction turned into its new plane)."""
+    posed = JointSet(body.rig.names, posture.heads)
+    levels = segment_levels(body, posture.vertices, posed, spec.levels)
+    count, first_u = (None, None) if carried is None else (len(carried.origins), carried.u[0])
+    stations, arc, level_arc = stations_along(levels, SPACING, count=count, first_u=first_u)
+    girths, radii = section_hulls(posture.vertices, body.faces, stations, station_skin(levels, arc, level_arc),
+                                  spec.per_ring)
+    return Placement(levels, stations, arc, level_arc, girths, radii)
+
+
 def prepare(body: Body, spec: GarmentSpec) -> tuple[list[Level], Tube, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """The levels, the garment's tube and its start rings (V, 3) on the standing body, stations' and levels'
     arc lengths, the sections' hull radii (M, N); every check of the garment against the body is here, before any long work."""
-    posed = JointSet(body.rig.names, body.rig.heads)
-    levels = segment_levels(body, body.vertices, posed, spec.levels)
-    stations, arc, level_arc = stations_along(levels, SPACING)
-    girths, radii = section_hulls(body.vertices, body.faces, stations, station_skin(levels, arc, level_arc),
-                                  spec.per_ring)
-    relaxed = relaxed_at_stations(spec, girths, arc, level_arc)
-    tube = build_tube(stations, spec.per_ring, relaxed, spec.course, spec.wale, spec.shear)
-    return levels, tube, body_rings(radii, stations).reshape(-1, 3), arc, level_arc, radii
+    at = place(body, spec, Posture.standing(body))
+    relaxed = relaxed_at_stations(spec, at.girths, at.arc, at.level_arc)
+    # a mesh garment's wale at rest is its own length laid along the segment
+    wale_ease = 0.0 if spec.mesh is None else spec.mesh.length / float(at.arc[-1]) - 1.0
+    tube = build_tube(at.stations, spec.per_ring, relaxed, spec.course, spec.wale, spec.shear, wale_ease)
+    return at.levels, tube, body_rings(at.radii, at.stations).reshape(-1, 3), at.arc, at.level_arc, at.radii
 
 
 def dress(body: Body, spec: GarmentSpec, soft: bool = True, materials: Materials | None = None) -> Dressing:
@@ -111,7 +152,17 @@ def dress(body: Body, spec: GarmentSpec, soft: bool = True, materials: Materials
     levels, tube, start, arc, level_arc, radii = prepare(body, spec)
     tissue = limb_tissue(body, spec.segment, tube.stations, radii, materials) \
         if soft and spec.segment in LIMB_BONES else None
-    rest = np.asarray(body.vertices, dtype=float)
+    return solve(body, spec, Posture.standing(body), levels, arc, level_arc, radii, tube, tissue, start)
+
+
+def solve(body: Body, spec: GarmentSpec, posture: Posture, levels: list[Level], arc: np.ndarray,
+          level_arc: np.ndarray, radii: np.ndarray, tube: Tube, tissue: LimbTissue | None, start: np.ndarray,
+          stiffness: float | None = None, tissue_start: np.ndarray | None = None) -> Dressing:
+    """The garment from `start` (V, 3) on the body in `posture` (its sections' hull radii `radii`; its skin rigid, or the limb's `tissue`
+    from its nodes `tissue_start`, default at rest). Cold (`stiffness` None): settled on the skin held still
+    first, then with the tissue, the barrier's κ from the garment's forces; warm (a dressed garment's κ
+    given, `start` its last equilibrium carried into the posture): solved with the tissue at once."""
+    rest = np.asarray(posture.vertices, dtype=float)
     near = cKDTree(start).query(rest, distance_upper_bound=REACH)[0] <= REACH
     faces = body.faces[near[body.faces].any(axis=1)]
     sub = np.unique(faces)
@@ -119,13 +170,17 @@ def dress(body: Body, spec: GarmentSpec, soft: bool = True, materials: Materials
     local[sub] = np.arange(len(sub))
     sub_faces = local[faces]
     rigid = ContactBody(rest[sub], sub_faces) if tissue is None else ContactBody(tissue.body.points, tissue.body.faces)
+    warm = stiffness is not None
     try:
-        eq = settle(tube, start, rigid)
+        if warm and tissue is not None:
+            eq = settle(tube, start, tissue.body, stiffness=stiffness, body_start=tissue_start)
+        else:
+            eq = settle(tube, start, rigid, stiffness=stiffness)
     except HitogataError as err:
         raise HitogataError(f"{spec.source}: the garment's start crosses the body ({err}); allowed a garment "
                             "whose segment is clear of other skin") from None
     iterations = eq.iterations
-    if tissue is not None:  # from the garment settled on the tissue held still: the two solved together
+    if tissue is not None and not warm:  # from the garment settled on the tissue held still: the two solved together
         eq = settle(tube, eq.garment, tissue.body, stiffness=eq.barrier_stiffness)
         iterations += eq.iterations
     force = np.zeros_like(rest)
@@ -139,7 +194,8 @@ def dress(body: Body, spec: GarmentSpec, soft: bool = True, materials: Materials
     contact = np.zeros(len(rest), dtype=bool)
     contact[sub] = True
     return Dressing(body, spec, levels, level_arc, arc, tube, eq.garment, eq.garment_force, rest, force, friction, contact,
-                    iterations, eq.converged, eq.min_distance, tissue, None if tissue is None else eq.body)
+                    iterations, eq.converged, eq.min_distance, tissue, None if tissue is None else eq.body,
+                    eq.barrier_stiffness, radii)
 
 
 def spread_on_surface(skin: np.ndarray, faces: np.ndarray, points: np.ndarray, forces: np.ndarray) -> np.ndarray:

@@ -130,8 +130,8 @@ class _Problem:
 def settle(tube: Tube, start: np.ndarray, body: ContactBody, dhat: float = DHAT, stiffness: float | None = None,
            iterations: int = NEWTON, tolerance: float = TOLERANCE, body_start: np.ndarray | None = None
            ) -> Equilibrium:
-    """The garment's equilibrium from `start` (V, 3: on its rings' planes, free of crossings with the body,
-    e.g. outside it) on `body` (its nodes from `body_start`, default their rest). stiffness: the barrier's κ
+    """The garment's equilibrium from `start` (V, 3: on its rings' planes, free of crossings with the body
+    and more than `CCD_GAP` from it, e.g. outside it) on `body` (its nodes from `body_start`, default their rest). stiffness: the barrier's κ
     (default: from the garment's forces at the start, see the module note)."""
     import ipctk
 
@@ -166,6 +166,10 @@ def settle(tube: Tube, start: np.ndarray, body: ContactBody, dhat: float = DHAT,
         return e
 
     contacts = collisions(v)
+    if len(contacts) and contacts.compute_minimum_distance(problem.mesh, v) <= CCD_GAP ** 2:
+        # CCD could not move such a start at all (its step would be cut to nothing)
+        raise HitogataError(f"garment: its start lies within {1e6 * CCD_GAP:.0f} µm of the body's surface; "
+                            "allowed a start clear of it")
     e0 = energy(z, contacts)
     n_g = 2 * problem.n_garment
     converged, taken = False, 0
@@ -194,6 +198,8 @@ def settle(tube: Tube, start: np.ndarray, body: ContactBody, dhat: float = DHAT,
         scale = min(1.0, MAX_STEP / longest)
         step, move = step * scale, move * scale
         alpha = min(1.0, _collision_free(problem, v, v + move))
+        if alpha <= 0.0:  # CCD allows no move at all (a vertex at its gap): stuck, not converged
+            break
         slope = float(gradient @ step)
         while True:
             trial = z + alpha * step

@@ -16,6 +16,7 @@ import numpy as np
 
 from hitogata.export.atomic import write_bytes_atomically
 from hitogata.garment.contact.answers import GarmentContact
+from hitogata.garment.contact.motion import MotionContact
 from hitogata.garment.pressure import MMHG
 
 SKIN_RGBA = (0.85, 0.71, 0.61, 1.0)
@@ -80,11 +81,30 @@ def pressure_picture(result: GarmentContact) -> bytes:
     return png_bytes(titled(side_by_side(views), f"{result.title}: contact pressure on the skin"))
 
 
-def write_dressing(folder: Path, result: GarmentContact) -> list[str]:
-    """Every file of a dressed garment into `folder`; their names."""
+def motion_csv(motions: dict[str, MotionContact]) -> bytes:
+    """One row per motion, sampled frame and level: the contact pressure (mmHg; the sensor-sized peak too),
+    the indentation (mm; empty on the rigid body), the course strain and whether the frame's solve started
+    from the last frame's ("warm") or from outside the body ("cold")."""
+    rows: list[dict[str, float | str]] = []
+    for name, motion in motions.items():
+        for frame, (time, result, warm) in enumerate(zip(motion.times, motion.frames, motion.warm)):
+            for level in result.levels:
+                row = level.as_row()
+                rows.append({"motion": name, "frame": str(frame), "time_s": float(time), "level": level.level,
+                             "pressure_mmHg": row["pressure_mmHg"], "peak_mmHg": row["peak_mmHg"],
+                             "indentation_mm": row["indentation_mm"], "deepest_mm": row["deepest_mm"],
+                             "course_strain_pct": row["course_strain_pct"], "start": "warm" if warm else "cold"})
+    return _csv(rows)
+
+
+def write_dressing(folder: Path, result: GarmentContact, motions: dict[str, MotionContact] | None = None) -> list[str]:
+    """Every file of a dressed garment into `folder` (with `motions`, its answers through them:
+    pressure_motion.csv); their names."""
     files = {"pressure.csv": levels_csv(result), "skin_pressure.csv": skin_csv(result),
              "garment_strain.csv": garment_csv(result), "dressed.glb": dressed_glb(result),
              "pressure.png": pressure_picture(result)}
+    if motions:
+        files["pressure_motion.csv"] = motion_csv(motions)
     for name, data in files.items():
         write_bytes_atomically(folder / name, data)
     return list(files)

@@ -68,17 +68,21 @@ def segment_levels(body: Body, vertices: np.ndarray, posed: JointSet, names: tup
     return out
 
 
-def stations_along(levels: list[Level], spacing: float = SPACING, margin: tuple[float, float] = MARGIN
-                   ) -> tuple[Stations, np.ndarray, np.ndarray]:
+def stations_along(levels: list[Level], spacing: float = SPACING, margin: tuple[float, float] = MARGIN,
+                   count: int | None = None, first_u: np.ndarray | None = None) -> tuple[Stations, np.ndarray, np.ndarray]:
     """Stations every ~`spacing` along the levels' polyline, `margin` beyond its end levels (so each level's
-    band lies under the garment), the arc length (m) of each station and of each level."""
+    band lies under the garment), the arc length (m) of each station and of each level. count: that many
+    stations evenly along it instead (a garment's rings carried into a posture, where the segment's length
+    changes); first_u: the first station's in-plane direction u turned from this one (the last posture's:
+    the rings' angles then keep their place on the body), default the plane's own basis."""
     origins = np.array([level.origin for level in levels])
     normals = np.array([level.normal for level in levels])
     origins = np.concatenate([[origins[0] - margin[0] * normals[0]], origins, [origins[-1] + margin[1] * normals[-1]]])
     normals = np.concatenate([normals[:1], normals, normals[-1:]])
     lengths = np.linalg.norm(np.diff(origins, axis=0), axis=1)
     level_arc = np.concatenate([[0.0], np.cumsum(lengths)])
-    count = max(int(np.ceil(level_arc[-1] / spacing)), 1) + 1
+    if count is None:
+        count = max(int(np.ceil(level_arc[-1] / spacing)), 1) + 1
     arc = np.linspace(0.0, level_arc[-1], count)
     segment = np.clip(np.searchsorted(level_arc, arc, side="right") - 1, 0, len(origins) - 2)
     share = ((arc - level_arc[segment]) / lengths[segment])[:, None]
@@ -86,7 +90,11 @@ def stations_along(levels: list[Level], spacing: float = SPACING, margin: tuple[
     normal = normals[segment] + share * (normals[segment + 1] - normals[segment])
     normal /= np.linalg.norm(normal, axis=1)[:, None]
     # bases carried from station to station (parallel transport: the least turn from each normal to the next)
-    _, u0, _ = plane_basis(normal[0])
+    if first_u is None:
+        _, u0, _ = plane_basis(normal[0])
+    else:
+        u0 = first_u - (first_u @ normal[0]) * normal[0]
+        u0 = u0 / np.linalg.norm(u0)
     us = [u0]
     for n in normal[1:]:
         u = us[-1] - (us[-1] @ n) * n

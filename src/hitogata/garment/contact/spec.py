@@ -4,7 +4,9 @@
     segment = "leg"                      # leg (right), arm (right) or trunk
     ease = "-20%"                        # against the standing body's girth at every station, or
     # [relaxed]                          # the relaxed circumference at levels (interpolated between them)
-    # ankle = "14.1cm"
+    # ankle = "14.1cm"                   # or
+    # mesh = "legging_mesh.obj"          # its mesh in the rest shape (OBJ or PLY, relative to this file;
+    # mesh_unit = "m"                    # `garment_mesh`), in m, cm or mm
     levels = ["ankle", "calf", "knee", "thigh"]   # the levels it covers, in order (default: the segment's)
     [fabric]
     course = "400N/m"                    # a linear fabric's modulus, or a tensile test's CSV (`read_fabric_csv`)
@@ -27,6 +29,7 @@ from typing import Any
 from hitogata import units
 from hitogata.config import Entry, read_toml
 from hitogata.errors import HitogataError
+from hitogata.garment.contact.garment_mesh import MESH_UNITS, GarmentMesh, read_garment_mesh
 from hitogata.garment.fabric import Fabric, read_fabric_csv
 
 # the levels of each segment in order along it (the measured girths'; right side for a limb)
@@ -43,7 +46,7 @@ PER_RING = 64  # vertices round each ring
 @dataclass(frozen=True)
 class GarmentSpec:
     """One garment file, checked, in SI: its segment, the levels it covers, its relaxed circumferences (m,
-    by level) or one ease, the fabric's course and wale curves and shear stiffness (N/m)."""
+    by level), one ease or its rest mesh, the fabric's course and wale curves and shear stiffness (N/m)."""
 
     source: str
     title: str
@@ -55,9 +58,12 @@ class GarmentSpec:
     wale: Fabric
     shear: float = SHEAR
     per_ring: int = PER_RING
+    mesh: GarmentMesh | None = None
 
     def where(self, level: str) -> str:
         """The entry that sets a level's relaxed size, for messages."""
+        if self.mesh is not None:
+            return f"{self.source}: mesh"
         return f"{self.source}: relaxed.{level}" if self.relaxed is not None else f"{self.source}: ease"
 
 
@@ -88,15 +94,23 @@ def load_garment(name: str | Path) -> GarmentSpec:
 
 def parse_garment(data: dict[str, Any], source: str, folder: Path) -> GarmentSpec:
     """Check a parsed garment document; fabric CSVs are read relative to `folder`."""
-    top = Entry(source, "file", data, ("title", "segment", "levels", "ease", "relaxed", "fabric", "per_ring"))
+    top = Entry(source, "file", data, ("title", "segment", "levels", "ease", "relaxed", "mesh", "mesh_unit", "fabric",
+                                       "per_ring"))
     title = top.get("title", str, Path(source).stem)
     segment = top.choice("segment", tuple(SEGMENTS), "leg")
     allowed = SEGMENTS[segment]
-    if ("ease" in data) == ("relaxed" in data):
-        top.fail("give `ease` or a [relaxed] table of circumferences by level, not both or neither")
+    if sum(key in data for key in ("ease", "relaxed", "mesh")) != 1:
+        top.fail("give one of `ease`, a [relaxed] table of circumferences by level or a `mesh` file")
+    if "mesh_unit" in data and "mesh" not in data:
+        top.fail("`mesh_unit` without a `mesh`; allowed with a mesh file only", "mesh_unit")
     relaxed: dict[str, float] | None = None
     ease = None
-    if "relaxed" in data:
+    mesh = None
+    if "mesh" in data:
+        unit = MESH_UNITS[top.choice("mesh_unit", tuple(MESH_UNITS), "m")]
+        mesh = read_garment_mesh(folder / top.get("mesh", str), f"{source}: mesh", unit)
+        levels = allowed
+    elif "relaxed" in data:
         table = Entry(source, "relaxed", data["relaxed"], allowed)
         relaxed = {}
         for level in allowed:
@@ -126,7 +140,7 @@ def parse_garment(data: dict[str, Any], source: str, folder: Path) -> GarmentSpe
     course = _fabric(fabric, "course", folder, None)
     wale = _fabric(fabric, "wale", folder, course)
     shear = fabric.quantity("shear", MODULUS_UNITS, SHEAR, 0.0, 1e5, "a shear stiffness ≥ 0 like 30N/m")
-    return GarmentSpec(source, title, segment, levels, relaxed, ease, course, wale, shear, per_ring)
+    return GarmentSpec(source, title, segment, levels, relaxed, ease, course, wale, shear, per_ring, mesh)
 
 
 def _fabric(entry: Entry, key: str, folder: Path, default: Fabric | None) -> Fabric:

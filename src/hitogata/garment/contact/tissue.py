@@ -68,6 +68,7 @@ class LimbTissue:
     stations: np.ndarray
     outer: np.ndarray
     outward: np.ndarray
+    section: np.ndarray  # (T,) each node's section (an index into `stations`)
 
     @property
     def perimeter(self) -> np.ndarray:
@@ -101,9 +102,10 @@ class LimbTissue:
 
 
 def limb_tissue(body: Body, segment: str, stations: Stations, hull_radii: np.ndarray,
-                materials: Materials | None = None) -> LimbTissue:
+                materials: Materials | None = None, bones: tuple[np.ndarray, np.ndarray] | None = None) -> LimbTissue:
     """The tissue of the limb under a garment whose stations are `stations` and whose skin sections have
-    radii `hull_radii` (M, N) from each station's centre at N even angles (see the module note)."""
+    radii `hull_radii` (M, N) from each station's centre at N even angles (see the module note); bones: the
+    rig's bone heads and tails (B, 3) each in the body's posture (default: standing)."""
     if segment not in LIMB_BONES:
         raise HitogataError(f"garment: segment {segment!r} has no limb tissue model; allowed {', '.join(LIMB_BONES)}")
     materials = materials or load_materials()
@@ -116,7 +118,8 @@ def limb_tissue(body: Body, segment: str, stations: Stations, hull_radii: np.nda
     theta = 2 * np.pi * angles / n_all
     ray = np.cos(theta)[None, :, None] * u[:, None] + np.sin(theta)[None, :, None] * v[:, None]  # (m, n, 3)
     outer_points = origins[:, None] + hull_radii[chosen][:, angles, None] * ray
-    centres, radii = _bone_axis(body, segment, origins, normal)
+    heads, tails = (body.rig.heads, body.rig.tails) if bones is None else bones
+    centres, radii = _bone_axis(body.rig.names, heads, tails, segment, origins, normal)
     # where the bone's axis lies near the skin (the shin, the kneecap) its capsule is narrowed to leave
     # `LEAST_TISSUE` of tissue: the rest of the bone there is the held core
     reach = np.einsum("mni,mni->mn", outer_points - centres[:, None], ray).min(axis=1)
@@ -149,19 +152,19 @@ def limb_tissue(body: Body, segment: str, stations: Stations, hull_radii: np.nda
     outer = np.full((m, n), -1)
     on = i == radial
     outer[k[on], j[on]] = np.flatnonzero(on)
-    return LimbTissue(ContactBody(nodes, faces, stiffness, fixed.ravel()), tets, chosen, outer, ray)
+    return LimbTissue(ContactBody(nodes, faces, stiffness, fixed.ravel()), tets, chosen, outer, ray, k)
 
 
-def _bone_axis(body: Body, segment: str, origins: np.ndarray, normal: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def _bone_axis(names: tuple[str, ...], heads: np.ndarray, tails: np.ndarray, segment: str,
+               origins: np.ndarray, normal: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Where the limb's bone axis crosses each station's plane (m, 3) and the bone's capsule radius there
     (m,): the right limb's bones (head → tail lines), the crossing nearest the station's centre."""
-    rig = body.rig
-    bones = [b for b, name in enumerate(rig.names) if name.endswith(".R") and name.startswith(LIMB_BONES[segment])]
+    bones = [b for b, name in enumerate(names) if name.endswith(".R") and name.startswith(LIMB_BONES[segment])]
     centres, radii = [], []
     for origin, n in zip(origins, normal):
         best = (np.inf, origin, 0.0)
         for b in bones:
-            head, tail = rig.heads[b], rig.tails[b]
+            head, tail = heads[b], tails[b]
             along = float((tail - head) @ n)
             t = float((origin - head) @ n) / along if abs(along) > 1e-9 else 0.0
             t = min(max(t, 0.0), 1.0)
@@ -169,7 +172,7 @@ def _bone_axis(body: Body, segment: str, origins: np.ndarray, normal: np.ndarray
             point = point - float((point - origin) @ n) * n  # into the station's plane
             distance = float(np.linalg.norm(point - origin))
             if distance < best[0]:
-                best = (distance, point, bone_radius(rig.names[b]))
+                best = (distance, point, bone_radius(names[b]))
         centres.append(best[1])
         radii.append(best[2])
     return np.array(centres), np.array(radii)
