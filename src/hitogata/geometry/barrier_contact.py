@@ -52,6 +52,13 @@ TOLERANCE = 1e-3  # m: a Newton step below this (largest vertex move) has conver
 # step, so a long step could otherwise end nanometres from contact, where the next CCD misses a crossing)
 CCD_GAP = 0.005 * DHAT
 MAX_STEP = 0.1  # m: the longest vertex move of one Newton step (a trust region: CCD then sees contact coming)
+# The trust region after a costly cut step: when CCD let through under half of a step whose sweep held more
+# than SWEEP_PAIRS candidate pairs, the next step is offered at most twice the move let through (never under
+# MIN_STEP, five times the tolerance), and the offer doubles again after each full step. A step offered
+# 100 mm and let through 3-5 mm sweeps millions of pairs (the female's crossed forearms: 21 M candidates, 9 s
+# of CCD a step) for the move a 10 mm offer makes; a cheap sweep keeps the full offer (and its answer)
+SWEEP_PAIRS = 200_000
+MIN_STEP = 0.005
 
 
 @dataclass(frozen=True)
@@ -122,6 +129,17 @@ def contact_regions(path: Sequence[np.ndarray], test: SelfContact, reach: float 
 def _factor(a: sp.spmatrix) -> spla.SuperLU:
     """The sparse LU of a symmetric positive definite matrix: symmetric ordering, no pivoting."""
     return spla.splu(a.tocsc(), permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0, options={"SymmetricMode": True})
+
+
+def _trust_region(reach: float, offered: float, alpha: float, pairs: int) -> float:
+    """The next step's longest vertex move (m) after one offered `offered` (m, the trust region `reach`) of which
+    CCD let the share `alpha` through, its sweep `pairs` candidate pairs: twice the move let through when under
+    half was and the sweep was costly, double after a full step that the region capped, else as it was."""
+    if alpha < 0.5 and pairs > SWEEP_PAIRS:
+        return max(2.0 * alpha * offered, MIN_STEP)
+    if alpha >= 1.0 and offered >= reach:
+        return min(2.0 * reach, MAX_STEP)
+    return reach
 
 
 class _Problem:
@@ -247,6 +265,7 @@ class _Problem:
             contacts = self.collisions(self.candidates(x, x), x)
         e0, tracked, change, w = energy(x, contacts)
         taken = 0
+        reach = MAX_STEP  # the trust region: the longest vertex move offered to CCD
         while taken < iterations:
             taken += 1
             others = tracked + self.barrier.gradient(contacts, self.mesh, x)  # the gradient but the volume's
@@ -260,12 +279,13 @@ class _Problem:
             longest = float(np.linalg.norm(step, axis=1).max())
             if longest < tolerance:
                 break
-            step *= min(1.0, MAX_STEP / longest)
+            step *= min(1.0, reach / longest)
             # the sweep's pairs within the CCD's gap only (within dhat, the crease's skin lying a few mm apart
             # over wide areas, they were 2-3x as many on a short step, half again on a long one); the
             # contacts of a trial then from a static query of its own
             swept = self.candidates(x, x + step, CCD_GAP)
             alpha = self.stepsize(swept, x, x + step)
+            reach = _trust_region(reach, min(longest, reach), alpha, len(swept))
             slope = float(gradient @ step.ravel())
             while True:  # backtracking (Armijo) within the collision-free part of the step
                 trial = x + alpha * step
