@@ -4,24 +4,17 @@ girth and length change of the default bodies (skinned and elastic) is within it
 
 from __future__ import annotations
 
-import numpy as np
 import pytest
 
 from hitogata.motion.scenario import load_scenario, shipped_scenarios
 from hitogata.garment.ease import HEIGHTS, elastic_surface, motion_ease, skinned_surface
-from hitogata.motion.clip import MotionClip, scenario_clip
+from hitogata.motion.clip import peak_clip, scenario_clip
 from hitogata.pose import poser_for
 from hitogata.validation import load_dataset
 from hitogata.validation.envelope import allowed_change
 
 MOTIONS = ("reach_forward", "arms_crossed", "arms_overhead", "sit", "deep_squat", "stride", "toe_touch",
            "trunk_twist")
-
-
-def peak(clip: MotionClip) -> MotionClip:
-    """Standing, then the motion's frame furthest from rest (its peak posture)."""
-    k = int(np.argmax(np.linalg.norm(clip.angles - clip.angles[0], axis=1)))
-    return MotionClip(np.array([0.0, 1.0]), clip.angles[[0, k]], clip.root[[0, k]])
 
 
 @pytest.mark.slow
@@ -34,7 +27,7 @@ def test_every_ease_figure_is_one_measured_people_allow(request, sex):
     outside = []
     for surface_name, surface in (("skinned", skinned_surface(body)), ("elastic", elastic_surface(body))):
         for motion in MOTIONS:
-            clip = peak(scenario_clip(load_scenario(shipped[f"mobility_{motion}"]), poser))
+            clip = peak_clip(scenario_clip(load_scenario(shipped[f"mobility_{motion}"]), poser))
             for row in motion_ease(body, motion, clip, surface, rate=1.0).largest():
                 name = row["measurement"]
                 if name in HEIGHTS:

@@ -49,3 +49,10 @@ def scenario_clip(scenario: Scenario, poser: Poser, rate: float | None = None) -
                                  clinical=pick["clinical"] or None, on_limit=scenario.on_limit)
     root = still_root(len(times)) if scenario.root is None else scenario.root.sample(times)
     return MotionClip(times, angles, root)
+
+
+def peak_clip(clip: MotionClip) -> MotionClip:
+    """Standing, then the clip's frame furthest from its first in joint angles (the motion's peak posture), one
+    second apart: the two postures a motion's largest changes come from."""
+    k = int(np.argmax(np.linalg.norm(clip.angles - clip.angles[0], axis=1)))
+    return MotionClip(np.array([0.0, 1.0]), clip.angles[[0, k]], clip.root[[0, k]])
