@@ -56,15 +56,7 @@ _CACHE_FOLDER = pytest.StashKey[str]()
 
 def pytest_configure(config: pytest.Config) -> None:
     """The model cache in a folder of this run, never the user's: set before pytest-xdist starts its workers
-    (they inherit it and share it), and by each process its own when run alone. A pytest-xdist worker runs
-    BLAS and the contact's TBB on one thread: the workers are the parallelism (`make test` runs one per core),
-    and threads beyond the cores only wait on each other."""
-    if os.environ.get("PYTEST_XDIST_WORKER"):
-        import ipctk
-        from threadpoolctl import threadpool_limits
-
-        threadpool_limits(1)
-        ipctk.set_num_threads(1)
+    (they inherit it and share it), and by each process its own when run alone."""
     if CACHE_ENV not in os.environ or not os.environ.get("PYTEST_XDIST_WORKER"):
         folder = tempfile.mkdtemp(prefix="hitogata-test-cache-")
         os.environ[CACHE_ENV] = folder
