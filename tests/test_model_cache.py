@@ -116,6 +116,36 @@ def test_two_processes_writing_one_entry_end_with_one_valid_entry(cache_folder, 
     assert len(value) == 4_000_000 and value[0] in (1.0, 2.0) and np.all(value == value[0])
 
 
+ASKER = """
+import sys, time
+from pathlib import Path
+import numpy as np
+from hitogata.elastic.cache import cached
+folder, me = Path(sys.argv[1]), sys.argv[2]
+def build():
+    with open(folder / "builds", "a") as log:
+        log.write(me + "\\n")
+    while len(list(folder.glob("asked-*"))) < 2:  # the other process has asked too: it waits on this build
+        time.sleep(0.01)
+    return np.full(1000, float(me))
+(folder / f"asked-{me}").touch()
+value = cached("test", {"asked": 1}, build, lambda v: {"v": v}, lambda a: a["v"], None)
+print(value[0])
+"""
+
+
+def test_two_processes_asking_for_one_entry_build_it_once(cache_folder, tmp_path):
+    env = {**os.environ, "PYTHONPATH": os.pathsep.join([str(Path(disk_cache.__file__).parents[1]),
+                                                        os.environ.get("PYTHONPATH", "")])}
+    askers = [subprocess.Popen([sys.executable, "-c", ASKER, str(tmp_path), str(k)], env=env, stdout=subprocess.PIPE,
+                               text=True) for k in (1, 2)]
+    answers = [float(asker.communicate()[0]) for asker in askers]
+    assert [asker.returncode for asker in askers] == [0, 0]
+    builders = (tmp_path / "builds").read_text().split()
+    assert len(builders) == 1  # the second waited for the first's build and read it
+    assert answers == [float(builders[0])] * 2
+
+
 def test_the_cache_keeps_within_its_limit(cache_folder, monkeypatch):
     monkeypatch.setenv(disk_cache.LIMIT_ENV, "2")  # MB: room for two of these entries
     for n in range(4):

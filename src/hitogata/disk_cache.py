@@ -5,9 +5,10 @@ elastic model of a body) is kept as one numpy `.npz` file per entry, named by a
 digest of its key (everything it was built from). An entry holds arrays only
 (loaded with `allow_pickle=False`: no code is ever read back), and its key, which
 is compared on reading. It is written to a temporary file in the same folder and
-renamed into place, so processes and Dask workers building the same entry at once
-each put down a whole file and the last rename stays; a reader never sees half an
-entry. An entry that cannot be read whole (truncated, corrupt, another key) is
+renamed into place: a reader never sees half an entry. A process about to build
+an entry holds the entry's lock file (`building`) while it builds, so a second
+process or Dask worker asking for the same entry waits and then reads it instead
+of building it again; a builder that dies releases its lock with its process. An entry that cannot be read whole (truncated, corrupt, another key) is
 removed with a one-line note and built again, never used.
 
 Where: `$HITOGATA_CACHE`, else the platform's user cache folder (`~/.cache/hitogata`
@@ -24,11 +25,13 @@ import os
 import sys
 import time
 import zipfile
-from collections.abc import Mapping
+from collections.abc import Iterator, Mapping
+from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
+from filelock import FileLock
 
 from hitogata.errors import HitogataError
 from hitogata.export.atomic import write_atomically
@@ -40,6 +43,7 @@ DEFAULT_LIMIT_MB = 2000.0  # a default body's whole-body elastic model is ~90 MB
 STALE_WRITE = 3600.0  # s: a temporary file this old was left by a writer that died
 KEY = "__key__"  # the array holding the entry's key (JSON), checked on reading
 SUFFIX = ".npz"
+LOCK_SUFFIX = ".lock"
 
 
 def note(text: str) -> None:
@@ -105,6 +109,25 @@ def load(kind: str, key: Mapping) -> dict[str, np.ndarray] | None:
     except OSError:
         pass
     return arrays
+
+
+@contextmanager
+def building(kind: str, key: Mapping) -> Iterator[None]:
+    """Held while this process builds the entry of `key`: another process asking for it waits here (on the
+    lock's state, however long the build takes) and then finds the entry stored. Where the lock cannot be
+    made (a read-only cache folder) the build goes ahead unlocked."""
+    path = entry_path(kind, key)
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        lock = FileLock(path.with_suffix(LOCK_SUFFIX), timeout=-1)
+        lock.acquire()
+    except OSError:
+        yield
+        return
+    try:
+        yield
+    finally:
+        lock.release()
 
 
 def save(kind: str, key: Mapping, arrays: Mapping[str, np.ndarray]) -> Path | None:

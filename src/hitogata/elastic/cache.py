@@ -82,18 +82,32 @@ def code_digest() -> str:
 def cached(kind: str, key: Mapping[str, Any], build: Callable[[], T], encode: Callable[[T], dict[str, np.ndarray]],
            decode: Callable[[dict[str, np.ndarray]], T], cache: bool | None) -> T:
     """The value of `key`: read from the disk cache, else built and stored (`cache`: see `disk_cache.enabled`).
+    One process builds an entry while any other asking for it waits, then reads it (`disk_cache.building`).
     An entry that reads but does not decode is removed with a note and built again."""
     if not disk_cache.enabled(cache):
         return build()
-    arrays = disk_cache.load(kind, key)
-    if arrays is not None:
-        try:
-            return decode(arrays)
-        except (KeyError, TypeError, ValueError) as err:
-            disk_cache.discard(disk_cache.entry_path(kind, key), f"does not hold a model ({type(err).__name__}: {err})")
-    value = build()
-    disk_cache.save(kind, key, encode(value))
+    stored = _read(kind, key, decode)
+    if stored is not None:
+        return stored
+    with disk_cache.building(kind, key):
+        stored = _read(kind, key, decode)  # built by another process while this one waited
+        if stored is not None:
+            return stored
+        value = build()
+        disk_cache.save(kind, key, encode(value))
     return value
+
+
+def _read(kind: str, key: Mapping[str, Any], decode: Callable[[dict[str, np.ndarray]], T]) -> T | None:
+    """The entry of `key` decoded, or None when there is none or it does not decode (then removed with a note)."""
+    arrays = disk_cache.load(kind, key)
+    if arrays is None:
+        return None
+    try:
+        return decode(arrays)
+    except (KeyError, TypeError, ValueError) as err:
+        disk_cache.discard(disk_cache.entry_path(kind, key), f"does not hold a model ({type(err).__name__}: {err})")
+        return None
 
 
 def cached_elastic_model(body: Body, cache: bool | None = None, **options: Any) -> ElasticModel:
