@@ -78,6 +78,14 @@ def test_every_shipped_posture_is_one_the_skeleton_takes(female):
     (SOURCE + row(extra='probe = "myometer"'), ["row 'r1'", "probe", "posture_change row has no probe"]),
     (SOURCE + row(kind="pressure", unit="mmHg", quantity="calf", extra="garment = { ease = -0.2, relaxed_cm = 30 }"),
      ["row 'r1'", "garment", "one of ease or relaxed_cm"]),
+    (SOURCE + row(kind="pressure", unit="mmHg", quantity="calf",
+                  extra="garment = { ease = -0.2, fabric_modulus_N_per_m = -400 }"),
+     ["row 'r1'", "garment.fabric_modulus_N_per_m", "-400", "> 0 N/m"]),
+    (SOURCE + row(kind="pressure", unit="mmHg", quantity="calf",
+                  extra="garment = { ease = -0.2, fabric = [[0.0, 0.0], [0.2, 90.0], [0.4, 60.0]] }"),
+     ["row 'r1'", "garment.fabric", "[0.4, 60.0]", "tension rises with the strain"]),
+    (SOURCE + row(kind="pressure", unit="mmHg", quantity="calf", extra="garment = { ease = -1.0, fabric_modulus_N_per_m = 400 }"),
+     ["row 'r1'", "garment.ease", "-1.0", "allowed -0.9..1"]),
 ])
 @pytest.mark.parametrize("command", ["validate", "identify"])
 def test_a_bad_validation_file_is_one_line_and_writes_nothing(tmp_path, capsys, text, words, command):

@@ -16,8 +16,9 @@ and a male body). Then, by kind:
   tissue under it) is undefined: the model's answer is the segment's;
 - stiffness: the tissue region's modulus (muscle: the muscle region; fat: the
   skin-and-fat layer); the dermis alone is no region of the model: undefined;
-- pressure: Laplace's estimate at the garment level (`garment.pressure`) on
-  both surfaces, where the study gives the fabric's tension.
+- pressure, where the study gives its garment's size and fabric (`validation.pressure`): on the
+  skinned surface Laplace's estimate on the rigid tape (`garment.pressure`), on the elastic surface the
+  contact garment dressed on the soft body (`garment.contact`).
 
 An answer that has no meaning is `Answer.undefined` with the reason, never a
 number.
@@ -40,6 +41,15 @@ from hitogata.names import resolve_dofs
 from hitogata.pose import poser_for
 from hitogata.skeleton.stretches import spread
 from hitogata.validation.dataset import RESONANT, Dataset, Row, Source, Subjects
+from hitogata.validation.pressure import (
+    NO_FABRIC,
+    contact_garment,
+    contact_pressure,
+    covered_levels,
+    dress_row_garment,
+    laplace_level,
+    row_fabric,
+)
 
 SURFACES = ("skinned", "elastic")
 MODEL_ELEMENT_SIZE = 40.0  # mm: the whole body's lattice, as a held posture's (`dynamics.single_pose`)
@@ -86,6 +96,8 @@ class BodyCache:
     bodies: dict[tuple, Body | HitogataError] = field(default_factory=dict)
     modes: dict[int, int] = field(default_factory=dict)  # id(body) → modes its elastic model is built with
     postures: dict[tuple, tuple[np.ndarray, np.ndarray]] = field(default_factory=dict)
+    garments: dict[tuple, object] = field(default_factory=dict)  # (body, contact garment) → solve or its error
+    covered: dict[str, tuple[str, ...]] = field(default_factory=dict)  # pressure row id → its garment's levels
 
     def body(self, sex: str, subjects: Subjects) -> Body:
         key = (sex, subjects)
@@ -141,6 +153,7 @@ def answer_dataset(dataset: Dataset, materials: Materials | None = None, surface
     cache = BodyCache(load_materials() if materials is None else materials, element_size)
     cache.resonant = {(sex, dataset.source_of(r).subjects) for r in dataset.rows if r.kind in RESONANT and not r.probe
                       for sex in sexes(dataset.source_of(r).subjects)}
+    cache.covered = covered_levels(dataset)
     surfaces = tuple(surfaces)
     out = []
     for k, row in enumerate(dataset.rows):
@@ -182,8 +195,11 @@ def _one(row: Row, body: Body, surface: str, cache: BodyCache) -> Answer:
         return _stiffness(row, cache.materials)
     if row.kind in RESONANT:
         return _resonance(row, body, cache)
-    if row.kind == "pressure" and _fabric(row) is None:
-        return Answer.undefined("the study gives no fabric tension: the pressure cannot be computed")
+    if row.kind == "pressure":
+        if row_fabric(row) is None:
+            return Answer.undefined(NO_FABRIC)
+        if surface == "elastic":
+            return _contact(row, body, cache)
     skin, joints = _posture(row, body, surface, cache)
     if row.kind == "posture_change":
         return _posture_change(row, body, skin, joints)
@@ -296,28 +312,32 @@ def _resonance(row: Row, body: Body, cache: BodyCache) -> Answer:
     return Answer(found.damping_ratio * 2.0 * math.pi * found.frequency)  # decay rate ζω (1/s)
 
 
-def _fabric(row: Row):
-    """The pressure row's fabric (`garment.fabric.Fabric`), or None where the study gives no tension."""
-    from hitogata.garment.fabric import Fabric
-
-    spec = row.garment
-    if spec is not None and spec.curve is not None:
-        return Fabric(tuple(p[0] for p in spec.curve), tuple(p[1] for p in spec.curve), "the study's curve")
-    if spec is not None and spec.modulus is not None:
-        return Fabric.linear(spec.modulus)
-    return None
-
-
 def _pressure(row: Row, body: Body, skin: np.ndarray, joints: np.ndarray) -> Answer:
-    from hitogata.garment.pressure import MMHG, Garment, garment_pressure
+    from hitogata.garment.pressure import MMHG
 
-    spec, fabric = row.garment, _fabric(row)
-    if spec is None or fabric is None:
-        return Answer.undefined("the study gives no fabric tension: the pressure cannot be computed")
-    garment = (Garment(ease=spec.ease, levels=(row.quantity,)) if spec.ease is not None
-               else Garment(relaxed={row.quantity: float(spec.relaxed or 0.0)}))
-    level = garment_pressure(body, garment, fabric, skin, joints)[row.quantity]
-    return Answer(level.mean_pressure / MMHG)
+    return Answer(laplace_level(row, body, skin, joints).mean_pressure / MMHG)
+
+
+def _contact(row: Row, body: Body, cache: BodyCache) -> Answer:
+    """The contact garment's answer at the row's level; one solve per body and garment."""
+    if row.posture:
+        return Answer.undefined("the contact garment is dressed on the standing body; this posture has "
+                                "Laplace's answer only")
+    where = f"row {row.id!r}"
+    try:
+        garment = contact_garment(row, body, cache.covered.get(row.id, (row.quantity,)), where)
+        key = (id(body), garment)
+        if key not in cache.garments:
+            try:
+                cache.garments[key] = dress_row_garment(body, garment, cache.materials, where)
+            except HitogataError as err:
+                cache.garments[key] = err
+        solved = cache.garments[key]
+        if isinstance(solved, HitogataError):
+            raise solved
+        return Answer(contact_pressure(solved, row.quantity))
+    except HitogataError as err:
+        return Answer.undefined(f"the contact garment: {err}")
 
 
 def reachable(dataset: Dataset, body: Body) -> None:

@@ -329,5 +329,9 @@ def _curve(g: Entry) -> tuple[tuple[float, float], ...]:
             g.fail(f"point {p!r}; allowed [strain, tension_N_per_m] pairs of numbers >= 0", "fabric")
         pairs.append((float(p[0]), float(p[1])))
     if len(pairs) < 2 or any(b[0] <= a[0] for a, b in zip(pairs, pairs[1:])):
-        g.fail("allowed two or more points with strains strictly increasing", "fabric")
+        g.fail(f"{points!r}; allowed two or more points with strains strictly increasing", "fabric")
+    falls = next((b for a, b in zip(pairs, pairs[1:]) if b[1] <= a[1]), None)
+    if falls is not None:  # a stretch fabric's tension rises with its strain: anything else is a typing slip
+        g.fail(f"point {list(falls)!r}: the tension does not rise; allowed a tensile curve whose tension rises "
+               "with the strain", "fabric")
     return tuple(pairs)

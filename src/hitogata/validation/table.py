@@ -86,6 +86,36 @@ def headline(shares: Sequence[Share]) -> dict[str, float | None]:
     return {s.surface: s.share_2sd for s in shares if s.kind == "all"}
 
 
+@dataclass(frozen=True)
+class PressureErrors:
+    """The pressure rows both Laplace (skinned column) and the contact (elastic column) answer: how many,
+    and the mean |z| of each (None without such rows). Rows with an assumed spread count too: the two
+    methods are compared on the same rows and the same SD."""
+
+    rows: int
+    laplace: float | None
+    contact: float | None
+
+
+def pressure_errors(comparisons: Sequence[Comparison]) -> PressureErrors:
+    """Laplace's and the contact's mean |error| in SD on the same pressure rows."""
+    both = [(c.z("skinned"), c.z("elastic")) for c in comparisons if c.row.kind == "pressure"]
+    pairs = [(abs(a), abs(b)) for a, b in both if a is not None and b is not None]
+    if not pairs:
+        return PressureErrors(0, None, None)
+    return PressureErrors(len(pairs), sum(a for a, _ in pairs) / len(pairs), sum(b for _, b in pairs) / len(pairs))
+
+
+def pressure_line(errors: PressureErrors) -> str:
+    """The comparison's one line, as the page and the command print it."""
+    if not errors.rows:
+        return ("No pressure row gives both its garment's size and its fabric's tension: neither Laplace nor "
+                "the contact garment answers one, and which of the two errs less against living people is "
+                "not measured.")
+    return (f"Mean |error| on the {errors.rows} pressure rows both answer: Laplace {errors.laplace:.2f} SD, "
+            f"contact {errors.contact:.2f} SD.")
+
+
 COLUMNS = ("row", "kind", "quantity", "posture", "source", "where", "read_off_plot", "measured_mean", "measured_sd",
            "sd_of", "unit", "skinned", "elastic", "z_skinned", "z_elastic", "undefined_because")
 
@@ -132,6 +162,7 @@ def table_json(comparisons: Sequence[Comparison], dataset: Dataset, materials: s
         "validation_set": dataset.path,
         "materials": materials,
         "headline_within_2sd": headline(shares),
+        "pressure_mean_abs_z": vars(pressure_errors(comparisons)),
         "summary": [{"kind": s.kind, "surface": s.surface, "answered": s.answered, "within_1sd": s.within_1sd,
                      "within_2sd": s.within_2sd, "undefined": s.undefined} for s in shares],
         "rows": records(comparisons, dataset),
@@ -152,6 +183,16 @@ def _z_cell(z: float | None) -> str:
         return "—"
     mark = "" if abs(z) <= 2 else " ✗"
     return f"{z:+.1f}{mark}"
+
+
+PRESSURE_NOTE = [
+    "A pressure row whose study gives its garment's size (ease or relaxed circumference) and its fabric's",
+    "tension is answered twice: by Laplace's law on the rigid tape (the skinned body's girth, the fabric's",
+    "tension at the strain it makes, over the equivalent circle's radius) and by the contact garment (a",
+    "tube of the fabric dressed on the body standing, IPC contact, the limb's tissue mesh taking its",
+    "load: `docs/garment_contact.md`), its mean pressure round the level.",
+    "",
+]
 
 
 def table_markdown(comparisons: Sequence[Comparison], dataset: Dataset, materials: str, command: str) -> str:
@@ -183,8 +224,11 @@ def table_markdown(comparisons: Sequence[Comparison], dataset: Dataset, material
         mine = [c for c in comparisons if c.row.kind == kind]
         if not mine:
             continue
-        lines += ["", f"## {kind.replace('_', ' ')}", "",
-                  "| row | quantity | posture | measured | skinned | z | elastic | z | source |",
+        columns = ("Laplace, rigid tape", "contact, soft body") if kind == "pressure" else ("skinned", "elastic")
+        lines += ["", f"## {kind.replace('_', ' ')}", ""]
+        if kind == "pressure":
+            lines += PRESSURE_NOTE
+        lines += [f"| row | quantity | posture | measured | {columns[0]} | z | {columns[1]} | z | source |",
                   "|---|---|---|---|---|---|---|---|---|"]
         for c in mine:
             r = c.row
@@ -194,6 +238,8 @@ def table_markdown(comparisons: Sequence[Comparison], dataset: Dataset, material
                 f"{_cell(c.values.get('skinned')) if 'skinned' in c.values else '—'} | {_z_cell(c.z('skinned'))} | "
                 f"{_cell(c.values.get('elastic'))} | {_z_cell(c.z('elastic'))} | "
                 f"{dataset.sources[r.source].authors.split(',')[0]} {dataset.sources[r.source].year}, {r.where} |")
+        if kind == "pressure":
+            lines += ["", pressure_line(pressure_errors(mine))]
     misses = [c for c in comparisons if any(z is not None and abs(z) > 2 for z in (c.z(s) for s in SURFACES))]
     if misses:
         lines += ["", "## Rows outside 2 SD, and why", "",

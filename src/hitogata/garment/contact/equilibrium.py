@@ -24,6 +24,7 @@ thickness of the skin).
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cache
 
 import numpy as np
 import scipy.sparse as sp
@@ -41,6 +42,17 @@ TOLERANCE = 1e-5  # m: a Newton step whose largest vertex move is below this has
 # skin's mesh then changes nothing a user reads)
 DECREMENT = 1e-5
 DAMPING = 1e-7  # Levenberg–Marquardt: × the Hessian's mean diagonal, for the garment's free sliding round a limb
+
+
+@cache
+def quiet_ipctk() -> None:
+    """Keep the IPC Toolkit's log to errors (once). Its one warning in a garment's solve ("Initial distance … ≤
+    d_min, returning toi=0") says a garment–skin pair starts a Newton step within CCD's gap, so CCD allows
+    the step no move: `settle` answers that itself as a stuck solve (not converged), which `hitogata dress`
+    refuses and a motion's frame answers by starting cold. Printed to the user it is noise."""
+    import ipctk
+
+    ipctk.set_logger_level(ipctk.LoggerLevel.error)
 
 
 @dataclass(frozen=True, eq=False)
@@ -83,6 +95,7 @@ class _Problem:
     def __init__(self, tube: Tube, start: np.ndarray, body: ContactBody) -> None:
         import ipctk
 
+        quiet_ipctk()
         self.tube, self.body = tube, body
         self.n_garment = len(start)
         self.surface = body.surface
@@ -135,6 +148,7 @@ def settle(tube: Tube, start: np.ndarray, body: ContactBody, dhat: float = DHAT,
     (default: from the garment's forces at the start, see the module note)."""
     import ipctk
 
+    quiet_ipctk()
     problem = _Problem(tube, np.asarray(start, dtype=float), body)
     coords = tube.stations.coordinates(np.asarray(start, dtype=float).reshape(tube.n_rings, tube.per_ring, 3))
     z = np.concatenate([coords.reshape(-1), np.zeros(len(problem.free))])
@@ -227,6 +241,7 @@ def _collision_free(problem: _Problem, v0: np.ndarray, v1: np.ndarray) -> float:
     """The share (0…1) of the way v0 → v1 free of crossings, garment and skin kept CCD_GAP apart."""
     import ipctk
 
+    quiet_ipctk()
     c = ipctk.Candidates()
     c.build(problem.mesh, v0, v1, CCD_GAP)
     return float(c.compute_collision_free_stepsize(problem.mesh, v0, v1, CCD_GAP, problem.ccd))
@@ -242,6 +257,7 @@ def crossings(garment: np.ndarray, garment_faces: np.ndarray, skin: np.ndarray, 
     """Whether any garment triangle and skin triangle intersect (exact: the IPC Toolkit's test)."""
     import ipctk
 
+    quiet_ipctk()
     used = np.unique(skin_faces)
     local = np.full(len(skin), -1)
     local[used] = len(garment) + np.arange(len(used))
