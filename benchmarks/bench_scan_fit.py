@@ -25,7 +25,7 @@ from hitogata.fit.scanfit import FIT_POINTS, ITERATIONS
 from hitogata.fit.synthetic import Perturbation, synthetic_scan
 from hitogata.measure import measure
 from hitogata.pose import shipped_lists
-from hitogata.shape import ShapeParameters
+from hitogata.body.shape import ShapeParameters
 
 POINTS = 100_000
 TRUTH = ShapeParameters(sex=0.0, age=40.0, weight=0.7, muscle=0.4, height=0.6, proportions=0.6, cup=0.7)

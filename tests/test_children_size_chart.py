@@ -8,7 +8,7 @@ from pathlib import Path
 
 import pytest
 
-from hitogata import growth
+from hitogata.body import growth
 from hitogata.cli import main
 from hitogata.commands.size_chart import read_size_chart, shipped_size_charts
 

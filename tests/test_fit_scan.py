@@ -18,7 +18,7 @@ import pytest
 
 from gltf_validator import needs_validator, validate_gltf
 from hitogata import cli
-from hitogata.assets import load_assets
+from hitogata.body.assets import load_assets
 from hitogata.body import Body
 from hitogata.export.motion_files import read_sequence_body
 from hitogata.errors import HitogataError
@@ -30,7 +30,7 @@ from hitogata.fit.regions import REGIONS, vertex_regions
 from hitogata.fit.synthetic import Perturbation, synthetic_scan
 from hitogata.measure import measure
 from hitogata.measure.measurements import GIRTHS
-from hitogata.shape import ShapeParameters
+from hitogata.body.shape import ShapeParameters
 from hitogata.pose import poser_for
 
 ISO_20685 = {"large girth": 9.0, "small girth": 4.0, "length": 5.0}  # mm (tests/test_measure_body.py)

@@ -26,7 +26,7 @@ from hitogata.made_to_measure import (
     judge,
 )
 from hitogata.measure import measure
-from hitogata.shape import MODIFIER_NAMES, ShapeParameters
+from hitogata.body.shape import MODIFIER_NAMES, ShapeParameters
 
 # The example of the issue and the README (cm), with a mass: six measurements.
 SIX = {"stature": 1.65, "chest": 0.92, "waist": 0.74, "hip": 1.00, "inside_leg": 0.76, "mass": 60.0}

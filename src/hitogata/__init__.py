@@ -25,10 +25,10 @@ from typing import TYPE_CHECKING, Any
 # name -> the module that defines it
 _EXPORTS: dict[str, str] = {
     # the body
-    "Body": "hitogata.body",
-    "default_body": "hitogata.body",
+    "Body": "hitogata.body.model",
+    "default_body": "hitogata.body.model",
     "body_to_measure": "hitogata.made_to_measure",
-    "ShapeParameters": "hitogata.shape",
+    "ShapeParameters": "hitogata.body.shape",
     # posing by muscles and joint angles
     "Poser": "hitogata.pose",
     "PosedBody": "hitogata.pose",
@@ -114,7 +114,7 @@ __all__ = [
 ]
 
 if TYPE_CHECKING:
-    from hitogata.body import Body, default_body
+    from hitogata.body.model import Body, default_body
     from hitogata.export.motion_files import write_motion_glb, write_pvd, write_sequence
     from hitogata.dynamics.motion import BodyDynamics, Motion, simulate
     from hitogata.simulation.run import run_scenario
@@ -136,7 +136,7 @@ if TYPE_CHECKING:
     from hitogata.measure.strain import SkinStrain, skin_strain
     from hitogata.measure.zones import zone_strains
     from hitogata.pose import PosedBody, Poser, pose_body, poser_for
-    from hitogata.shape import ShapeParameters
+    from hitogata.body.shape import ShapeParameters
 
     __version__: str
 

@@ -14,7 +14,7 @@ from __future__ import annotations
 import numpy as np
 from scipy.spatial import cKDTree
 
-from hitogata.body import Body
+from hitogata.body.model import Body
 from hitogata.measure import measurement_paths
 from hitogata.measure.landmarks import landmark_positions
 from hitogata.measure.landmarks import body_landmarks

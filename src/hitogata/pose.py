@@ -18,7 +18,7 @@ from pathlib import Path
 
 import numpy as np
 
-from hitogata.body import Body
+from hitogata.body.model import Body
 from hitogata.errors import HitogataError, excerpt
 from hitogata.muscles.activation import (
     MuscleLimitWarning,
@@ -36,7 +36,7 @@ from hitogata.skeleton.placement import Skeleton, place_skeleton
 from hitogata.skeleton.shoulder import CHANNEL_RANGES, SIDES, channel_names, girdle_dofs, shoulder_pose
 from hitogata.skeleton.spec import SkeletonSpec, load_skeleton_spec
 from hitogata.skeleton.weights import part_weights
-from hitogata.rig import carried_heads, carrying_parts
+from hitogata.body.rig import carried_heads, carrying_parts
 from hitogata.skinning import Skin, prepare_skin, skin_vertices
 
 
@@ -112,7 +112,7 @@ class Poser:
 
     @cached_property
     def rig_parts(self) -> np.ndarray:
-        """(B,) the part that carries each rig joint centre (`hitogata.rig.carrying_parts`)."""
+        """(B,) the part that carries each rig joint centre (`hitogata.body.rig.carrying_parts`)."""
         return carrying_parts(self.body.rig.heads, self.skeleton.joints)
 
     def rig_joints(self, rotations: np.ndarray, translations: np.ndarray) -> np.ndarray:

@@ -21,7 +21,7 @@ from hitogata.export.body_files import body_figures, write_body
 from hitogata.export.meshfiles import MESH_SUFFIXES
 
 if TYPE_CHECKING:
-    from hitogata.body import Body
+    from hitogata.body.model import Body
     from hitogata.made_to_measure import MadeToMeasure
 
 
@@ -69,7 +69,7 @@ def body_from_args(args: argparse.Namespace) -> Body:
 def solve_from_args(args: argparse.Namespace, asked: dict[str, float]) -> tuple[Body, MadeToMeasure | None]:
     """The body of the body options and the asked measurements, and when measurements were asked
     the report of asked against made (warnings printed as notes)."""
-    from hitogata.body import Body, default_measurements
+    from hitogata.body.model import Body, default_measurements
 
     stature, mass = default_measurements(args.sex, args.age) if args.stature is None or args.mass is None else (0.0, 0.0)
     given = (("--stature", args.stature, units.length, "165cm"), ("--mass", args.mass, units.mass, "58kg"))

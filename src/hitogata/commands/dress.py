@@ -16,7 +16,7 @@ from hitogata.commands.paths import add_output
 from hitogata.errors import HitogataError
 
 if TYPE_CHECKING:
-    from hitogata.body import Body
+    from hitogata.body.model import Body
     from hitogata.garment.contact.dressing import Dressing
     from hitogata.garment.contact.motion import MotionContact
     from hitogata.motion.scenario import Scenario

@@ -25,7 +25,7 @@ from hitogata.options import SKINNING, SURFACE_SOURCES
 from hitogata.pose import poser_for
 
 if TYPE_CHECKING:
-    from hitogata.body import Body
+    from hitogata.body.model import Body
 
 DEFAULT_MOTIONS = "reach_forward,arms_crossed,arms_overhead,sit,deep_squat,stride,toe_touch,trunk_twist"
 

@@ -23,7 +23,7 @@ MAX_MEDIAN = 0.025
 
 
 def run(args: argparse.Namespace) -> None:
-    from hitogata.body import sex_value
+    from hitogata.body.model import sex_value
     from hitogata.commands.body import figures_line
     from hitogata.export.atomic import write_files_together
     from hitogata.export.body_files import body_glb_bytes

@@ -26,7 +26,7 @@ from hitogata import units
 from hitogata.commands.args import BODY_DEFAULTS
 from hitogata.errors import HitogataError, excerpt
 from hitogata.export.atomic import write_bytes_atomically
-from hitogata.shape import MIN_AGE_YEARS, OLD_YEARS
+from hitogata.body.shape import MIN_AGE_YEARS, OLD_YEARS
 
 SIZE_COLUMN = "size"
 AGE_COLUMN = "age_years"  # optional: the age of each size's body

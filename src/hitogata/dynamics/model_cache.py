@@ -13,7 +13,7 @@ from typing import Any
 
 import numpy as np
 
-from hitogata.body import Body
+from hitogata.body.model import Body
 from hitogata.dynamics.motion import BodyDynamics
 from hitogata.dynamics.rigging import NodeRig
 from hitogata.elastic.cache import cached, model_key, model_options

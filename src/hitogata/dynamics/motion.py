@@ -57,7 +57,7 @@ from hitogata.pose import Poser, poser_for
 from hitogata.skinning import skin_vertices
 
 if TYPE_CHECKING:
-    from hitogata.body import Body
+    from hitogata.body.model import Body
     from hitogata.geometry.contact import SelfContact
     from hitogata.elastic import ElasticModel
 

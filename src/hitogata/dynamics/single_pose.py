@@ -24,7 +24,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from hitogata.body import Body
+from hitogata.body.model import Body
 from hitogata.dynamics.contact import approach
 from hitogata.dynamics.creases import solve_creased
 from hitogata.dynamics.motion import BodyDynamics

@@ -8,11 +8,11 @@ from pathlib import Path
 
 import numpy as np
 
-from hitogata.body import WHOLE_BODY_DENSITY, Body, check_density
+from hitogata.body.model import WHOLE_BODY_DENSITY, Body, check_density
 from hitogata.errors import HitogataError, excerpt
 from hitogata.export.atomic import write_bytes_atomically
 from hitogata.export.meshfiles import MESH_SUFFIXES, write_mesh
-from hitogata.shape import ShapeParameters
+from hitogata.body.shape import ShapeParameters
 
 DETAIL_KEY = "detail_offsets_0.01mm"  # a fitted body's per-skin-vertex offsets along the rest normals
 

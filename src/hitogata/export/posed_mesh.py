@@ -22,7 +22,7 @@ from typing import Any
 
 import numpy as np
 
-from hitogata.body import Body
+from hitogata.body.model import Body
 from hitogata.errors import HitogataError
 from hitogata.export.atomic import write_bytes_atomically
 from hitogata.export.body_files import body_from_extras

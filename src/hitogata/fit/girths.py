@@ -21,7 +21,7 @@ from __future__ import annotations
 import numpy as np
 from scipy.spatial import cKDTree
 
-from hitogata.body import Body
+from hitogata.body.model import Body
 from hitogata.measure.axes import JointSet
 from hitogata.measure.landmarks import body_landmarks
 from hitogata.measure.measurements import GIRTHS, girth_planes, tapes

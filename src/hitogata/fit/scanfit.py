@@ -16,7 +16,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from hitogata.body import WHOLE_BODY_DENSITY, Body, sex_value
+from hitogata.body.model import WHOLE_BODY_DENSITY, Body, sex_value
 from hitogata.fit.align import initial_alignments
 from hitogata.fit.closest import signed_closest
 from hitogata.fit.detail import detailed_body, solve_detail
@@ -26,7 +26,7 @@ from hitogata.fit.regions import RegionResidual, cannot_follow, region_residuals
 from hitogata.fit.register import Registration, register
 from hitogata.fit.scan import Scan
 from hitogata.measure import Measurements, measure
-from hitogata.shape import ShapeParameters
+from hitogata.body.shape import ShapeParameters
 from hitogata.pose import poser_for
 
 FIT_POINTS = 6000  # scan points the shape and pose are solved on

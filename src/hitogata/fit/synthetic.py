@@ -13,7 +13,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from hitogata.body import Body
+from hitogata.body.model import Body
 from hitogata.fit.register import rotation_vector
 from hitogata.fit.scan import UNITS, Scan
 from hitogata.geometry.normals import vertex_normals

@@ -26,7 +26,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from hitogata.body import Body
+from hitogata.body.model import Body
 from hitogata.garment.ease import Surface, sampled_frames, skinned_surface
 from hitogata.measure.landmarks import body_landmarks
 from hitogata.measure.measurements import tape_skin

@@ -20,7 +20,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 
-from hitogata.body import Body
+from hitogata.body.model import Body
 from hitogata.measure.topology import topology
 from hitogata.options import Skinning
 from hitogata.pose import poser_for

@@ -13,7 +13,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from hitogata.body import Body
+from hitogata.body.model import Body
 from hitogata.errors import HitogataError, excerpt
 from hitogata.measure.armpits import FOLD_ABOVE
 from hitogata.measure.axes import JointSet, axis, trunk_normal, unit

@@ -14,7 +14,7 @@ import dataclasses
 
 import numpy as np
 
-from hitogata.body import Body
+from hitogata.body.model import Body
 from hitogata.motion.scenario import KeyframeValue, Scenario, make_body
 from hitogata.dynamics.timeline import Timeline
 from hitogata.errors import HitogataError

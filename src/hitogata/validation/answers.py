@@ -31,7 +31,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from hitogata.body import Body, default_measurements
+from hitogata.body.model import Body, default_measurements
 from hitogata.elastic.materials import Materials, load_materials
 from hitogata.errors import HitogataError
 from hitogata.geometry.normals import triangle_normals, vertex_normals

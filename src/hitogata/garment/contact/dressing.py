@@ -22,7 +22,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.spatial import cKDTree
 
-from hitogata.body import Body
+from hitogata.body.model import Body
 from hitogata.errors import HitogataError
 from hitogata.elastic.materials import Materials
 from hitogata.garment.contact.equilibrium import ContactBody, settle
