@@ -24,7 +24,7 @@ from hitogata.fit.register import register
 from hitogata.fit.scanfit import FIT_POINTS, ITERATIONS
 from hitogata.fit.synthetic import Perturbation, synthetic_scan
 from hitogata.measure import measure
-from hitogata.pose import shipped_lists
+from hitogata.posing.pose import shipped_lists
 from hitogata.body.shape import ShapeParameters
 
 POINTS = 100_000

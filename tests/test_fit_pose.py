@@ -21,7 +21,7 @@ from hitogata.body import Body
 from hitogata.fit import fit_scan, make_scan
 from hitogata.fit.regions import REGIONS
 from hitogata.fit.synthetic import Perturbation, synthetic_scan
-from hitogata.pose import poser_for
+from hitogata.posing import poser_for
 from hitogata.body.shape import ShapeParameters
 from hitogata.skeleton.stretches import spread
 

@@ -31,7 +31,7 @@ from hitogata.fit.synthetic import Perturbation, synthetic_scan
 from hitogata.measure import measure
 from hitogata.measure.measurements import GIRTHS
 from hitogata.body.shape import ShapeParameters
-from hitogata.pose import poser_for
+from hitogata.posing import poser_for
 
 ISO_20685 = {"large girth": 9.0, "small girth": 4.0, "length": 5.0}  # mm (tests/test_measure_body.py)
 SMALL_GIRTHS = ("neck_girth", "upper_arm_girth", "ankle_girth", "wrist_girth")

@@ -25,7 +25,7 @@ LAYERS: tuple[tuple[str, ...], ...] = (
     # units, options, caches, the atomic file writing every layer's cache uses, and geometry
     ("", "errors", "units", "options", "lazy", "config", "machine", "disk_cache", "export.atomic", "geometry"),
     ("body",),
-    ("posing", "pose", "skinning", "names", "skeleton", "muscles"),
+    ("posing", "skeleton", "muscles", "pose"),  # pose: the documented old path of posing's names
     ("volume", "fem"),
     ("elastic",),
     ("dynamics",),

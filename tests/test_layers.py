@@ -8,9 +8,9 @@ import sys
 
 import pytest
 
-COMPUTATION = ["body", "body.model", "body.shape", "body.rig", "body.rest_contact", "skeleton", "muscles", "pose",
-               "skinning", "volume", "fem", "elastic", "dynamics", "measure", "geometry", "options", "units",
-               "made_to_measure", "measurement_rates", "fit"]
+COMPUTATION = ["body", "body.model", "body.shape", "body.rig", "body.rest_contact", "skeleton", "muscles", "posing",
+               "posing.pose", "posing.skinning", "volume", "fem", "elastic", "dynamics", "measure", "geometry",
+               "options", "units", "made_to_measure", "measurement_rates", "fit"]
 PRESENTATION = ("matplotlib", "pyvista", "vtk", "vtkmodules", "meshio", "pygltflib", "viser", "trimesh", "PIL", "tqdm")
 
 
@@ -35,7 +35,8 @@ def test_import_hitogata_loads_only_itself() -> None:
     assert "numpy" not in loaded
 
 
-@pytest.mark.parametrize("package", ["body", "export", "fit", "geometry", "measure", "motion", "simulation", "volume"])
+@pytest.mark.parametrize("package", ["body", "export", "fit", "geometry", "measure", "motion", "posing", "simulation",
+                                     "volume"])
 def test_a_package_importing_its_names_on_first_use_resolves_each(package: str) -> None:
     """`hitogata.lazy`: every name in the package's __all__ is its defining module's, and listed by dir()."""
     import importlib

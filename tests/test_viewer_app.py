@@ -243,7 +243,7 @@ def test_the_parts_ending_on_the_skin_are_drawn_short(female):
     """Whole, the crown's and three fingertips' parts on each hand end outside the skin; `bone_reach`
     shortens those and the chin's, the thumbs' and little fingers' (their ends within 2 mm of it)."""
     from hitogata.fit.closest import signed_distances
-    from hitogata.pose import Poser
+    from hitogata.posing import Poser
     from hitogata.viewer.frame import bone_reach
 
     skeleton = Poser.from_body(female).skeleton

@@ -11,7 +11,7 @@ The whole pipeline from one import (SI units: metres, kilograms, radians)::
     motion = hg.simulate(hg.BodyDynamics.build(body, model), timeline, duration=1.0, rate=30)
 
 Each name is imported on first use, so `import hitogata` stays cheap; the
-subpackages (`hitogata.body`, `.pose`, `.elastic`, `.dynamics`, `.measure`,
+subpackages (`hitogata.body`, `.posing`, `.elastic`, `.dynamics`, `.measure`,
 `.export`, ...) hold the rest.
 """
 
@@ -30,10 +30,10 @@ _EXPORTS: dict[str, str] = {
     "body_to_measure": "hitogata.made_to_measure",
     "ShapeParameters": "hitogata.body.shape",
     # posing by muscles and joint angles
-    "Poser": "hitogata.pose",
-    "PosedBody": "hitogata.pose",
-    "pose_body": "hitogata.pose",
-    "poser_for": "hitogata.pose",
+    "Poser": "hitogata.posing.pose",
+    "PosedBody": "hitogata.posing.pose",
+    "pose_body": "hitogata.posing.pose",
+    "poser_for": "hitogata.posing.pose",
     # the elastic (finite-element) model
     "ElasticModel": "hitogata.elastic.model",
     "build_elastic_model": "hitogata.elastic.model",
@@ -135,7 +135,7 @@ if TYPE_CHECKING:
     from hitogata.validation.table import compare
     from hitogata.measure.strain import SkinStrain, skin_strain
     from hitogata.measure.zones import zone_strains
-    from hitogata.pose import PosedBody, Poser, pose_body, poser_for
+    from hitogata.posing.pose import PosedBody, Poser, pose_body, poser_for
     from hitogata.body.shape import ShapeParameters
 
     __version__: str

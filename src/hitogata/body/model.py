@@ -177,7 +177,7 @@ class Body:
     def prepared(self, build: Callable[[Body], Prepared]) -> Prepared:
         """What a layer above finds once per body on its rest shape (its poser, landmarks, zones, fine
         skin ...): `build(self)` on first use, then kept with the body under `build`. The owner of each
-        preparation is the module defining `build` (`hitogata.pose.poser_for`, `hitogata.measure.landmarks
+        preparation is the module defining `build` (`hitogata.posing.pose.poser_for`, `hitogata.measure.landmarks
         .body_landmarks`, ...); the body holds them without knowing what they are."""
         store: dict[Callable[[Body], object], object] = self.__dict__.setdefault("_prepared", {})
         if build not in store:

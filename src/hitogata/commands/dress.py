@@ -72,7 +72,7 @@ def through_motions(dressing: Dressing, scenarios: dict[str, Scenario], rate: fl
     """The dressed garment through each motion, each frame checked as the standing solve is."""
     from hitogata.garment.contact.motion import dress_through
     from hitogata.motion.clip import scenario_clip
-    from hitogata.pose import poser_for
+    from hitogata.posing.pose import poser_for
 
     out = {}
     for name, scenario in scenarios.items():

@@ -22,7 +22,7 @@ from hitogata.garment.pressure_motion import pressure_csv
 from hitogata.garment.stretch import stretch_csv
 from hitogata.motion.clip import scenario_clip
 from hitogata.options import SKINNING, SURFACE_SOURCES
-from hitogata.pose import poser_for
+from hitogata.posing.pose import poser_for
 
 if TYPE_CHECKING:
     from hitogata.body.model import Body

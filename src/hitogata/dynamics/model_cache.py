@@ -20,8 +20,8 @@ from hitogata.elastic.cache import cached, model_key, model_options
 from hitogata.elastic.model import build_elastic_model
 from hitogata.elastic.stored import from_arrays, to_arrays
 from hitogata.options import Skinning
-from hitogata.pose import poser_for
-from hitogata.skinning import prepare_skin
+from hitogata.posing.pose import poser_for
+from hitogata.posing.skinning import prepare_skin
 
 DYNAMICS = "dynamics"  # the entry kind
 MODEL, PARTS = "model.", "parts."  # the entry's two values' array name prefixes

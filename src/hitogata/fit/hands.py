@@ -22,7 +22,7 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from hitogata.fit.model import FINGERS, POSE_NAMES, BodyModel
-from hitogata.pose import Poser
+from hitogata.posing.pose import Poser
 
 SIDES = ("l", "r")
 # (the skeleton parts whose skin is scored, the pose entries and their offsets tried, degrees)

@@ -23,7 +23,7 @@ import numpy as np
 from hitogata.body.model import Body
 from hitogata.muscles.activation import MuscleLimitWarning
 from hitogata.muscles.geometry import MuscleGeometryWarning
-from hitogata.pose import Poser, poser_for
+from hitogata.posing.pose import Poser, poser_for
 from hitogata.body.shape import OLD_YEARS, YOUNG_YEARS, ShapeParameters
 from hitogata.skeleton.stretches import spread
 

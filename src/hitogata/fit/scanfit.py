@@ -27,7 +27,7 @@ from hitogata.fit.register import Registration, register
 from hitogata.fit.scan import Scan
 from hitogata.measure import Measurements, measure
 from hitogata.body.shape import ShapeParameters
-from hitogata.pose import poser_for
+from hitogata.posing.pose import poser_for
 
 FIT_POINTS = 6000  # scan points the shape and pose are solved on
 DETAIL_POINTS = 60_000  # scan points the detail is solved on

@@ -28,7 +28,7 @@ from hitogata.measure.measurements import MEASUREMENT_NAMES, measure_surface, po
 from hitogata.options import Skinning
 from hitogata.body.rig import posed_rig_heads
 from hitogata.motion.clip import MotionClip
-from hitogata.pose import poser_for
+from hitogata.posing.pose import poser_for
 
 if TYPE_CHECKING:
     from hitogata.elastic.materials import Materials

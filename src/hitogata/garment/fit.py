@@ -25,7 +25,7 @@ from hitogata.garment.pressure_motion import pressure_series
 from hitogata.garment.stretch import PERCENTILE, ZoneStretch, area_percentile, stretch_table
 from hitogata.measure.strain import skin_strain
 from hitogata.motion.clip import MotionClip
-from hitogata.pose import poser_for
+from hitogata.posing.pose import poser_for
 from hitogata.body.rig import posed_rig_heads
 from hitogata.garment.stretch import garment_zones
 from hitogata.geometry.normals import triangle_areas

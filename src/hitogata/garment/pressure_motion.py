@@ -10,7 +10,7 @@ from hitogata.garment.fabric import Fabric
 from hitogata.garment.pressure import MMHG, Garment, garment_pressure
 from hitogata.body.rig import posed_rig_heads
 from hitogata.motion.clip import MotionClip
-from hitogata.pose import poser_for
+from hitogata.posing.pose import poser_for
 
 
 def pressure_series(body: Body, garment: Garment, fabric: Fabric, clip: MotionClip, surface: Surface | None = None,

@@ -33,7 +33,7 @@ from hitogata.measure.measurements import tape_skin
 from hitogata.measure.strain import skin_strain
 from hitogata.measure.zones import body_zones
 from hitogata.motion.clip import MotionClip
-from hitogata.pose import poser_for
+from hitogata.posing.pose import poser_for
 from hitogata.geometry.normals import triangle_normals
 
 BAND_BELOW_AXILLA = 0.08  # m

@@ -28,7 +28,7 @@ __all__ = ["GIRTHS", "MEASUREMENT_NAMES", "Measurements", "check_names", "measur
            "measure_with_paths", "measurement_paths"]
 
 if TYPE_CHECKING:
-    from hitogata.pose import PosedBody
+    from hitogata.posing.pose import PosedBody
 
 
 def measure(

@@ -34,7 +34,7 @@ from hitogata.study.spec import BodyDef, ModelSettings, MotionDef
 
 if TYPE_CHECKING:  # for the annotations only: the functions below import what they run where they run it
     from hitogata.body.model import Body
-    from hitogata.pose import Poser
+    from hitogata.posing.pose import Poser
 
 ROWS_VERSION = 3  # part of every task's hash: bump when a row's meaning changes, so old rows are not reused
 # (3: waist_girth is ISO 8559-1's waist, the navel's is omphalion_waist_girth; the neck girth at its
@@ -140,13 +140,13 @@ def prepared(definition: BodyDef) -> Prepared:
     from hitogata.body.model import Body
     from hitogata.measure import measure
     from hitogata.muscles.geometry import place_muscles
-    from hitogata.pose import Poser
+    from hitogata.posing.pose import Poser
     from hitogata.body.shape import ShapeParameters
     from hitogata.skeleton.kinematics import Kinematics
     from hitogata.skeleton.child_ranges import with_age_ranges
     from hitogata.skeleton.placement import place_skeleton
     from hitogata.skeleton.weights import part_weights
-    from hitogata.skinning import prepare_skin
+    from hitogata.posing.skinning import prepare_skin
 
     if definition.shape is not None:
         body = Body.from_parameters(ShapeParameters(**dict(definition.shape)), definition.density)
@@ -180,7 +180,7 @@ def postures(prep: Prepared, scenario, times: np.ndarray, model: ModelSettings) 
     """Skin vertices (T, V, 3) and rig joint centres (T, B, 3) of the body at `times`."""
     from hitogata.dynamics.motion import _angles as timeline_angles
     from hitogata.body.rig import posed_rig_heads
-    from hitogata.skinning import skin_vertices
+    from hitogata.posing.skinning import skin_vertices
 
     poser, body = prep.poser, prep.body
     if model.posing == "elastic":

@@ -31,7 +31,7 @@ from hitogata.garment.contact.tissue import ALONG, LimbTissue, limb_tissue
 from hitogata.garment.contact.tube import Stations, Tube
 from hitogata.garment.ease import sampled_frames
 from hitogata.motion.clip import MotionClip
-from hitogata.pose import poser_for
+from hitogata.posing.pose import poser_for
 from hitogata.body.rig import carried_heads, carrying_parts
 
 # m: a carried garment's start this much further out than the skin's move: none first, then half the
