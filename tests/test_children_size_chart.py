@@ -10,7 +10,7 @@ import pytest
 
 from hitogata.body import growth
 from hitogata.cli import main
-from hitogata.commands.size_chart import read_size_chart, shipped_size_charts
+from hitogata.made_to_measure.size_chart import read_size_chart, shipped_size_charts
 
 CHART = shipped_size_charts()["children_example"]
 

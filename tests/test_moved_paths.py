@@ -9,6 +9,7 @@ import pytest
 # old module → (new package, names the documentation imported from the old path)
 MOVED = {
     "hitogata.pose": ("hitogata.posing", ["PosedBody", "Poser", "pose_body", "poser_for"]),
+    "hitogata.fit": ("hitogata.made_to_measure.scan_fit", ["Scan", "ScanFit", "detailed_body", "fit_scan", "make_scan"]),
 }
 
 

@@ -27,7 +27,7 @@ _EXPORTS: dict[str, str] = {
     # the body
     "Body": "hitogata.body.model",
     "default_body": "hitogata.body.model",
-    "body_to_measure": "hitogata.made_to_measure",
+    "body_to_measure": "hitogata.made_to_measure.solve",
     "ShapeParameters": "hitogata.body.shape",
     # posing by muscles and joint angles
     "Poser": "hitogata.posing.pose",
@@ -126,7 +126,7 @@ if TYPE_CHECKING:
     from hitogata.export.body_files import write_body
     from hitogata.export.meshfiles import write_mesh
     from hitogata.export.pose_files import write_posed
-    from hitogata.made_to_measure import body_to_measure
+    from hitogata.made_to_measure.solve import body_to_measure
     from hitogata.measure.measurements import measure
     from hitogata.measure.values import Measurements
     from hitogata.validation.answers import answer_dataset

@@ -129,7 +129,7 @@ class Body:
         """
         check_density(density, "density")
         if measurements:
-            from hitogata.made_to_measure import body_to_measure
+            from hitogata.made_to_measure.solve import body_to_measure
 
             asked = {**measurements, **({} if stature is None else {"stature": stature}),
                      **({} if mass is None else {"mass": mass})}
@@ -270,7 +270,11 @@ def _stand(assets: Assets, vertices: np.ndarray) -> np.ndarray:
 def _touching(assets: Assets, params: ShapeParameters, vertices: np.ndarray) -> np.ndarray:
     """A body's vertices (all of them, standing) beyond weight 1 with the skin touching where it meets
     itself: reached along weights from 1 (`hitogata.body.rest_contact`)."""
-    from hitogata.body.rest_contact import WEIGHT_STEP, contact_groups, touching_skin  # here: bodies within the slider load no contact code
+    from hitogata.body.rest_contact import (  # here: bodies within the slider load no contact code
+        WEIGHT_STEP,
+        contact_groups,
+        touching_skin,
+    )
 
     steps = math.ceil((params.weight - 1.0) / WEIGHT_STEP)
     path = [_stand(assets, blend(assets, params.with_(weight=float(w)))) for w in np.linspace(1.0, params.weight,

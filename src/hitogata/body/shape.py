@@ -15,9 +15,9 @@ max(0, v), whatever the macro parameters; vertices are linear in v on each side 
 from __future__ import annotations
 
 import math
+from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field, replace
 from functools import cache
-from collections.abc import Iterable, Mapping
 from typing import Any
 
 import numpy as np

@@ -15,14 +15,15 @@ from typing import TYPE_CHECKING, Any
 from hitogata import units
 from hitogata.commands.args import add_body_arguments
 from hitogata.commands.paths import Output, add_output, input_path
-from hitogata.commands.size_chart import shipped_size_charts, write_size_chart
+from hitogata.commands.size_chart import write_size_chart
 from hitogata.errors import HitogataError
 from hitogata.export.body_files import body_figures, write_body
 from hitogata.export.meshfiles import MESH_SUFFIXES
+from hitogata.made_to_measure.size_chart import shipped_size_charts
 
 if TYPE_CHECKING:
     from hitogata.body.model import Body
-    from hitogata.made_to_measure import MadeToMeasure
+    from hitogata.made_to_measure.solve import MadeToMeasure
 
 
 def figures_line(label: str, body: Body) -> str:
@@ -83,7 +84,7 @@ def solve_from_args(args: argparse.Namespace, asked: dict[str, float]) -> tuple[
         body = Body.from_measurements(sex=args.sex, age=args.age, stature=values[0], mass=values[1],
                                       muscle=args.muscle_tone, proportions=args.proportions)
         return body, None
-    from hitogata.made_to_measure import MeasurementWarning, body_to_measure
+    from hitogata.made_to_measure.solve import MeasurementWarning, body_to_measure
 
     request = {**{k: v for k, v in zip(("stature", "mass"), values) if v is not None}, **asked}
     with warnings.catch_warnings(record=True) as caught:

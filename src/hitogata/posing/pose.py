@@ -19,6 +19,7 @@ from pathlib import Path
 import numpy as np
 
 from hitogata.body.model import Body
+from hitogata.body.rig import carried_heads, carrying_parts
 from hitogata.errors import HitogataError, excerpt
 from hitogata.muscles.activation import (
     MuscleLimitWarning,
@@ -26,9 +27,10 @@ from hitogata.muscles.activation import (
     muscle_lengths,
 )
 from hitogata.muscles.geometry import MuscleSet, place_muscles
-from hitogata.posing.names import dof_candidates, suggestion
 from hitogata.muscles.spec import MuscleListSpec, load_muscle_spec
 from hitogata.options import ON_LIMIT, OnLimit, Skinning
+from hitogata.posing.names import dof_candidates, suggestion
+from hitogata.posing.skinning import Skin, prepare_skin, skin_vertices
 from hitogata.skeleton.child_ranges import with_age_ranges
 from hitogata.skeleton.combined import clamp_combined, combined_violation
 from hitogata.skeleton.kinematics import LIMIT_TOLERANCE, Kinematics, Pose, limit_violations
@@ -36,9 +38,6 @@ from hitogata.skeleton.placement import Skeleton, place_skeleton
 from hitogata.skeleton.shoulder import CHANNEL_RANGES, SIDES, channel_names, girdle_dofs, shoulder_pose
 from hitogata.skeleton.spec import SkeletonSpec, load_skeleton_spec
 from hitogata.skeleton.weights import part_weights
-from hitogata.body.rig import carried_heads, carrying_parts
-from hitogata.posing.skinning import Skin, prepare_skin, skin_vertices
-
 
 
 @cache

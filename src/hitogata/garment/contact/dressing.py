@@ -38,7 +38,7 @@ from hitogata.garment.contact.segments import (
 from hitogata.garment.contact.tissue import LIMB_BONES, LimbTissue, limb_tissue
 from hitogata.garment.contact.spec import GarmentSpec
 from hitogata.garment.contact.tube import Stations, Tube, build_tube
-from hitogata.fit.closest import SurfaceQuery
+from hitogata.made_to_measure.scan_fit.closest import SurfaceQuery
 from hitogata.measure.axes import JointSet
 
 REACH = 0.03  # m: skin within this of the garment's start is the contact surface

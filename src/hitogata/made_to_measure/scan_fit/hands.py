@@ -21,7 +21,7 @@ import itertools
 import numpy as np
 from scipy.spatial import cKDTree
 
-from hitogata.fit.model import FINGERS, POSE_NAMES, BodyModel
+from hitogata.made_to_measure.scan_fit.model import FINGERS, POSE_NAMES, BodyModel
 from hitogata.posing.pose import Poser
 
 SIDES = ("l", "r")

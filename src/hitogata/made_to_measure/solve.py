@@ -35,6 +35,7 @@ from functools import cache
 import numpy as np
 from scipy.optimize import least_squares
 
+from hitogata.body import growth
 from hitogata.body.assets import Assets, load_assets
 from hitogata.body.model import (
     AVERAGE,
@@ -44,13 +45,12 @@ from hitogata.body.model import (
     default_measurements,
     sex_value,
 )
-from hitogata.body import growth
+from hitogata.body.shape import MODIFIER_NAMES, ShapeParameters, blend
 from hitogata.errors import HitogataError
+from hitogata.made_to_measure.measurement_rates import measurement_rows
 from hitogata.measure.measurements import measure
 from hitogata.measure.values import MEASUREMENT_NAMES, aliases
 from hitogata.units import shown
-from hitogata.measurement_rates import measurement_rows
-from hitogata.body.shape import MODIFIER_NAMES, ShapeParameters, blend
 
 # ISO 20685-1 allowed errors, m: girths 9 mm, small girths 4 mm, lengths and heights 5 mm.
 GIRTH_ALLOWANCE, SMALL_GIRTH_ALLOWANCE, LENGTH_ALLOWANCE = 0.009, 0.004, 0.005

@@ -14,8 +14,8 @@ import itertools
 import numpy as np
 from threadpoolctl import threadpool_limits
 
-from hitogata.fit.model import POSE_NAMES, T_POSE, BodyModel
-from hitogata.fit.register import SIGMA, Registration, Surface, gauss_newton_step
+from hitogata.made_to_measure.scan_fit.model import POSE_NAMES, T_POSE, BodyModel
+from hitogata.made_to_measure.scan_fit.register import SIGMA, Registration, Surface, gauss_newton_step
 from hitogata.posing.pose import poser_for
 
 ALIGN_POINTS = 800  # scan points per candidate
