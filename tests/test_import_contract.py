@@ -49,9 +49,6 @@ KNOWN_UPWARD: dict[tuple[str, str], str] = {
     ("hitogata.dynamics.single_pose", "hitogata.measure.fine_skin"): "skin package",
     ("hitogata.geometry.skin_slide", "hitogata.measure.fine_skin"): "skin package",
     ("hitogata.geometry.skin_slide", "hitogata.skeleton.kinematics"): "skin package",
-    # The garment contact's files (GLB, pictures) are to be written by the export layer.
-    ("hitogata.garment.contact.files", "hitogata.export.gltf"): "garment contact files to export",
-    ("hitogata.garment.contact.files", "hitogata.render"): "garment contact files to export",
 }
 ALLOWED_UPWARD = {**DOCUMENTED_UPWARD, **KNOWN_UPWARD}
 LAYER_NAMES = ("base", "body", "posing", "volume/fem", "elastic", "dynamics", "skin", "measure/garment",

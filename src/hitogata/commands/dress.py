@@ -30,7 +30,7 @@ def run(args: argparse.Namespace) -> None:
     from hitogata.elastic.materials import load_materials
     from hitogata.garment.contact.answers import garment_contact
     from hitogata.garment.contact.dressing import dress, prepare
-    from hitogata.garment.contact.files import write_dressing
+    from hitogata.export.garment_files import write_dressing
     from hitogata.garment.contact.spec import load_garment
     from hitogata.garment.pressure import MMHG
     from hitogata.render import ensure_offscreen_gl
