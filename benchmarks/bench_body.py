@@ -13,10 +13,10 @@ import statistics
 
 from timing import timed
 
-from hitogata.assets import load_assets, skin_points
+from hitogata.body.assets import load_assets, skin_points
 from hitogata.body import Body
 from hitogata.geometry.mesh_checks import enclosed_volume
-from hitogata.shape import BilinearShape, blend
+from hitogata.body.shape import BilinearShape, blend
 
 CASES = [("female", 1.55, 50.0), ("female", 1.65, 62.0), ("male", 1.78, 78.0), ("male", 1.92, 88.0)]
 

@@ -25,7 +25,7 @@ from hitogata.dynamics.single_pose import elastic_dynamics, elastic_pose
 from hitogata.geometry import barrier_contact
 from hitogata.motion.clip import peak_clip, scenario_clip
 from hitogata.motion.scenario import load_scenario, shipped_scenarios
-from hitogata.pose import poser_for
+from hitogata.posing import poser_for
 
 
 def held(dynamics, angles: np.ndarray, trust: bool):

@@ -41,7 +41,7 @@ def main() -> None:
     from hitogata.garment.contact.motion import dress_frame, postures
     from hitogata.motion.clip import scenario_clip
     from hitogata.motion.scenario import load_scenario, shipped_scenarios
-    from hitogata.pose import poser_for
+    from hitogata.posing import poser_for
 
     clip = scenario_clip(load_scenario(shipped_scenarios()["mobility_stride"]), poser_for(body))
     times, frames = postures(body, clip, 5.0)

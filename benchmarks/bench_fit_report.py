@@ -46,7 +46,7 @@ def parts(folder: Path) -> None:
     from hitogata.garment.pressure_motion import pressure_series
     from hitogata.garment.stretch import stretch_table
     from hitogata.motion.clip import scenario_clip
-    from hitogata.pose import poser_for
+    from hitogata.posing import poser_for
     from hitogata.report.fit_report import write_fit_report
 
     times: dict[str, float] = {}

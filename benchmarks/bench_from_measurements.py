@@ -14,9 +14,9 @@ import statistics
 
 from timing import timed
 
-import hitogata.made_to_measure as made
-import hitogata.measurement_rates as rates
-from hitogata.made_to_measure import allowance, body_to_measure
+import hitogata.made_to_measure.solve as made
+import hitogata.made_to_measure.measurement_rates as rates
+from hitogata.made_to_measure.solve import allowance, body_to_measure
 
 SIX = {"stature": 1.65, "chest": 0.92, "waist": 0.74, "hip": 1.00, "inside_leg": 0.76, "mass": 60.0}
 

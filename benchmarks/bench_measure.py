@@ -17,7 +17,7 @@ from scipy.spatial import ConvexHull
 
 from timing import timed
 
-from hitogata.assets import load_assets
+from hitogata.body.assets import load_assets
 from hitogata.body import default_body
 from hitogata.measure.axes import JointSet
 from hitogata.measure.geodesic import SurfaceGeodesics

@@ -18,8 +18,8 @@ import numpy as np
 
 from hitogata.body import default_body
 from hitogata.muscles.activation import Drive, muscle_lengths
-from hitogata.pose import Poser
-from hitogata.skinning import skin_vertices
+from hitogata.posing import Poser
+from hitogata.posing.skinning import skin_vertices
 
 DRIVERS = [
     "rectus_abdominis_l", "external_oblique_r", "sternocleidomastoid_l", "deltoid_l", "pectoralis_major_r",

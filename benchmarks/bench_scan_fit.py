@@ -1,7 +1,7 @@
 """Scan-fit benchmark: a body fitted to a 100k-point scan, end to end and by stage.
 
 Goal (the made-to-measure issue): a scan fit of a 100k-point scan ≤ 30 s.
-The scan is made from a body of known shape (`hitogata.fit.synthetic`: 1.5 mm
+The scan is made from a body of known shape (`hitogata.made_to_measure.scan_fit.synthetic`: 1.5 mm
 noise, holes under the arms and between the legs, a rigid offset, millimetres),
 so the figures printed beside the time are the fit's own errors: scan → body
 distance and the largest measurement difference from the known body.
@@ -17,15 +17,15 @@ import time
 import numpy as np
 
 from hitogata.body import Body
-from hitogata.fit import fit_scan, make_scan
-from hitogata.fit.align import initial_alignments
-from hitogata.fit.model import BodyModel
-from hitogata.fit.register import register
-from hitogata.fit.scanfit import FIT_POINTS, ITERATIONS
-from hitogata.fit.synthetic import Perturbation, synthetic_scan
+from hitogata.made_to_measure.scan_fit import fit_scan, make_scan
+from hitogata.made_to_measure.scan_fit.align import initial_alignments
+from hitogata.made_to_measure.scan_fit.model import BodyModel
+from hitogata.made_to_measure.scan_fit.register import register
+from hitogata.made_to_measure.scan_fit.scanfit import FIT_POINTS, ITERATIONS
+from hitogata.made_to_measure.scan_fit.synthetic import Perturbation, synthetic_scan
 from hitogata.measure import measure
-from hitogata.pose import shipped_lists
-from hitogata.shape import ShapeParameters
+from hitogata.posing.pose import shipped_lists
+from hitogata.body.shape import ShapeParameters
 
 POINTS = 100_000
 TRUTH = ShapeParameters(sex=0.0, age=40.0, weight=0.7, muscle=0.4, height=0.6, proportions=0.6, cup=0.7)

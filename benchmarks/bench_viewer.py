@@ -29,7 +29,7 @@ import viser
 from websockets.sync.client import ClientConnection, connect
 
 from hitogata.body import default_body
-from hitogata.pose import Poser
+from hitogata.posing import Poser
 from hitogata.viewer import serve
 from hitogata.measure import MEASUREMENT_NAMES
 from hitogata.viewer.app import ViewerApp, measurement_markdown

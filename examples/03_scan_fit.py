@@ -12,8 +12,8 @@ import tempfile
 from pathlib import Path
 
 import hitogata as hg
-from hitogata.fit import fit_scan, make_scan  # scan fitting: the functions behind `hitogata fit`
-from hitogata.fit.synthetic import synthetic_scan
+from hitogata.made_to_measure.scan_fit import fit_scan, make_scan  # scan fitting: the functions behind `hitogata fit`
+from hitogata.made_to_measure.scan_fit.synthetic import synthetic_scan
 
 out = Path(sys.argv[1]) if len(sys.argv) > 1 else Path(tempfile.mkdtemp(prefix="hitogata-03-"))
 out.mkdir(parents=True, exist_ok=True)

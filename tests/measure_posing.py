@@ -1,4 +1,4 @@
-"""Postures for the measurement tests, made by the real posing code (`hitogata.pose`).
+"""Postures for the measurement tests, made by the real posing code (`hitogata.posing.pose`).
 
 Each returns the skin vertices and the 163 rig joint centres of the posture,
 the two arrays the measurement functions take.
@@ -9,7 +9,7 @@ from __future__ import annotations
 import numpy as np
 
 from hitogata.body import Body
-from hitogata.pose import pose_body
+from hitogata.posing import pose_body
 
 
 def posture(body: Body, clinical: dict[str, float]) -> tuple[np.ndarray, np.ndarray]:

@@ -124,7 +124,7 @@ def test_a_warning_is_said_once_as_one_line_without_source(capsys):
 
 
 def test_a_request_no_person_could_have_is_refused_before_the_search(monkeypatch):
-    import hitogata.made_to_measure as mtm
+    import hitogata.made_to_measure.solve as mtm
 
     monkeypatch.setattr(mtm, "_Problem", lambda *_, **__: pytest.fail("the search began"))
     message = one_line_error(lambda: mtm.body_to_measure("female", {"stature": 1.65, "chest": 0.80, "waist": 1.40,

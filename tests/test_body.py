@@ -3,8 +3,8 @@
 import numpy as np
 import pytest
 
-from hitogata.assets import load_assets
-from hitogata.body import STATURE_RANGE, Body
+from hitogata.body.assets import load_assets
+from hitogata.body.model import STATURE_RANGE, Body
 from hitogata.errors import HitogataError
 from hitogata.geometry.mesh_checks import (
     connected_component_count,
@@ -14,7 +14,7 @@ from hitogata.geometry.mesh_checks import (
     self_intersections,
     winding_number,
 )
-from hitogata.shape import ShapeParameters
+from hitogata.body.shape import ShapeParameters
 
 # Bones whose skin is allowed to touch itself in MakeHuman shapes (docs/body.md):
 # the toes and the face (eye corners, mouth corners).

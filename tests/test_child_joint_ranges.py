@@ -12,7 +12,7 @@ import pytest
 from hitogata.body import Body
 from hitogata.errors import HitogataError
 from hitogata.muscles.activation import MuscleLimitWarning
-from hitogata.pose import Poser, shipped_lists
+from hitogata.posing.pose import Poser, shipped_lists
 from hitogata.skeleton.child_ranges import load_child_ranges, with_age_ranges
 from hitogata.skeleton.placement import Skeleton, place_skeleton
 

@@ -9,13 +9,13 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from hitogata import growth
+from hitogata.body import growth
 from hitogata.body import Body
 from hitogata.cli import main
 from hitogata.errors import HitogataError
 from hitogata.geometry.mesh_checks import enclosed_volume, is_closed, is_consistently_oriented
 from hitogata.measure import measure
-from hitogata.shape import age_factors
+from hitogata.body.shape import age_factors
 
 AGES = (1, 3, 6, 10, 14, 17)
 SEXES = (("female", 0.0), ("male", 1.0))

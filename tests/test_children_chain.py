@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 import trimesh
 
-from hitogata import growth
+from hitogata.body import growth
 from hitogata.body import Body
 from hitogata.cli import main
 from hitogata.geometry import self_intersections

@@ -8,9 +8,9 @@ from pathlib import Path
 
 import pytest
 
-from hitogata import growth
+from hitogata.body import growth
 from hitogata.cli import main
-from hitogata.commands.size_chart import read_size_chart, shipped_size_charts
+from hitogata.made_to_measure.size_chart import read_size_chart, shipped_size_charts
 
 CHART = shipped_size_charts()["children_example"]
 

@@ -6,7 +6,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from hitogata import growth
+from hitogata.body import growth
 from hitogata.body import mass_range
 from hitogata.cli import main
 from hitogata.motion.scenario import load_scenario

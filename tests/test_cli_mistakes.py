@@ -316,7 +316,7 @@ def test_a_fit_that_comes_no_closer_than_25_mm_writes_no_body(here, capsys, monk
 
     import trimesh
 
-    import hitogata.fit as fit
+    import hitogata.made_to_measure.scan_fit as fit
 
     trimesh.Trimesh(female.vertices, female.faces, process=False).export(here / "s.ply")
     monkeypatch.setattr(fit, "fit_scan", lambda *_, **__: SimpleNamespace(model_error=SimpleNamespace(median=0.466)))

@@ -10,7 +10,7 @@ from gltf_validator import needs_validator, validate_gltf
 from hitogata.body import Body
 from hitogata.cli import main
 from hitogata.export.glb_read import read_glb_skin
-from hitogata.pose import Poser, poser_for
+from hitogata.posing import Poser, poser_for
 from hitogata.skeleton.spec import load_skeleton_spec
 
 

@@ -13,7 +13,7 @@ pytest.importorskip("pyvista")
 
 from hitogata.body import Body  # noqa: E402
 from hitogata.cli import main  # noqa: E402
-from hitogata.pose import poser_for  # noqa: E402
+from hitogata.posing import poser_for  # noqa: E402
 from hitogata.render.figures import bone_segments, skeleton_items  # noqa: E402
 from hitogata.render.scene import Layer, Lines  # noqa: E402
 

@@ -7,7 +7,7 @@ import pytest
 from hitogata.cli import main
 from hitogata.errors import HitogataError
 from hitogata.muscles.activation import MuscleLimitWarning
-from hitogata.pose import poser_for
+from hitogata.posing import poser_for
 
 D = np.radians
 OLD_POSE = "hips.abduction (both legs) = -24.0° clinical (thigh_l.abduction + thigh_r.abduction): the joints together " \

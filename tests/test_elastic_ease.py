@@ -15,7 +15,7 @@ from hitogata.motion.scenario import load_scenario, shipped_scenarios
 from hitogata.garment.ease import elastic_surface, motion_ease, sampled_frames, skinned_surface
 from hitogata.garment.fit import fit_answers
 from hitogata.motion.clip import scenario_clip
-from hitogata.pose import poser_for
+from hitogata.posing import poser_for
 from test_garment_ease import rigid_clip
 
 # the deep squat sampled at 2 frames/s, largest increase over standing (cm): skinned, then elastic with contact.

@@ -9,7 +9,7 @@ from hitogata.measure.body_lines import body_lines
 from hitogata.measure.fine_skin import LEVELS
 from hitogata.measure.strain import skin_strain
 from hitogata.measure.zones import zone_strains
-from hitogata.pose import poser_for
+from hitogata.posing import poser_for
 from hitogata.measure.fine_skin import body_fine_skin
 from hitogata.measure.fine_skin import body_fine_skinning
 

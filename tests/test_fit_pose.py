@@ -4,7 +4,7 @@ The scans are bodies posed otherwise than the fit starts — trunk bent 15°, he
 turned 30°, forearms turned, wrists bent and deviated, fingers curled and
 spread — with 1.5 mm noise on every axis, holes under the arms and between the
 legs, 10 % of the points dropped at random, turned and moved, in millimetres
-(`hitogata.fit.synthetic`). One is a cloud of the fit's own body model; the
+(`hitogata.made_to_measure.scan_fit.synthetic`). One is a cloud of the fit's own body model; the
 other a re-triangulated mesh of a man of other proportions in another pose,
 fitted without knowing his shape (a stand-in for another body model's mesh).
 Every region, the hands included, must come within 2 mm (median scan → shape
@@ -18,11 +18,11 @@ import numpy as np
 import pytest
 
 from hitogata.body import Body
-from hitogata.fit import fit_scan, make_scan
-from hitogata.fit.regions import REGIONS
-from hitogata.fit.synthetic import Perturbation, synthetic_scan
-from hitogata.pose import poser_for
-from hitogata.shape import ShapeParameters
+from hitogata.made_to_measure.scan_fit import fit_scan, make_scan
+from hitogata.made_to_measure.scan_fit.regions import REGIONS
+from hitogata.made_to_measure.scan_fit.synthetic import Perturbation, synthetic_scan
+from hitogata.posing import poser_for
+from hitogata.body.shape import ShapeParameters
 from hitogata.skeleton.stretches import spread
 
 d = np.radians

@@ -3,7 +3,7 @@
 Each scan is a body of known shape, posed or at rest, sampled as a point cloud
 or re-triangulated, with 1.5 mm noise, holes under the arms and between the
 legs, a rigid offset (turned 34° about the vertical, tilted, moved) and written
-in millimetres (`hitogata.fit.synthetic`). The fit must come within 2 mm
+in millimetres (`hitogata.made_to_measure.scan_fit.synthetic`). The fit must come within 2 mm
 (median scan → body distance) and give the known body's measurements within
 ISO 20685-1's allowances; a scan outside the model's space (one arm thicker)
 must be reported where the model cannot follow.
@@ -18,20 +18,20 @@ import pytest
 
 from gltf_validator import needs_validator, validate_gltf
 from hitogata import cli
-from hitogata.assets import load_assets
+from hitogata.body.assets import load_assets
 from hitogata.body import Body
 from hitogata.export.motion_files import read_sequence_body
 from hitogata.errors import HitogataError
 from hitogata.export.body_files import body_from_extras, detail_extras, shape_extras, write_body
 from hitogata.export.glb_read import read_glb_skin
-from hitogata.fit import detailed_body, fit_scan, make_scan
-from hitogata.fit.detail import detail_offsets
-from hitogata.fit.regions import REGIONS, vertex_regions
-from hitogata.fit.synthetic import Perturbation, synthetic_scan
+from hitogata.made_to_measure.scan_fit import detailed_body, fit_scan, make_scan
+from hitogata.made_to_measure.scan_fit.detail import detail_offsets
+from hitogata.made_to_measure.scan_fit.regions import REGIONS, vertex_regions
+from hitogata.made_to_measure.scan_fit.synthetic import Perturbation, synthetic_scan
 from hitogata.measure import measure
 from hitogata.measure.measurements import GIRTHS
-from hitogata.shape import ShapeParameters
-from hitogata.pose import poser_for
+from hitogata.body.shape import ShapeParameters
+from hitogata.posing import poser_for
 
 ISO_20685 = {"large girth": 9.0, "small girth": 4.0, "length": 5.0}  # mm (tests/test_measure_body.py)
 SMALL_GIRTHS = ("neck_girth", "upper_arm_girth", "ankle_girth", "wrist_girth")

@@ -7,9 +7,9 @@ import numpy as np
 import pytest
 
 import hitogata
-from hitogata.pose import pose_body
+from hitogata.posing import pose_body
 from hitogata.measure.landmarks import body_landmarks
-from hitogata.pose import poser_for
+from hitogata.posing import poser_for
 
 
 def test_all_lists_every_export_and_each_resolves_to_its_defining_module() -> None:

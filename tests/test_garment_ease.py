@@ -14,7 +14,7 @@ from hitogata.garment.ease import HEIGHTS, NAMES, ease_csv, ease_json, motion_ea
 from hitogata.garment.ease_plot import ease_plot
 from hitogata.measure import measure
 from hitogata.motion.clip import MotionClip, scenario_clip
-from hitogata.pose import poser_for
+from hitogata.posing import poser_for
 from hitogata.measure.landmarks import body_landmarks
 
 

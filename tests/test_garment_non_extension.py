@@ -22,7 +22,7 @@ from hitogata.garment.non_extension import (
     Line, lines_csv, lines_json, non_extension_directions, non_extension_lines, streamlines,
 )
 from hitogata.motion.clip import scenario_clip
-from hitogata.pose import poser_for
+from hitogata.posing import poser_for
 from hitogata.garment.stretch import garment_zones
 from hitogata.measure.fine_skin import body_fine_skin
 

@@ -10,10 +10,10 @@ from hitogata.body import Body
 from hitogata.errors import HitogataError
 from hitogata.garment import Fabric, Garment, compression_class, garment_pressure, laplace_profile, read_fabric_csv
 from hitogata.garment.pressure import MMHG
-from hitogata.rig import posed_rig_heads
+from hitogata.body.rig import posed_rig_heads
 from hitogata.measure.sections import tape_girth
 from hitogata.measure.topology import topology
-from hitogata.pose import pose_body
+from hitogata.posing import pose_body
 
 UP = np.array([0.0, 1.0, 0.0])
 

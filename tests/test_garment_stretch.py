@@ -9,7 +9,7 @@ from test_garment_ease import rigid_clip
 from hitogata.motion.scenario import load_scenario, shipped_scenarios
 from hitogata.garment.stretch import GARMENT_ZONES, directional_strain, stretch_csv, zone_stretch
 from hitogata.motion.clip import scenario_clip
-from hitogata.pose import poser_for
+from hitogata.posing import poser_for
 from hitogata.garment.stretch import garment_zones
 
 

@@ -24,29 +24,33 @@ LAYERS: tuple[tuple[str, ...], ...] = (
     # base: the package root (its version and folder; its names are resolved to their own modules), errors,
     # units, options, caches, the atomic file writing every layer's cache uses, and geometry
     ("", "errors", "units", "options", "lazy", "config", "machine", "disk_cache", "export.atomic", "geometry"),
-    ("body", "assets", "shape", "rig", "growth", "rest_contact"),
-    ("posing", "pose", "skinning", "names", "skeleton", "muscles"),
+    ("body",),
+    ("posing", "skeleton", "muscles", "pose"),  # pose: the documented old path of posing's names
     ("volume", "fem"),
     ("elastic",),
     ("dynamics",),
     ("skin",),
-    ("measure", "garment", "fit", "made_to_measure", "measurement_rates", "motion"),
+    ("measure", "garment", "made_to_measure", "motion", "fit"),  # fit: the documented old path of scan fitting
     ("study", "report", "export", "viewer", "render", "validation", "simulation"),
     ("commands", "cli", "__main__"),
 )
+# The imports that run upwards by design, each with why: part of the contract, each made inside the one
+# function that needs it, so that importing the lower module loads nothing above it.
+DOCUMENTED_UPWARD: dict[tuple[str, str], str] = {
+    # `Body.from_measurements(..., chest=...)`, the documented API, hands the measurements other than stature
+    # and mass to made-to-measure: a plain deferred import in that branch
+    # (docs/decisions/0034-packages-for-the-body-posing-and-made-to-measure.md).
+    ("hitogata.body.model", "hitogata.made_to_measure.solve"): "Body.from_measurements with measurements",
+}
 # The imports that still run upwards, each with what it waits for. The test fails when one is gone (delete
 # its line) as when a new one appears: the list only shrinks.
 KNOWN_UPWARD: dict[tuple[str, str], str] = {
-    # Body.from_measurements(chest=…, …) hands other measurements to made-to-measure (the documented API).
-    ("hitogata.body", "hitogata.made_to_measure"): "Body.from_measurements with measurements",
     # The skin's contact, the fine skin and the slide are to be one skin package above the dynamics.
     ("hitogata.dynamics.single_pose", "hitogata.measure.fine_skin"): "skin package",
     ("hitogata.geometry.skin_slide", "hitogata.measure.fine_skin"): "skin package",
     ("hitogata.geometry.skin_slide", "hitogata.skeleton.kinematics"): "skin package",
-    # The garment contact's files (GLB, pictures) are to be written by the export layer.
-    ("hitogata.garment.contact.files", "hitogata.export.gltf"): "garment contact files to export",
-    ("hitogata.garment.contact.files", "hitogata.render"): "garment contact files to export",
 }
+ALLOWED_UPWARD = {**DOCUMENTED_UPWARD, **KNOWN_UPWARD}
 LAYER_NAMES = ("base", "body", "posing", "volume/fem", "elastic", "dynamics", "skin", "measure/garment",
                "study/report/export/viewer", "commands")
 
@@ -197,7 +201,7 @@ def test_the_scan_sees_function_level_imports() -> None:
 
 
 def test_no_import_cycle_between_modules_of_different_packages() -> None:
-    graph = {module: {target: level for target, level in targets.items() if (module, target) not in KNOWN_UPWARD}
+    graph = {module: {target: level for target, level in targets.items() if (module, target) not in ALLOWED_UPWARD}
              for module, targets in imports().items()}
     cycles = [component for component in strongly_connected(graph)
               if len({package_of(module) for module in component}) > 1]
@@ -218,13 +222,13 @@ def test_every_module_has_a_layer() -> None:
 
 def test_each_layer_imports_only_its_own_and_the_layers_below() -> None:
     found = upward_imports()
-    new = sorted(line for pair, line in found.items() if pair not in KNOWN_UPWARD)
+    new = sorted(line for pair, line in found.items() if pair not in ALLOWED_UPWARD)
     assert not new, "\n".join(new)
 
 
 def test_the_list_of_known_upward_imports_only_shrinks() -> None:
-    gone = sorted(f"{module} → {target}" for module, target in KNOWN_UPWARD if (module, target) not in upward_imports())
-    assert not gone, f"no longer imported upwards, delete from KNOWN_UPWARD: {', '.join(gone)}"
+    gone = sorted(f"{module} → {target}" for module, target in ALLOWED_UPWARD if (module, target) not in upward_imports())
+    assert not gone, f"no longer imported upwards, delete from KNOWN_UPWARD or DOCUMENTED_UPWARD: {', '.join(gone)}"
 
 
 def test_the_layers_find_a_planted_upward_import(tmp_path, monkeypatch) -> None:

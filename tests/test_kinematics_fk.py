@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from hitogata.errors import HitogataError
-from hitogata.pose import Poser
+from hitogata.posing import Poser
 from hitogata.skeleton.kinematics import Kinematics, forward_kinematics, limit_violations
 from hitogata.geometry.rotations import axis_rotations
 

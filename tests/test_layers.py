@@ -8,8 +8,10 @@ import sys
 
 import pytest
 
-COMPUTATION = ["body", "shape", "rig", "skeleton", "muscles", "pose", "skinning", "volume", "fem", "elastic",
-               "dynamics", "measure", "geometry", "options", "units", "made_to_measure", "measurement_rates", "fit"]
+COMPUTATION = ["body", "body.model", "body.shape", "body.rig", "body.rest_contact", "skeleton", "muscles", "posing",
+               "posing.pose", "posing.skinning", "volume", "fem", "elastic", "dynamics", "measure", "geometry",
+               "options", "units", "made_to_measure", "made_to_measure.solve",
+               "made_to_measure.measurement_rates", "made_to_measure.size_chart", "made_to_measure.scan_fit"]
 PRESENTATION = ("matplotlib", "pyvista", "vtk", "vtkmodules", "meshio", "pygltflib", "viser", "trimesh", "PIL", "tqdm")
 
 
@@ -34,7 +36,8 @@ def test_import_hitogata_loads_only_itself() -> None:
     assert "numpy" not in loaded
 
 
-@pytest.mark.parametrize("package", ["export", "fit", "geometry", "measure", "motion", "simulation", "volume"])
+@pytest.mark.parametrize("package", ["body", "export", "geometry", "made_to_measure", "made_to_measure.scan_fit",
+                                     "measure", "motion", "posing", "simulation", "volume"])
 def test_a_package_importing_its_names_on_first_use_resolves_each(package: str) -> None:
     """`hitogata.lazy`: every name in the package's __all__ is its defining module's, and listed by dir()."""
     import importlib
@@ -54,4 +57,4 @@ def test_measuring_a_body_file_loads_no_plotting_nor_writers_libraries() -> None
     matplotlib, the GLB read without pygltflib, and neither the mesher nor the dynamics are loaded."""
     loaded = loaded_after("import hitogata.commands.measure, hitogata.report.measurements")
     assert not {"matplotlib", "pygltflib", "trimesh", "meshio", "pyvista"} & loaded
-    assert not {"hitogata.volume.lattice", "hitogata.dynamics", "hitogata.fit.scanfit"} & loaded
+    assert not {"hitogata.volume.lattice", "hitogata.dynamics", "hitogata.made_to_measure.scan_fit.scanfit"} & loaded

@@ -16,7 +16,7 @@ from hitogata.body import Body
 from hitogata.errors import HitogataError
 from hitogata.export.body_files import body_from_extras, write_body
 from hitogata.export.glb_read import read_glb_skin
-from hitogata.made_to_measure import (
+from hitogata.made_to_measure.solve import (
     MET,
     RESIDUAL_UNIT,
     MadeToMeasure,
@@ -26,7 +26,7 @@ from hitogata.made_to_measure import (
     judge,
 )
 from hitogata.measure import measure
-from hitogata.shape import MODIFIER_NAMES, ShapeParameters
+from hitogata.body.shape import MODIFIER_NAMES, ShapeParameters
 
 # The example of the issue and the README (cm), with a mass: six measurements.
 SIX = {"stature": 1.65, "chest": 0.92, "waist": 0.74, "hip": 1.00, "inside_leg": 0.76, "mass": 60.0}
@@ -78,7 +78,7 @@ def test_stature_or_mass_alone_takes_the_default_build() -> None:
     ({}, "no measurement asked"),
 ])
 def test_bad_requests_one_line_before_any_work(asked: dict, message: str, monkeypatch) -> None:
-    import hitogata.made_to_measure as made
+    import hitogata.made_to_measure.solve as made
 
     monkeypatch.setattr(made, "measure", lambda *_: pytest.fail("measured before the mistake was found"))
     with pytest.raises(HitogataError, match="^" + message.replace("(", r"\(").replace(")", r"\)")):
@@ -215,7 +215,7 @@ def test_cli_size_chart(tmp_path: Path, capsys) -> None:
 ])
 def test_size_chart_mistakes_one_line_nothing_written(tmp_path: Path, capsys, monkeypatch, content: str,
                                                       message: str) -> None:
-    import hitogata.made_to_measure as made
+    import hitogata.made_to_measure.solve as made
 
     monkeypatch.setattr(made, "measure", lambda *_: pytest.fail("measured before the mistake was found"))
     monkeypatch.chdir(tmp_path)
@@ -246,7 +246,7 @@ def test_measurement_option_mistakes(tmp_path: Path, capsys, monkeypatch, args: 
 def test_jacobian_from_the_tapes_agrees_with_whole_body_differences() -> None:
     """The steering rows (skin motion along the tapes and paths) against measuring one body per
     unknown, at a point away from every kink of the blend."""
-    from hitogata.made_to_measure import _Problem, checked_request
+    from hitogata.made_to_measure.solve import _Problem, checked_request
 
     problem = _Problem(ShapeParameters(sex=0.0), checked_request({"chest": 0.92, "arm_length": 0.52}), 1000.0,
                        None, None)

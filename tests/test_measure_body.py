@@ -20,7 +20,7 @@ from hitogata.measure.measurements import (
     measure_surface,
     tape_skin,
 )
-from hitogata.rig import posed_rig_heads
+from hitogata.body.rig import posed_rig_heads
 
 # ANSUR II (Gordon et al. 2014, "2012 Anthropometric Survey of U.S. Army Personnel",
 # NATICK/TR-15/007): (mean, SD) in mm, women then men, rounded. Comparable protocols:

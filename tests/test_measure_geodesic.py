@@ -86,7 +86,7 @@ def test_arm_length_does_not_depend_on_the_skinning(sex, request):
     # Elbow straight: on the DQS arm the shoulder-to-elbow leg once followed a locally shortest
     # route round the arm, 32.8 cm against 26.2 cm straight on the female default (LBS 27.0 cm).
     from hitogata.measure import measure
-    from hitogata.pose import pose_body
+    from hitogata.posing import pose_body
 
     body = request.getfixturevalue(sex)
     arm = {}

@@ -8,7 +8,7 @@ import pytest
 from hitogata.body import Body
 from hitogata.measure import MEASUREMENT_NAMES, measure
 from hitogata.measure.landmarks import LANDMARK_NAMES, body_landmarks, landmark_positions
-from hitogata.pose import pose_body
+from hitogata.posing import pose_body
 
 
 BMIS = tuple(range(18, 34))  # at 175 cm; 33 is near the heaviest the shape solver allows at 150 cm

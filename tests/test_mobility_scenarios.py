@@ -7,7 +7,7 @@ import pytest
 
 from hitogata.motion.scenario import load_scenario, shipped_scenarios
 from hitogata.motion.clip import scenario_clip
-from hitogata.pose import poser_for
+from hitogata.posing import poser_for
 from hitogata.skeleton.kinematics import limit_violations
 
 MOBILITY = ("mobility_arms_overhead", "mobility_reach_forward", "mobility_arms_crossed", "mobility_sit",

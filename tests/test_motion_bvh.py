@@ -13,7 +13,7 @@ from hitogata.motion.bvh import parse_bvh, read_bvh, write_bvh
 from hitogata.motion.clip import scenario_clip
 from hitogata.motion.joint_map import choose_joint_map
 from hitogata.motion.retarget import export_bvh, retarget
-from hitogata.pose import poser_for
+from hitogata.posing import poser_for
 
 LIMB_PARTS = ("upper_arm_l", "forearm_l", "hand_l", "upper_arm_r", "forearm_r", "thigh_l", "shank_l", "foot_l",
               "thigh_r", "shank_r", "foot_r")

@@ -14,7 +14,7 @@ from hitogata.muscles.activation import (
     muscle_lengths,
 )
 from hitogata.muscles.equations import flexion_angle, rotation_angle
-from hitogata.pose import Poser
+from hitogata.posing import Poser
 
 
 @pytest.fixture(scope="module")

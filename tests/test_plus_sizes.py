@@ -8,12 +8,12 @@ from importlib import resources
 import numpy as np
 import pytest
 
-from hitogata.body import ADULT_BMI_MAX, Body, mass_range
+from hitogata.body.model import ADULT_BMI_MAX, Body, mass_range
 from hitogata.errors import HitogataError
 from hitogata.geometry import self_intersections
 from hitogata.geometry.mesh_checks import enclosed_volume, is_closed, is_consistently_oriented
 from hitogata.measure import measure
-from hitogata.rest_contact import contact_groups
+from hitogata.body.rest_contact import contact_groups
 from hitogata.study.spec import load_study
 
 pytestmark = pytest.mark.slow  # whole-body meshes

@@ -8,7 +8,7 @@ import pytest
 
 from hitogata.body import Body
 from hitogata.muscles.geometry import MuscleGeometryWarning
-from hitogata.pose import pose_body
+from hitogata.posing import pose_body
 
 POPULATION = [
     (sex, age, stature, bmi)

@@ -12,7 +12,7 @@ from hitogata.body import default_body
 from hitogata.dynamics.contact import GROUPS, crease_tether, fold_angles, part_groups, vertex_groups
 from hitogata.geometry import enclosed_volume, self_intersections
 from hitogata.geometry.contact import SelfContact
-from hitogata.pose import poser_for
+from hitogata.posing import poser_for
 
 RADIUS = 0.05
 

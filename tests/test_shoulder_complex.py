@@ -5,7 +5,7 @@ import pytest
 
 from hitogata.cli import main
 from hitogata.errors import HitogataError
-from hitogata.pose import poser_for
+from hitogata.posing import poser_for
 
 
 @pytest.fixture(scope="module", params=["female", "male"])

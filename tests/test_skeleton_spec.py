@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from hitogata.errors import HitogataError
-from hitogata.pose import Poser
+from hitogata.posing import Poser
 from hitogata.skeleton.spec import default_skeleton_path, load_skeleton_spec
 
 DEFAULT = default_skeleton_path().read_text()

@@ -12,7 +12,7 @@ from hitogata.geometry.skin_slide import _svd, slide_posed_skin
 from hitogata.measure.strain import skin_strain
 from hitogata.geometry.closest import closest_points_on_triangles
 from hitogata.measure.fine_skin import body_fine_skinning
-from hitogata.pose import poser_for
+from hitogata.posing import poser_for
 
 
 def test_the_closed_form_svd_is_numpys():

@@ -4,8 +4,8 @@ import numpy as np
 import pytest
 
 from hitogata.errors import HitogataError
-from hitogata.pose import Poser, pose_body
-from hitogata.skinning import dual_quaternions, skin_vertices
+from hitogata.posing import Poser, pose_body
+from hitogata.posing.skinning import dual_quaternions, skin_vertices
 from hitogata.geometry.rotations import matrix_to_quaternion
 
 

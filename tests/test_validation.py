@@ -14,7 +14,7 @@ from hitogata.measure.strain import directional_stretch
 from hitogata.validation import KINDS, load_dataset
 from hitogata.validation.answers import BodyCache, answer_dataset
 from hitogata.validation.dataset import UNITS
-from hitogata.pose import poser_for
+from hitogata.posing import poser_for
 
 SOURCE = """
 [[source]]

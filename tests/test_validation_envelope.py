@@ -9,7 +9,7 @@ import pytest
 from hitogata.motion.scenario import load_scenario, shipped_scenarios
 from hitogata.garment.ease import HEIGHTS, elastic_surface, motion_ease, skinned_surface
 from hitogata.motion.clip import peak_clip, scenario_clip
-from hitogata.pose import poser_for
+from hitogata.posing import poser_for
 from hitogata.validation import load_dataset
 from hitogata.validation.envelope import allowed_change
 

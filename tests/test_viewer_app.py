@@ -226,7 +226,7 @@ def test_the_command_prints_its_url_and_rejects_a_bad_port():
 
 def test_the_skeleton_layer_stays_under_the_skin(app):
     """Every drawn line is under the skin by half its thickness, at rest and bent (`bone_reach`)."""
-    from hitogata.fit.closest import signed_distances
+    from hitogata.made_to_measure.scan_fit.closest import signed_distances
     from hitogata.viewer.scene import BONE_LINE_THICKNESS
 
     s = np.linspace(0.0, 1.0, 11)
@@ -242,8 +242,8 @@ def test_the_skeleton_layer_stays_under_the_skin(app):
 def test_the_parts_ending_on_the_skin_are_drawn_short(female):
     """Whole, the crown's and three fingertips' parts on each hand end outside the skin; `bone_reach`
     shortens those and the chin's, the thumbs' and little fingers' (their ends within 2 mm of it)."""
-    from hitogata.fit.closest import signed_distances
-    from hitogata.pose import Poser
+    from hitogata.made_to_measure.scan_fit.closest import signed_distances
+    from hitogata.posing import Poser
     from hitogata.viewer.frame import bone_reach
 
     skeleton = Poser.from_body(female).skeleton

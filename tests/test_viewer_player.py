@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from hitogata.errors import HitogataError
-from hitogata.pose import poser_for
+from hitogata.posing import poser_for
 from hitogata.viewer.frame import sequence_frame
 from hitogata.viewer.player import FRAME_RATE, RESULT_FILE, Clock, Sequence, load_sequence
 

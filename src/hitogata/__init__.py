@@ -11,7 +11,7 @@ The whole pipeline from one import (SI units: metres, kilograms, radians)::
     motion = hg.simulate(hg.BodyDynamics.build(body, model), timeline, duration=1.0, rate=30)
 
 Each name is imported on first use, so `import hitogata` stays cheap; the
-subpackages (`hitogata.body`, `.pose`, `.elastic`, `.dynamics`, `.measure`,
+subpackages (`hitogata.body`, `.posing`, `.elastic`, `.dynamics`, `.measure`,
 `.export`, ...) hold the rest.
 """
 
@@ -25,15 +25,15 @@ from typing import TYPE_CHECKING, Any
 # name -> the module that defines it
 _EXPORTS: dict[str, str] = {
     # the body
-    "Body": "hitogata.body",
-    "default_body": "hitogata.body",
-    "body_to_measure": "hitogata.made_to_measure",
-    "ShapeParameters": "hitogata.shape",
+    "Body": "hitogata.body.model",
+    "default_body": "hitogata.body.model",
+    "body_to_measure": "hitogata.made_to_measure.solve",
+    "ShapeParameters": "hitogata.body.shape",
     # posing by muscles and joint angles
-    "Poser": "hitogata.pose",
-    "PosedBody": "hitogata.pose",
-    "pose_body": "hitogata.pose",
-    "poser_for": "hitogata.pose",
+    "Poser": "hitogata.posing.pose",
+    "PosedBody": "hitogata.posing.pose",
+    "pose_body": "hitogata.posing.pose",
+    "poser_for": "hitogata.posing.pose",
     # the elastic (finite-element) model
     "ElasticModel": "hitogata.elastic.model",
     "build_elastic_model": "hitogata.elastic.model",
@@ -114,7 +114,7 @@ __all__ = [
 ]
 
 if TYPE_CHECKING:
-    from hitogata.body import Body, default_body
+    from hitogata.body.model import Body, default_body
     from hitogata.export.motion_files import write_motion_glb, write_pvd, write_sequence
     from hitogata.dynamics.motion import BodyDynamics, Motion, simulate
     from hitogata.simulation.run import run_scenario
@@ -126,7 +126,7 @@ if TYPE_CHECKING:
     from hitogata.export.body_files import write_body
     from hitogata.export.meshfiles import write_mesh
     from hitogata.export.pose_files import write_posed
-    from hitogata.made_to_measure import body_to_measure
+    from hitogata.made_to_measure.solve import body_to_measure
     from hitogata.measure.measurements import measure
     from hitogata.measure.values import Measurements
     from hitogata.validation.answers import answer_dataset
@@ -135,8 +135,8 @@ if TYPE_CHECKING:
     from hitogata.validation.table import compare
     from hitogata.measure.strain import SkinStrain, skin_strain
     from hitogata.measure.zones import zone_strains
-    from hitogata.pose import PosedBody, Poser, pose_body, poser_for
-    from hitogata.shape import ShapeParameters
+    from hitogata.posing.pose import PosedBody, Poser, pose_body, poser_for
+    from hitogata.body.shape import ShapeParameters
 
     __version__: str
 

@@ -4,6 +4,7 @@ does not import all the others (and the libraries under them) with the package."
 from __future__ import annotations
 
 from collections.abc import Callable
+import warnings
 from importlib import import_module
 from typing import Any
 
@@ -25,3 +26,12 @@ def lazy_names(namespace: dict[str, Any], exports: dict[str, str]) -> tuple[Call
         return sorted({*namespace, *exports})
 
     return __getattr__, __dir__
+
+
+def moved_names(namespace: dict[str, Any], package: str, names: list[str]) -> tuple[Callable[[str], Any],
+                                                                                 Callable[[], list[str]]]:
+    """`__getattr__` and `__dir__` for a module kept at a path the documentation once showed: it warns
+    (DeprecationWarning) that its `names` now live in `package`, and hands each over from there."""
+    warnings.warn(f"{namespace['__name__']} is now {package}: write `from {package} import ...` "
+                  "(the old path goes in the next minor version)", DeprecationWarning, stacklevel=3)
+    return lazy_names(namespace, dict.fromkeys(names, package))

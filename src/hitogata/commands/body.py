@@ -15,14 +15,15 @@ from typing import TYPE_CHECKING, Any
 from hitogata import units
 from hitogata.commands.args import add_body_arguments
 from hitogata.commands.paths import Output, add_output, input_path
-from hitogata.commands.size_chart import shipped_size_charts, write_size_chart
+from hitogata.commands.size_chart import write_size_chart
 from hitogata.errors import HitogataError
 from hitogata.export.body_files import body_figures, write_body
 from hitogata.export.meshfiles import MESH_SUFFIXES
+from hitogata.made_to_measure.size_chart import shipped_size_charts
 
 if TYPE_CHECKING:
-    from hitogata.body import Body
-    from hitogata.made_to_measure import MadeToMeasure
+    from hitogata.body.model import Body
+    from hitogata.made_to_measure.solve import MadeToMeasure
 
 
 def figures_line(label: str, body: Body) -> str:
@@ -69,7 +70,7 @@ def body_from_args(args: argparse.Namespace) -> Body:
 def solve_from_args(args: argparse.Namespace, asked: dict[str, float]) -> tuple[Body, MadeToMeasure | None]:
     """The body of the body options and the asked measurements, and when measurements were asked
     the report of asked against made (warnings printed as notes)."""
-    from hitogata.body import Body, default_measurements
+    from hitogata.body.model import Body, default_measurements
 
     stature, mass = default_measurements(args.sex, args.age) if args.stature is None or args.mass is None else (0.0, 0.0)
     given = (("--stature", args.stature, units.length, "165cm"), ("--mass", args.mass, units.mass, "58kg"))
@@ -83,7 +84,7 @@ def solve_from_args(args: argparse.Namespace, asked: dict[str, float]) -> tuple[
         body = Body.from_measurements(sex=args.sex, age=args.age, stature=values[0], mass=values[1],
                                       muscle=args.muscle_tone, proportions=args.proportions)
         return body, None
-    from hitogata.made_to_measure import MeasurementWarning, body_to_measure
+    from hitogata.made_to_measure.solve import MeasurementWarning, body_to_measure
 
     request = {**{k: v for k, v in zip(("stature", "mass"), values) if v is not None}, **asked}
     with warnings.catch_warnings(record=True) as caught:

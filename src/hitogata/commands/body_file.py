@@ -10,7 +10,7 @@ from hitogata.commands.body import body_from_args
 from hitogata.commands.paths import input_path
 
 if TYPE_CHECKING:
-    from hitogata.body import Body
+    from hitogata.body.model import Body
 
 
 def add_body_file(parser: argparse.ArgumentParser) -> None:

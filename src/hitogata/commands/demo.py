@@ -12,7 +12,7 @@ import json
 import sys
 from pathlib import Path
 
-from hitogata.body import default_body
+from hitogata.body.model import default_body
 from hitogata.commands.args import add_cache_argument
 from hitogata.commands.body import figures_line
 from hitogata.commands.paths import add_output

@@ -16,7 +16,7 @@ from hitogata.commands.paths import add_output
 from hitogata.errors import HitogataError
 
 if TYPE_CHECKING:
-    from hitogata.body import Body
+    from hitogata.body.model import Body
     from hitogata.garment.contact.dressing import Dressing
     from hitogata.garment.contact.motion import MotionContact
     from hitogata.motion.scenario import Scenario
@@ -30,7 +30,7 @@ def run(args: argparse.Namespace) -> None:
     from hitogata.elastic.materials import load_materials
     from hitogata.garment.contact.answers import garment_contact
     from hitogata.garment.contact.dressing import dress, prepare
-    from hitogata.garment.contact.files import write_dressing
+    from hitogata.export.garment_files import write_dressing
     from hitogata.garment.contact.spec import load_garment
     from hitogata.garment.pressure import MMHG
     from hitogata.render import ensure_offscreen_gl
@@ -72,7 +72,7 @@ def through_motions(dressing: Dressing, scenarios: dict[str, Scenario], rate: fl
     """The dressed garment through each motion, each frame checked as the standing solve is."""
     from hitogata.garment.contact.motion import dress_through
     from hitogata.motion.clip import scenario_clip
-    from hitogata.pose import poser_for
+    from hitogata.posing.pose import poser_for
 
     out = {}
     for name, scenario in scenarios.items():

@@ -22,10 +22,10 @@ from hitogata.garment.pressure_motion import pressure_csv
 from hitogata.garment.stretch import stretch_csv
 from hitogata.motion.clip import scenario_clip
 from hitogata.options import SKINNING, SURFACE_SOURCES
-from hitogata.pose import poser_for
+from hitogata.posing.pose import poser_for
 
 if TYPE_CHECKING:
-    from hitogata.body import Body
+    from hitogata.body.model import Body
 
 DEFAULT_MOTIONS = "reach_forward,arms_crossed,arms_overhead,sit,deep_squat,stride,toe_touch,trunk_twist"
 

@@ -14,7 +14,7 @@ from pathlib import Path
 from hitogata.commands.paths import add_output, input_path
 from hitogata.errors import HitogataError
 from hitogata.export.scans import SCAN_SUFFIXES
-from hitogata.fit.scan import UNITS
+from hitogata.made_to_measure.scan_fit.scan import UNITS
 
 # m: a scan the model cannot come this close to (median, scan to body) is not of a standing person;
 # a scan of a person standing in any pose the fit follows comes within 2 mm (tests/test_fit_scan.py,
@@ -23,12 +23,12 @@ MAX_MEDIAN = 0.025
 
 
 def run(args: argparse.Namespace) -> None:
-    from hitogata.body import sex_value
+    from hitogata.body.model import sex_value
     from hitogata.commands.body import figures_line
     from hitogata.export.atomic import write_files_together
     from hitogata.export.body_files import body_glb_bytes
     from hitogata.export.scans import read_scan
-    from hitogata.fit import fit_scan
+    from hitogata.made_to_measure.scan_fit import fit_scan
     from hitogata.report.scan_fit import fit_summary, fit_text, summary_bytes
 
     sex_value(args.sex)

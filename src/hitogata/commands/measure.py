@@ -13,7 +13,7 @@ from pathlib import Path
 
 import numpy as np
 
-from hitogata.body import Body
+from hitogata.body.model import Body
 from hitogata.commands.args import add_body_arguments, refuse_body_options
 from hitogata.commands.body import body_from_args
 from hitogata.commands.paths import add_output, input_path

@@ -43,7 +43,7 @@ def run_import(args: argparse.Namespace) -> None:
 
 def run_export(args: argparse.Namespace) -> None:
     from hitogata.motion.scenario import make_body
-    from hitogata.pose import poser_for
+    from hitogata.posing.pose import poser_for
 
     out = Path(args.out)
     scenario = load_scenario(args.scenario)

@@ -21,7 +21,7 @@ from hitogata.export.meshfiles import MESH_SUFFIXES, write_mesh
 from hitogata.geometry.offset_limit import HELD
 from hitogata.export.pose_files import check_posed_path, write_posed
 from hitogata.export.posed_mesh import write_sidecar
-from hitogata.pose import Poser
+from hitogata.posing.pose import Poser
 from hitogata.skeleton.shoulder import CHANNEL_RANGES, channel_names
 from hitogata.measure.fine_skin import body_fine_skin
 

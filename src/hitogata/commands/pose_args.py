@@ -20,11 +20,11 @@ from dataclasses import dataclass, field
 
 from hitogata import units
 from hitogata.errors import HitogataError
-from hitogata.names import JOINT_NAMES, SIDES, dof_candidates
+from hitogata.posing.names import JOINT_NAMES, SIDES, dof_candidates
 from hitogata.options import OnLimit, Skinning
-from hitogata.pose import ON_LIMIT, Poser
+from hitogata.posing.pose import ON_LIMIT, Poser
 from hitogata.skeleton.shoulder import channel_names
-from hitogata.skinning import METHODS
+from hitogata.posing.skinning import METHODS
 
 LIST_HINT = "hitogata pose --list shows them all"
 

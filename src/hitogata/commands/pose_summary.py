@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 
 from hitogata.commands.pose_args import PoseRequest
-from hitogata.pose import PosedBody
+from hitogata.posing.pose import PosedBody
 from hitogata.skeleton.shoulder import channel_names, girdle_dofs
 
 MOVED = np.radians(0.05)  # smaller changes are not reported

@@ -12,7 +12,7 @@ import warnings
 from hitogata.commands.body_file import body_of
 from hitogata.commands.pose_args import PoseRequest, pose_request
 from hitogata.muscles.activation import MuscleLimitWarning
-from hitogata.pose import PosedBody, Poser
+from hitogata.posing.pose import PosedBody, Poser
 
 
 def pose_from_args(args: argparse.Namespace) -> tuple[Poser, PoseRequest, PosedBody]:

@@ -23,7 +23,7 @@ def names(text: str | None, what: str) -> tuple[str, ...]:
 
 
 def run(args: argparse.Namespace) -> None:
-    from hitogata.body import default_body
+    from hitogata.body.model import default_body
     from hitogata.elastic.materials import load_materials
     from hitogata.validation import answer_dataset, compare, headline, load_dataset, summary
     from hitogata.validation.answers import reachable

@@ -2,7 +2,7 @@
 
 Typical use::
 
-    from hitogata.body import default_body
+    from hitogata.body.model import default_body
     from hitogata.elastic import build_elastic_model
     from hitogata.dynamics import BodyDynamics, Keyframe, Timeline, simulate
 

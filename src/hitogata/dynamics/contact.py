@@ -23,7 +23,7 @@ from hitogata.geometry.strain import principal_stretches
 if TYPE_CHECKING:
     from hitogata.dynamics.motion import BodyDynamics
     from hitogata.options import Skinning
-    from hitogata.pose import Poser
+    from hitogata.posing.pose import Poser
 
 # Each group: the part-name prefixes it holds (a sided group takes parts of its own side only).
 GROUPS: dict[str, tuple[str, ...]] = {

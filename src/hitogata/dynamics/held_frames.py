@@ -24,7 +24,7 @@ from concurrent.futures.process import BrokenProcessPool
 import numpy as np
 
 from hitogata import disk_cache
-from hitogata.body import Body
+from hitogata.body.model import Body
 from hitogata.dynamics.motion import BodyDynamics
 from hitogata.dynamics import single_pose
 from hitogata.dynamics.single_pose import elastic_dynamics

@@ -13,15 +13,15 @@ from typing import Any
 
 import numpy as np
 
-from hitogata.body import Body
+from hitogata.body.model import Body
 from hitogata.dynamics.motion import BodyDynamics
 from hitogata.dynamics.rigging import NodeRig
 from hitogata.elastic.cache import cached, model_key, model_options
 from hitogata.elastic.model import build_elastic_model
 from hitogata.elastic.stored import from_arrays, to_arrays
 from hitogata.options import Skinning
-from hitogata.pose import poser_for
-from hitogata.skinning import prepare_skin
+from hitogata.posing.pose import poser_for
+from hitogata.posing.skinning import prepare_skin
 
 DYNAMICS = "dynamics"  # the entry kind
 MODEL, PARTS = "model.", "parts."  # the entry's two values' array name prefixes

@@ -53,11 +53,11 @@ from hitogata.fem import advance, lumped_masses, modal_step
 from hitogata.fem.elements import P2_EDGES
 from hitogata.geometry.offset_limit import OffsetLimiter
 from hitogata.options import OnLimit, Skinning
-from hitogata.pose import Poser, poser_for
-from hitogata.skinning import skin_vertices
+from hitogata.posing.pose import Poser, poser_for
+from hitogata.posing.skinning import skin_vertices
 
 if TYPE_CHECKING:
-    from hitogata.body import Body
+    from hitogata.body.model import Body
     from hitogata.geometry.contact import SelfContact
     from hitogata.elastic import ElasticModel
 

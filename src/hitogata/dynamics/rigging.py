@@ -40,9 +40,9 @@ from hitogata.elastic.mapping import DEFAULT_FADE, skin_reach, skin_vertex_map
 from hitogata.errors import HitogataError
 from hitogata.fem.elements import P2_EDGES
 from hitogata.options import Skinning
-from hitogata.pose import Poser
+from hitogata.posing.pose import Poser
 from hitogata.skeleton.weights import part_weights
-from hitogata.skinning import Skin, dual_quaternions, prepare_skin, skin_vertices
+from hitogata.posing.skinning import Skin, dual_quaternions, prepare_skin, skin_vertices
 
 if TYPE_CHECKING:
     from hitogata.elastic import ElasticModel

@@ -24,7 +24,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from hitogata.body import Body
+from hitogata.body.model import Body
 from hitogata.dynamics.contact import approach
 from hitogata.dynamics.creases import solve_creased
 from hitogata.dynamics.motion import BodyDynamics
@@ -35,7 +35,7 @@ from hitogata.geometry.barrier_contact import BarrierResult, contact_regions
 from hitogata.geometry.contact import Penetrations
 from hitogata.geometry.skin_slide import SkinSlide, slide_posed_skin
 from hitogata.options import OnLimit
-from hitogata.pose import PosedBody
+from hitogata.posing.pose import PosedBody
 from hitogata.measure.fine_skin import body_fine_skinning
 
 ELEMENT_SIZE = 40.0  # mm: the whole body's lattice for a held posture (as the large-motion tests)

@@ -2,7 +2,7 @@
 
 Typical use::
 
-    from hitogata.body import default_body
+    from hitogata.body.model import default_body
     from hitogata.elastic import build_elastic_model
 
     model = build_elastic_model(default_body("female"))     # trunk, P2, 40 modes, shipped materials

@@ -20,7 +20,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from hitogata import disk_cache
-from hitogata.body import Body
+from hitogata.body.model import Body
 from hitogata.elastic.materials import Materials, load_materials
 from hitogata.elastic.model import ElasticModel, build_elastic_model
 from hitogata.elastic.stored import from_arrays, to_arrays

@@ -45,7 +45,7 @@ from hitogata.volume.integrity import MIN_HOLD_WIDTH, face_pieces, hold_width
 from hitogata.volume.trunk import segment_distance
 
 if TYPE_CHECKING:
-    from hitogata.body import Body
+    from hitogata.body.model import Body
 
 # Default lattice spacing (mm) per element type. P2 at 40 mm: the largest trunk model whose 40
 # modes solve within the 10 s budget; with the soft tissue meshed round the bone capsules its 40

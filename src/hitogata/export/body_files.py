@@ -8,11 +8,11 @@ from pathlib import Path
 
 import numpy as np
 
-from hitogata.body import WHOLE_BODY_DENSITY, Body, check_density
+from hitogata.body.model import WHOLE_BODY_DENSITY, Body, check_density
 from hitogata.errors import HitogataError, excerpt
 from hitogata.export.atomic import write_bytes_atomically
 from hitogata.export.meshfiles import MESH_SUFFIXES, write_mesh
-from hitogata.shape import ShapeParameters
+from hitogata.body.shape import ShapeParameters
 
 DETAIL_KEY = "detail_offsets_0.01mm"  # a fitted body's per-skin-vertex offsets along the rest normals
 
@@ -33,8 +33,9 @@ def shape_extras(params: ShapeParameters) -> dict[str, object]:
 
 
 def detail_extras(body: Body) -> dict[str, object]:
-    """A fitted body's per-vertex detail (`hitogata.fit.detail`) as extras, in 0.01 mm; empty for a model body."""
-    from hitogata.fit.detail import detail_offsets
+    """A fitted body's per-vertex detail (`hitogata.made_to_measure.scan_fit.detail`) as extras, in 0.01 mm;
+    empty for a model body."""
+    from hitogata.made_to_measure.scan_fit.detail import detail_offsets
 
     offsets = detail_offsets(body)
     return {} if offsets is None else {DETAIL_KEY: np.round(offsets * 1e5).astype(int).tolist()}
@@ -53,7 +54,7 @@ def body_from_extras(path: Path, extras: dict) -> Body:
     density = check_density(extras.get("density", WHOLE_BODY_DENSITY), f"{path}: extras 'density'")
     if DETAIL_KEY not in extras:
         return Body.from_parameters(params, density)
-    from hitogata.fit.detail import detailed_body
+    from hitogata.made_to_measure.scan_fit.detail import detailed_body
 
     try:
         offsets = np.asarray(extras[DETAIL_KEY], dtype=np.float64) * 1e-5

@@ -25,7 +25,7 @@ from hitogata.export.vtu import write_vtu as write_mesh_vtu
 from hitogata.render import Layer, render_views
 
 if TYPE_CHECKING:
-    from hitogata.body import Body
+    from hitogata.body.model import Body
 
 PICTURE_AMPLITUDE = 0.03  # m: the largest skin displacement drawn in a mode picture
 

@@ -26,7 +26,7 @@ import meshio
 import numpy as np
 import pygltflib as gl
 
-from hitogata.body import WHOLE_BODY_DENSITY, Body
+from hitogata.body.model import WHOLE_BODY_DENSITY, Body
 from hitogata.dynamics.motion import Motion
 from hitogata.errors import HitogataError
 from hitogata.export.atomic import write_bytes_atomically

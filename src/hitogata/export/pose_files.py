@@ -25,7 +25,7 @@ from hitogata.export.atomic import write_bytes_atomically
 from hitogata.export.body_files import check_body_path
 from hitogata.export.gltf import GlbBuilder, add_skinned_mesh
 from hitogata.export.meshfiles import write_mesh
-from hitogata.pose import PosedBody, Poser
+from hitogata.posing.pose import PosedBody, Poser
 from hitogata.geometry.rotations import matrix_to_quaternion
 
 

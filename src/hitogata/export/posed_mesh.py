@@ -22,13 +22,13 @@ from typing import Any
 
 import numpy as np
 
-from hitogata.body import Body
+from hitogata.body.model import Body
 from hitogata.errors import HitogataError
 from hitogata.export.atomic import write_bytes_atomically
 from hitogata.export.body_files import body_from_extras
 from hitogata.options import Skinning
-from hitogata.pose import poser_for
-from hitogata.skinning import METHODS, skin_vertices
+from hitogata.posing.pose import poser_for
+from hitogata.posing.skinning import METHODS, skin_vertices
 from hitogata.measure.fine_skin import body_fine_skin
 from hitogata.measure.fine_skin import body_fine_skinning
 

@@ -8,7 +8,7 @@ from pathlib import Path
 import numpy as np
 
 from hitogata.errors import HitogataError
-from hitogata.fit.scan import Scan, make_scan
+from hitogata.made_to_measure.scan_fit.scan import Scan, make_scan
 
 SCAN_SUFFIXES = (".obj", ".ply")
 

@@ -17,7 +17,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from hitogata.body import Body
+from hitogata.body.model import Body
 from hitogata.garment.ease import HEIGHTS, MotionEase, Surface, dynamic_ease, overall, sampled_frames
 from hitogata.garment.fabric import Fabric
 from hitogata.garment.pressure import MMHG, Garment
@@ -25,8 +25,8 @@ from hitogata.garment.pressure_motion import pressure_series
 from hitogata.garment.stretch import PERCENTILE, ZoneStretch, area_percentile, stretch_table
 from hitogata.measure.strain import skin_strain
 from hitogata.motion.clip import MotionClip
-from hitogata.pose import poser_for
-from hitogata.rig import posed_rig_heads
+from hitogata.posing.pose import poser_for
+from hitogata.body.rig import posed_rig_heads
 from hitogata.garment.stretch import garment_zones
 from hitogata.geometry.normals import triangle_areas
 

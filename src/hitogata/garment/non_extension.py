@@ -43,7 +43,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.spatial import cKDTree
 
-from hitogata.body import Body
+from hitogata.body.model import Body
 from hitogata.measure.strain import skin_strain
 from hitogata.measure.fine_skin import body_fine_skin
 from hitogata.geometry.normals import face_normals

@@ -4,13 +4,13 @@ from __future__ import annotations
 
 import numpy as np
 
-from hitogata.body import Body
+from hitogata.body.model import Body
 from hitogata.garment.ease import Surface, sampled_frames, skinned_surface
 from hitogata.garment.fabric import Fabric
 from hitogata.garment.pressure import MMHG, Garment, garment_pressure
-from hitogata.rig import posed_rig_heads
+from hitogata.body.rig import posed_rig_heads
 from hitogata.motion.clip import MotionClip
-from hitogata.pose import poser_for
+from hitogata.posing.pose import poser_for
 
 
 def pressure_series(body: Body, garment: Garment, fabric: Fabric, clip: MotionClip, surface: Surface | None = None,

@@ -26,14 +26,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from hitogata.body import Body
+from hitogata.body.model import Body
 from hitogata.garment.ease import Surface, sampled_frames, skinned_surface
 from hitogata.measure.landmarks import body_landmarks
 from hitogata.measure.measurements import tape_skin
 from hitogata.measure.strain import skin_strain
 from hitogata.measure.zones import body_zones
 from hitogata.motion.clip import MotionClip
-from hitogata.pose import poser_for
+from hitogata.posing.pose import poser_for
 from hitogata.geometry.normals import triangle_normals
 
 BAND_BELOW_AXILLA = 0.08  # m

@@ -29,7 +29,7 @@ from functools import cache
 
 import numpy as np
 
-from hitogata.assets import load_assets
+from hitogata.body.assets import load_assets
 from hitogata.errors import HitogataError
 from hitogata.measure.axes import UP, JointSet
 from hitogata.measure.sections import loops_around, section

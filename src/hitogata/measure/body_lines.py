@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from hitogata.body import Body
+from hitogata.body.model import Body
 from hitogata.measure.skin_lines import SkinLine, draw_line
 
 HALF = 0.05  # m: half of a 10 cm line

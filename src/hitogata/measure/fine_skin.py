@@ -20,12 +20,12 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 
-from hitogata.body import Body
+from hitogata.body.model import Body
 from hitogata.measure.topology import topology
 from hitogata.options import Skinning
-from hitogata.pose import poser_for
+from hitogata.posing.pose import poser_for
 from hitogata.skeleton.kinematics import Pose
-from hitogata.skinning import Skin, prepare_skin, skin_vertices
+from hitogata.posing.skinning import Skin, prepare_skin, skin_vertices
 
 LEVELS = 2  # edge ÷ 4: ≥ 20 triangles crossed by a 10 cm line at the elbow and the knee
 

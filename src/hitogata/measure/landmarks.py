@@ -54,7 +54,7 @@ from typing import Any
 
 import numpy as np
 
-from hitogata.body import Body
+from hitogata.body.model import Body
 from hitogata.errors import HitogataError
 from hitogata.measure.axes import UP, JointSet, axis, trunk_frame, unit
 from hitogata.measure.armpits import FOLD_ABOVE, armpit_points, at_height
@@ -63,7 +63,7 @@ from hitogata.measure.raycast import first_hit
 from hitogata.measure.sections import section, tape_girth
 from hitogata.measure.surface_points import FaceSearch, SurfacePoint
 from hitogata.measure.topology import Topology, topology
-from hitogata.shape import ShapeParameters
+from hitogata.body.shape import ShapeParameters
 from hitogata.geometry.rotations import shortest_arc
 
 MIDLINE_TOLERANCE = 1e-3  # m: vertices this close to x = 0 lie on the body's midline

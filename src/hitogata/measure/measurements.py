@@ -13,7 +13,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from hitogata.body import Body
+from hitogata.body.model import Body
 from hitogata.errors import HitogataError, excerpt
 from hitogata.measure.armpits import FOLD_ABOVE
 from hitogata.measure.axes import JointSet, axis, trunk_normal, unit
@@ -28,7 +28,7 @@ __all__ = ["GIRTHS", "MEASUREMENT_NAMES", "Measurements", "check_names", "measur
            "measure_with_paths", "measurement_paths"]
 
 if TYPE_CHECKING:
-    from hitogata.pose import PosedBody
+    from hitogata.posing.pose import PosedBody
 
 
 def measure(

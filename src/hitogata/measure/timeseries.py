@@ -11,7 +11,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from hitogata.body import Body
+from hitogata.body.model import Body
 from hitogata.errors import HitogataError
 from hitogata.measure.axes import JointSet
 from hitogata.measure.landmarks import body_landmarks

@@ -16,7 +16,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from hitogata.body import Body
+from hitogata.body.model import Body
 from hitogata.errors import HitogataError
 from hitogata.measure.strain import SkinStrain
 from hitogata.geometry.normals import vertex_normals

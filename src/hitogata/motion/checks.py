@@ -14,12 +14,12 @@ import dataclasses
 
 import numpy as np
 
-from hitogata.body import Body
+from hitogata.body.model import Body
 from hitogata.motion.scenario import KeyframeValue, Scenario, make_body
 from hitogata.dynamics.timeline import Timeline
 from hitogata.errors import HitogataError
-from hitogata.names import resolve_dofs, resolve_muscles
-from hitogata.pose import Poser, poser_for
+from hitogata.posing.names import resolve_dofs, resolve_muscles
+from hitogata.posing.pose import Poser, poser_for
 
 KINDS = {"contractions": "contraction", "angles": "angle", "clinical": "clinical"}
 

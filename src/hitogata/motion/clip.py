@@ -8,7 +8,7 @@ import numpy as np
 
 from hitogata.motion.scenario import Scenario
 from hitogata.errors import HitogataError
-from hitogata.pose import Poser
+from hitogata.posing.pose import Poser
 
 
 @dataclass(frozen=True)

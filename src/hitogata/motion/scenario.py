@@ -16,7 +16,7 @@ from pathlib import Path
 from typing import Any
 
 from hitogata import units
-from hitogata.body import Body, default_body
+from hitogata.body.model import Body, default_body
 from hitogata.config import Entry, read_toml
 from hitogata.dynamics.timeline import MAX_DURATION, MAX_RATE, MAX_SUBSTEPS, Keyframe, RootTrack, Timeline
 from hitogata.errors import HitogataError
@@ -36,7 +36,7 @@ from hitogata.options import (
     OnLimit,
     Skinning,
 )
-from hitogata.shape import MIN_AGE_YEARS, OLD_YEARS
+from hitogata.body.shape import MIN_AGE_YEARS, OLD_YEARS
 
 TIME_UNITS = {"s": 1.0, "ms": 1e-3, "": 1.0}
 FREQUENCY_UNITS = {"hz": 1.0}
@@ -166,7 +166,7 @@ def _body(source: str, table: Any) -> BodySpec:
         raise r.error("give stature and mass together (or neither: the default body)",
                       "stature" if stature is None else "mass")
     if stature is not None and mass is not None:
-        from hitogata.body import check_stature_mass  # here: the body module loads the shape data
+        from hitogata.body.model import check_stature_mass  # here: the body module loads the shape data
 
         try:
             check_stature_mass(sex, age, stature, mass)

@@ -16,7 +16,7 @@ from collections.abc import Iterable
 import numpy as np
 
 from hitogata.errors import HitogataError
-from hitogata.pose import PosedBody
+from hitogata.posing.pose import PosedBody
 from hitogata.render.scene import Item, Layer, Lines, Points
 
 BONE = "#f1ead9"

@@ -31,7 +31,7 @@ from hitogata.errors import HitogataError
 from hitogata.export.atomic import write_bytes_atomically
 from hitogata.export.body_files import body_figures
 from hitogata.garment.contact.answers import RAL_LETTERS, GarmentContact
-from hitogata.garment.contact.files import levels_csv
+from hitogata.export.garment_files import levels_csv
 from hitogata.garment.ease import HEIGHTS, NAMES, MotionEase, overall
 from hitogata.garment.ease_plot import ease_over_time, ease_plot
 from hitogata.garment.fit import FitAnswers, peak_frames, posture, risks

@@ -22,7 +22,7 @@ from pathlib import Path
 
 import numpy as np
 
-from hitogata.body import Body
+from hitogata.body.model import Body
 from hitogata.errors import HitogataError
 from hitogata.export.atomic import write_bytes_atomically
 from hitogata.measure.landmarks import body_landmarks, landmark_positions

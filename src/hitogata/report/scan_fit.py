@@ -12,7 +12,7 @@ import numpy as np
 
 from hitogata.export.atomic import write_bytes_atomically
 from hitogata.export.body_files import shape_extras
-from hitogata.fit.scanfit import Distances, ScanFit
+from hitogata.made_to_measure.scan_fit.scanfit import Distances, ScanFit
 from hitogata.report.measurements import LABELS
 
 

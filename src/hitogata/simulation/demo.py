@@ -14,7 +14,7 @@ import dataclasses
 import time
 from pathlib import Path
 
-from hitogata.body import default_body
+from hitogata.body.model import default_body
 from hitogata.simulation.run import build_dynamics, run_scenario
 from hitogata.motion.scenario import OutputSpec, load_scenario, shipped_scenarios
 from hitogata.export.atomic import write_bytes_atomically

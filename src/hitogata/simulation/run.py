@@ -10,7 +10,7 @@ from pathlib import Path
 
 import numpy as np
 
-from hitogata.body import Body
+from hitogata.body.model import Body
 from hitogata.export import motion_files as files
 from hitogata.dynamics.motion import BodyDynamics, Motion, simulate
 from hitogata.dynamics.motion_contact import MotionContact

@@ -21,7 +21,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from hitogata.errors import HitogataError
-from hitogata.rig import Rig
+from hitogata.body.rig import Rig
 from hitogata.skeleton.spec import Anchor, SkeletonSpec
 
 WORLD = {"x": np.array([1.0, 0.0, 0.0]), "y": np.array([0.0, 1.0, 0.0]), "z": np.array([0.0, 0.0, 1.0])}

@@ -16,7 +16,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from hitogata.errors import HitogataError
-from hitogata.rig import Rig
+from hitogata.body.rig import Rig
 from hitogata.skeleton.placement import Skeleton
 
 

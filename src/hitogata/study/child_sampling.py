@@ -1,6 +1,6 @@
 """Children's statures and masses drawn from the growth references for an age and sex.
 
-Stature is drawn from WHO's height-for-age and BMI from WHO's BMI-for-age (`hitogata.growth`),
+Stature is drawn from WHO's height-for-age and BMI from WHO's BMI-for-age (`hitogata.body.growth`),
 each by its own LMS curve at a standard normal z-score, the two independently; the mass is
 the BMI times the stature squared. A draw is kept only where every figure lies within the
 references' 0.1–99.9 percentiles for the age (stature, BMI and the resulting mass against
@@ -15,7 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from hitogata import growth
+from hitogata.body import growth
 from hitogata.errors import HitogataError
 from hitogata.study.sampling import SEXES
 
@@ -34,7 +34,7 @@ class ChildSample:
 
 def _reach(sex: str, age: float, low: float, high: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Statures (m) from `low` to `high` and the lightest and heaviest mass the shape builds at each."""
-    from hitogata.body import mass_range
+    from hitogata.body.model import mass_range
 
     statures = np.linspace(low, high, REACH_GRID)
     ends = np.array([mass_range(sex, age, float(s)) for s in statures])

@@ -15,13 +15,14 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Literal
 
-from hitogata import growth, units
-from hitogata.body import STATURE_RANGE, WHOLE_BODY_DENSITY, check_density, sex_value
+from hitogata import units
+from hitogata.body import growth
+from hitogata.body.model import STATURE_RANGE, WHOLE_BODY_DENSITY, check_density, sex_value
 from hitogata.motion.scenario import load_scenario, shipped_scenarios
 from hitogata.config import Entry, read_toml
 from hitogata.errors import HitogataError
 from hitogata.options import Skinning
-from hitogata.shape import MIN_AGE_YEARS, OLD_YEARS
+from hitogata.body.shape import MIN_AGE_YEARS, OLD_YEARS
 from hitogata.study.child_sampling import sample_children
 from hitogata.study.sampling import SEXES, Joint, clusters, sample_stature_mass, sex_counts
 

@@ -33,8 +33,8 @@ from threadpoolctl import threadpool_limits
 from hitogata.study.spec import BodyDef, ModelSettings, MotionDef
 
 if TYPE_CHECKING:  # for the annotations only: the functions below import what they run where they run it
-    from hitogata.body import Body
-    from hitogata.pose import Poser
+    from hitogata.body.model import Body
+    from hitogata.posing.pose import Poser
 
 ROWS_VERSION = 3  # part of every task's hash: bump when a row's meaning changes, so old rows are not reused
 # (3: waist_girth is ISO 8559-1's waist, the navel's is omphalion_waist_girth; the neck girth at its
@@ -115,7 +115,7 @@ def shared_lists():
 
 def warm() -> None:
     """Load everything that does not depend on the body, once per process (a worker's start-up)."""
-    from hitogata.assets import load_assets
+    from hitogata.body.assets import load_assets
     from hitogata.measure.landmarks import reference_vertices
     from hitogata.measure.topology import topology
 
@@ -137,16 +137,16 @@ class Prepared:
 @lru_cache(maxsize=4)
 def prepared(definition: BodyDef) -> Prepared:
     """Build a body (stature and mass solved, or from shape parameters) and place its skeleton."""
-    from hitogata.body import Body
+    from hitogata.body.model import Body
     from hitogata.measure import measure
     from hitogata.muscles.geometry import place_muscles
-    from hitogata.pose import Poser
-    from hitogata.shape import ShapeParameters
+    from hitogata.posing.pose import Poser
+    from hitogata.body.shape import ShapeParameters
     from hitogata.skeleton.kinematics import Kinematics
     from hitogata.skeleton.child_ranges import with_age_ranges
     from hitogata.skeleton.placement import place_skeleton
     from hitogata.skeleton.weights import part_weights
-    from hitogata.skinning import prepare_skin
+    from hitogata.posing.skinning import prepare_skin
 
     if definition.shape is not None:
         body = Body.from_parameters(ShapeParameters(**dict(definition.shape)), definition.density)
@@ -179,8 +179,8 @@ def frame_times(scenario, frames: int) -> np.ndarray:
 def postures(prep: Prepared, scenario, times: np.ndarray, model: ModelSettings) -> tuple[np.ndarray, np.ndarray]:
     """Skin vertices (T, V, 3) and rig joint centres (T, B, 3) of the body at `times`."""
     from hitogata.dynamics.motion import _angles as timeline_angles
-    from hitogata.rig import posed_rig_heads
-    from hitogata.skinning import skin_vertices
+    from hitogata.body.rig import posed_rig_heads
+    from hitogata.posing.skinning import skin_vertices
 
     poser, body = prep.poser, prep.body
     if model.posing == "elastic":
@@ -200,7 +200,7 @@ def _elastic_postures(prep: Prepared, scenario, times: np.ndarray) -> tuple[np.n
     """The elastic body simulated at the scenario's rate (its own [model]), taken at the nearest frames."""
     from hitogata.dynamics.motion import simulate
     from hitogata.simulation.run import build_dynamics
-    from hitogata.rig import posed_rig_heads
+    from hitogata.body.rig import posed_rig_heads
 
     dynamics = build_dynamics(prep.body, scenario)
     motion = simulate(dynamics, scenario.timeline, scenario.duration, scenario.rate, scenario.substeps,

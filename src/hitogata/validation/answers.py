@@ -32,13 +32,13 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from hitogata.body import Body, default_measurements
+from hitogata.body.model import Body, default_measurements
 from hitogata.elastic.materials import Materials, load_materials
 from hitogata.errors import HitogataError
 from hitogata.geometry.normals import triangle_normals, vertex_normals
 from hitogata.measure.zones import BackZone, JointZone
-from hitogata.names import resolve_dofs
-from hitogata.pose import poser_for
+from hitogata.posing.names import resolve_dofs
+from hitogata.posing.pose import poser_for
 from hitogata.skeleton.stretches import spread
 from hitogata.validation.dataset import RESONANT, Dataset, Row, Source, Subjects
 from hitogata.validation.pressure import (

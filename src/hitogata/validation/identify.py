@@ -33,7 +33,7 @@ import scipy.linalg
 import scipy.sparse as sp
 from scipy.optimize import least_squares
 
-from hitogata.body import Body
+from hitogata.body.model import Body
 from hitogata.elastic.materials import Materials
 from hitogata.errors import HitogataError
 from hitogata.fem import Material, mass_matrix, sparsity, stiffness_matrix

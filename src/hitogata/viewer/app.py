@@ -21,7 +21,7 @@ from typing import TYPE_CHECKING, Any, TypeVar
 
 import numpy as np
 
-from hitogata.body import Body
+from hitogata.body.model import Body
 from hitogata.errors import HitogataError
 from hitogata.export.body_files import body_figures
 from hitogata.measure import measure

@@ -22,7 +22,7 @@ import numpy as np
 import scipy.sparse as sp
 from matplotlib import colormaps
 
-from hitogata.body import Body
+from hitogata.body.model import Body
 from hitogata.errors import HitogataError
 from hitogata.garment.fabric import Fabric
 from hitogata.garment.pressure import MMHG, Garment

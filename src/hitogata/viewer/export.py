@@ -10,7 +10,7 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
-from hitogata.body import Body
+from hitogata.body.model import Body
 from hitogata.export.body_files import body_figures
 from hitogata.export.gltf import GlbBuilder, add_skinned_mesh
 from hitogata.viewer.frame import Frame

@@ -11,8 +11,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from hitogata.fit.closest import signed_distances
-from hitogata.pose import PosedBody, Poser
+from hitogata.made_to_measure.scan_fit.closest import signed_distances
+from hitogata.posing.pose import PosedBody, Poser
 from hitogata.skeleton.kinematics import Pose
 from hitogata.skeleton.placement import Skeleton
 from hitogata.viewer.player import Sequence

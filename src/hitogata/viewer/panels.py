@@ -13,7 +13,7 @@ from dataclasses import dataclass
 from functools import partial
 from typing import TYPE_CHECKING, Any, Protocol
 
-from hitogata.body import STATURE_RANGE
+from hitogata.body.model import STATURE_RANGE
 from hitogata.options import SEXES
 from hitogata.viewer.colouring import legend
 from hitogata.viewer.groups import muscle_groups, slider_label

@@ -32,7 +32,7 @@ from hitogata.simulation.run import build_dynamics
 from hitogata.motion.scenario import load_scenario
 from hitogata.errors import HitogataError
 from hitogata.export.npz_read import read_npz
-from hitogata.pose import Poser
+from hitogata.posing.pose import Poser
 from hitogata.config import Entry, read_toml
 
 RESULT_FILE = "sequence.npz"

@@ -14,10 +14,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from hitogata.body import Body
+from hitogata.body.model import Body
 from hitogata.muscles.activation import contractions_of
 from hitogata.muscles.geometry import MuscleSet
-from hitogata.pose import PosedBody, Poser, poser_for
+from hitogata.posing.pose import PosedBody, Poser, poser_for
 
 SLIDER_STEP = 0.1  # percent of the rest length
 

@@ -22,7 +22,7 @@ from scipy.spatial import cKDTree
 
 from hitogata.geometry.shells import region_boundary, taubin_smooth
 from hitogata.skeleton.kinematics import Pose
-from hitogata.skinning import Skin, prepare_skin, skin_vertices
+from hitogata.posing.skinning import Skin, prepare_skin, skin_vertices
 from hitogata.volume import VolumeModel
 
 SHOWN_REGIONS = ("bone", "viscera", "muscle")  # from the inside out

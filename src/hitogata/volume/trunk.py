@@ -24,7 +24,7 @@ from hitogata.volume.domain import HalfSpace, ImplicitDomain, Intersection, Surf
 
 
 class RigLike(Protocol):
-    """Bone names with head and tail positions (m): `hitogata.rig.Rig` is one."""
+    """Bone names with head and tail positions (m): `hitogata.body.rig.Rig` is one."""
 
     @property
     def names(self) -> tuple[str, ...]: ...

@@ -7,9 +7,9 @@
 - `pressure`: the contact forces as pressure on the skin;
 - `verify`: bodies with known answers (cylinders, ellipses, Lamé's thick-walled cylinder);
 - `segments`: the levels and stations of a body segment;
-- `dressing`: a garment put on the body; `answers`: its pressure at the levels and on the skin;
-  `files`: the tables, GLB and picture of `hitogata dress`; `motion`: the garment through a motion, each
-  frame solved from the last.
+- `dressing`: a garment put on the body; `answers`: its pressure at the levels and on the skin
+  (its tables, GLB and picture: `hitogata.export.garment_files`); `motion`: the garment through a motion,
+  each frame solved from the last.
 
 `dress_garment(body, "legging")` is the one call from a body and a garment to its answers.
 """

@@ -23,7 +23,7 @@ from pathlib import Path
 import numpy as np
 import scipy.sparse as sp
 
-from hitogata.body import Body
+from hitogata.body.model import Body
 from hitogata.elastic.materials import Materials
 from hitogata.garment.contact.dressing import Dressing, dress
 from hitogata.garment.contact.equilibrium import crossings

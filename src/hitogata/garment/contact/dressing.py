@@ -22,7 +22,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.spatial import cKDTree
 
-from hitogata.body import Body
+from hitogata.body.model import Body
 from hitogata.errors import HitogataError
 from hitogata.elastic.materials import Materials
 from hitogata.garment.contact.equilibrium import ContactBody, settle
@@ -38,7 +38,7 @@ from hitogata.garment.contact.segments import (
 from hitogata.garment.contact.tissue import LIMB_BONES, LimbTissue, limb_tissue
 from hitogata.garment.contact.spec import GarmentSpec
 from hitogata.garment.contact.tube import Stations, Tube, build_tube
-from hitogata.fit.closest import SurfaceQuery
+from hitogata.made_to_measure.scan_fit.closest import SurfaceQuery
 from hitogata.measure.axes import JointSet
 
 REACH = 0.03  # m: skin within this of the garment's start is the contact surface

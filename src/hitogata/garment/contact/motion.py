@@ -20,7 +20,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.ndimage import maximum_filter1d
 
-from hitogata.body import Body
+from hitogata.body.model import Body
 from hitogata.elastic.materials import Materials
 from hitogata.errors import HitogataError
 from hitogata.garment.contact.answers import GarmentContact, garment_contact
@@ -31,8 +31,8 @@ from hitogata.garment.contact.tissue import ALONG, LimbTissue, limb_tissue
 from hitogata.garment.contact.tube import Stations, Tube
 from hitogata.garment.ease import sampled_frames
 from hitogata.motion.clip import MotionClip
-from hitogata.pose import poser_for
-from hitogata.rig import carried_heads, carrying_parts
+from hitogata.posing.pose import poser_for
+from hitogata.body.rig import carried_heads, carrying_parts
 
 # m: a carried garment's start this much further out than the skin's move: none first, then half the
 # barrier's reach (the carried tissue's facets and the garment's rings differ between the tissue's sections)

@@ -24,7 +24,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 
-from hitogata.body import Body
+from hitogata.body.model import Body
 from hitogata.elastic.materials import Materials, load_materials
 from hitogata.errors import HitogataError
 from hitogata.fem.assembly import stiffness_matrix

@@ -20,8 +20,9 @@ import numpy as np
 import scipy.sparse as sp
 
 from hitogata.errors import HitogataError
-from hitogata.options import Skinning, SKINNING as METHODS
 from hitogata.geometry.rotations import matrix_to_quaternion
+from hitogata.options import SKINNING as METHODS
+from hitogata.options import Skinning
 
 CHUNK = 64  # poses per block: bounds the (V, 8·chunk) intermediates
 

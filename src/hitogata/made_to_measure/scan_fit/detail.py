@@ -17,13 +17,13 @@ from __future__ import annotations
 import numpy as np
 import scipy.sparse as sp
 
-from hitogata.assets import load_assets
-from hitogata.body import WHOLE_BODY_DENSITY, Body
+from hitogata.body.assets import load_assets
+from hitogata.body.model import WHOLE_BODY_DENSITY, Body
+from hitogata.body.shape import ShapeParameters
 from hitogata.errors import HitogataError
-from hitogata.fit.closest import signed_closest
 from hitogata.geometry.normals import vertex_normals
 from hitogata.geometry.shells import smoothing_operator
-from hitogata.shape import ShapeParameters
+from hitogata.made_to_measure.scan_fit.closest import signed_closest
 
 DETAIL_CAP = 0.010  # m: no vertex moves further than this from the model's surface
 SMOOTHNESS = 4.0  # Laplacian weight, per scan point a vertex has on average

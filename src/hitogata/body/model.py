@@ -17,12 +17,12 @@ from typing import Callable, TypeVar, cast
 import numpy as np
 import scipy.sparse as sp
 
-from hitogata import growth
-from hitogata.assets import Assets, load_assets, skin_points
+from hitogata.body import growth
+from hitogata.body.assets import Assets, load_assets, skin_points
+from hitogata.body.rig import Rig, place_rig
+from hitogata.body.shape import WEIGHT_MAX, BilinearShape, ShapeParameters, blend
 from hitogata.errors import HitogataError, excerpt
 from hitogata.geometry.mesh_checks import enclosed_volume
-from hitogata.rig import Rig, place_rig
-from hitogata.shape import WEIGHT_MAX, BilinearShape, ShapeParameters, blend
 from hitogata.units import shown
 
 Prepared = TypeVar("Prepared")
@@ -94,7 +94,7 @@ class Body:
     def from_parameters(cls, params: ShapeParameters, density: float = WHOLE_BODY_DENSITY) -> "Body":
         """The body of MakeHuman shape parameters, standing on the floor; beyond MakeHuman's weight slider
         (weight above 1) with its skin touching where it meets itself, not passing through
-        (`hitogata.rest_contact`)."""
+        (`hitogata.body.rest_contact`)."""
         assets = load_assets()
         vertices = _stand(assets, blend(assets, params))
         if params.weight > 1.0:
@@ -121,7 +121,7 @@ class Body:
         0.1 mm and mass within 0.02 % (0.1 % past MakeHuman's weight slider, where the skin meeting
         itself is resolved: `from_parameters`); a missing one is the default body's (its stature,
         its BMI; for a child of 1 up to 18 years the growth references' medians for age and
-        sex, and a request outside their 0.1–99.9 percentiles is refused: `hitogata.growth`). With `muscle` given, only weight and height are solved; without it,
+        sex, and a request outside their 0.1–99.9 percentiles is refused: `hitogata.body.growth`). With `muscle` given, only weight and height are solved; without it,
         the mass follows MakeHuman's build path (see `_build_path`). A target outside
         what the data supports for that sex and age raises a one-line error stating the
         range. With other measurements, `hitogata.made_to_measure.body_to_measure`
@@ -129,7 +129,7 @@ class Body:
         """
         check_density(density, "density")
         if measurements:
-            from hitogata.made_to_measure import body_to_measure
+            from hitogata.made_to_measure.solve import body_to_measure
 
             asked = {**measurements, **({} if stature is None else {"stature": stature}),
                      **({} if mass is None else {"mass": mass})}
@@ -177,7 +177,7 @@ class Body:
     def prepared(self, build: Callable[[Body], Prepared]) -> Prepared:
         """What a layer above finds once per body on its rest shape (its poser, landmarks, zones, fine
         skin ...): `build(self)` on first use, then kept with the body under `build`. The owner of each
-        preparation is the module defining `build` (`hitogata.pose.poser_for`, `hitogata.measure.landmarks
+        preparation is the module defining `build` (`hitogata.posing.pose.poser_for`, `hitogata.measure.landmarks
         .body_landmarks`, ...); the body holds them without knowing what they are."""
         store: dict[Callable[[Body], object], object] = self.__dict__.setdefault("_prepared", {})
         if build not in store:
@@ -211,7 +211,7 @@ def default_measurements(sex: float | str = "female", age: float = 30.0) -> tupl
     Adults: female 165 cm / 62 kg, male 178 cm / 78 kg, near the adult means of ANSUR II
     (Gordon et al. 2014; women 162.9 cm / 68 kg, men 175.6 cm / 85 kg) and of
     civilian surveys, which weigh less than the army sample. Children (1 up to 18
-    years): the growth references' medians for age and sex (`hitogata.growth`). The
+    years): the growth references' medians for age and sex (`hitogata.body.growth`). The
     command line uses the same figures for a stature or mass not given.
     """
     value = sex_value(sex)
@@ -269,8 +269,12 @@ def _stand(assets: Assets, vertices: np.ndarray) -> np.ndarray:
 
 def _touching(assets: Assets, params: ShapeParameters, vertices: np.ndarray) -> np.ndarray:
     """A body's vertices (all of them, standing) beyond weight 1 with the skin touching where it meets
-    itself: reached along weights from 1 (`hitogata.rest_contact`)."""
-    from hitogata.rest_contact import WEIGHT_STEP, contact_groups, touching_skin  # here: bodies within the slider load no contact code
+    itself: reached along weights from 1 (`hitogata.body.rest_contact`)."""
+    from hitogata.body.rest_contact import (  # here: bodies within the slider load no contact code
+        WEIGHT_STEP,
+        contact_groups,
+        touching_skin,
+    )
 
     steps = math.ceil((params.weight - 1.0) / WEIGHT_STEP)
     path = [_stand(assets, blend(assets, params.with_(weight=float(w)))) for w in np.linspace(1.0, params.weight,

@@ -20,11 +20,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from hitogata.body import Body
+from hitogata.body.model import Body
+from hitogata.body.shape import OLD_YEARS, YOUNG_YEARS, ShapeParameters
 from hitogata.muscles.activation import MuscleLimitWarning
 from hitogata.muscles.geometry import MuscleGeometryWarning
-from hitogata.pose import Poser, poser_for
-from hitogata.shape import OLD_YEARS, YOUNG_YEARS, ShapeParameters
+from hitogata.posing.pose import Poser, poser_for
 from hitogata.skeleton.stretches import spread
 
 SHAPE_NAMES = ("weight", "muscle", "height", "proportions", "cup", "firmness", "age")

@@ -25,10 +25,10 @@ from scipy.optimize import lsq_linear
 from scipy.spatial import cKDTree
 from threadpoolctl import threadpool_limits
 
-from hitogata.fit.closest import SurfaceQuery, face_normals
-from hitogata.fit.hands import search_hands
-from hitogata.fit.model import DISTAL, LIMBS, POSE_NAMES, POSE_STAGES, BodyModel
 from hitogata.geometry.normals import vertex_normals
+from hitogata.made_to_measure.scan_fit.closest import SurfaceQuery, face_normals
+from hitogata.made_to_measure.scan_fit.hands import search_hands
+from hitogata.made_to_measure.scan_fit.model import DISTAL, LIMBS, POSE_NAMES, POSE_STAGES, BodyModel
 
 BODY_TO_SCAN = 0.5  # weight of the body → scan rows against the scan → body rows
 TRUST = {"rotation": np.radians(5.0), "translation": 0.03, "shape": 0.15, "pose": np.radians(12.0)}

@@ -15,14 +15,14 @@ max(0, v), whatever the macro parameters; vertices are linear in v on each side 
 from __future__ import annotations
 
 import math
+from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field, replace
 from functools import cache
-from collections.abc import Iterable, Mapping
 from typing import Any
 
 import numpy as np
 
-from hitogata.assets import Assets, load_child_targets
+from hitogata.body.assets import Assets, load_child_targets
 from hitogata.errors import HitogataError
 from hitogata.options import RACES
 
@@ -60,7 +60,7 @@ class ShapeParameters:
     """MakeHuman macro parameters of a body.
 
     sex: 0 = female … 1 = male (blends allowed); age in years (1–90; below 18 the
-    baby and child targets of `hitogata.assets.load_child_targets` blend in);
+    baby and child targets of `hitogata.body.assets.load_child_targets` blend in);
     muscle, weight, height, proportions, cup, firmness in 0..1 with 0.5 = average (weight up
     to `WEIGHT_MAX`: beyond 1 MakeHuman's max-weight targets are extrapolated linearly);
     race: weights of (african, asian, caucasian), normalised to sum 1;

@@ -16,18 +16,18 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from hitogata.body import WHOLE_BODY_DENSITY, Body, sex_value
-from hitogata.fit.align import initial_alignments
-from hitogata.fit.closest import signed_closest
-from hitogata.fit.detail import detailed_body, solve_detail
-from hitogata.fit.girths import scan_girths
-from hitogata.fit.model import POSE_NAMES, SHAPE_NAMES, BodyModel
-from hitogata.fit.regions import RegionResidual, cannot_follow, region_residuals, vertex_regions
-from hitogata.fit.register import Registration, register
-from hitogata.fit.scan import Scan
+from hitogata.body.model import WHOLE_BODY_DENSITY, Body, sex_value
+from hitogata.body.shape import ShapeParameters
+from hitogata.made_to_measure.scan_fit.align import initial_alignments
+from hitogata.made_to_measure.scan_fit.closest import signed_closest
+from hitogata.made_to_measure.scan_fit.detail import detailed_body, solve_detail
+from hitogata.made_to_measure.scan_fit.girths import scan_girths
+from hitogata.made_to_measure.scan_fit.model import POSE_NAMES, SHAPE_NAMES, BodyModel
+from hitogata.made_to_measure.scan_fit.regions import RegionResidual, cannot_follow, region_residuals, vertex_regions
+from hitogata.made_to_measure.scan_fit.register import Registration, register
+from hitogata.made_to_measure.scan_fit.scan import Scan
 from hitogata.measure import Measurements, measure
-from hitogata.shape import ShapeParameters
-from hitogata.pose import poser_for
+from hitogata.posing.pose import poser_for
 
 FIT_POINTS = 6000  # scan points the shape and pose are solved on
 DETAIL_POINTS = 60_000  # scan points the detail is solved on

@@ -15,7 +15,7 @@ from functools import cache
 import numpy as np
 import scipy.sparse as sp
 
-from hitogata.assets import Assets
+from hitogata.body.assets import Assets
 
 KNEE_BONES = {"L": ("upperleg02.L", "lowerleg01.L"), "R": ("upperleg02.R", "lowerleg01.R")}
 KNEE_RING_HALF_HEIGHT = 0.03  # m: skin within this height of the knee joint forms its ring

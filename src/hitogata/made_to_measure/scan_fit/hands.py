@@ -21,8 +21,8 @@ import itertools
 import numpy as np
 from scipy.spatial import cKDTree
 
-from hitogata.fit.model import FINGERS, POSE_NAMES, BodyModel
-from hitogata.pose import Poser
+from hitogata.made_to_measure.scan_fit.model import FINGERS, POSE_NAMES, BodyModel
+from hitogata.posing.pose import Poser
 
 SIDES = ("l", "r")
 # (the skeleton parts whose skin is scored, the pose entries and their offsets tried, degrees)

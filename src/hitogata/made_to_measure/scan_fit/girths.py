@@ -21,13 +21,12 @@ from __future__ import annotations
 import numpy as np
 from scipy.spatial import cKDTree
 
-from hitogata.body import Body
+from hitogata.body.model import Body
 from hitogata.measure.axes import JointSet
 from hitogata.measure.landmarks import body_landmarks
-from hitogata.measure.measurements import GIRTHS, girth_planes, tapes
+from hitogata.measure.measurements import GIRTHS, girth_planes, tape_skin, tapes
 from hitogata.measure.sections import hull_perimeter, plane_basis, section
 from hitogata.measure.topology import topology
-from hitogata.measure.measurements import tape_skin
 
 SLAB = 0.003  # m: half-thickness of the slab of cloud points taken as lying in a plane
 NEAR = 0.02  # m: scan points further than this (radially) from the fitted tape are not that part

@@ -2,7 +2,7 @@
 
 Unknowns: MakeHuman's macro parameters (height, weight, muscle, proportions and,
 for a female body, the breast's cup and firmness), each in 0..1, and the 20
-`measure-*` modifiers (`hitogata.shape.MODIFIER_NAMES`), each in −1..1 — the
+`measure-*` modifiers (`hitogata.body.shape.MODIFIER_NAMES`), each in −1..1 — the
 ranges MakeHuman's own sliders allow, so the shape stays a body MakeHuman makes.
 They are solved by bounded least squares (`scipy.optimize.least_squares`, trust
 region reflective) on the measurements `hitogata.measure.measure` reports, taken
@@ -35,8 +35,9 @@ from functools import cache
 import numpy as np
 from scipy.optimize import least_squares
 
-from hitogata.assets import Assets, load_assets
-from hitogata.body import (
+from hitogata.body import growth
+from hitogata.body.assets import Assets, load_assets
+from hitogata.body.model import (
     AVERAGE,
     STATURE_RANGE,
     WHOLE_BODY_DENSITY,
@@ -44,13 +45,12 @@ from hitogata.body import (
     default_measurements,
     sex_value,
 )
-from hitogata import growth
+from hitogata.body.shape import MODIFIER_NAMES, ShapeParameters, blend
 from hitogata.errors import HitogataError
+from hitogata.made_to_measure.measurement_rates import measurement_rows
 from hitogata.measure.measurements import measure
 from hitogata.measure.values import MEASUREMENT_NAMES, aliases
 from hitogata.units import shown
-from hitogata.measurement_rates import measurement_rows
-from hitogata.shape import MODIFIER_NAMES, ShapeParameters, blend
 
 # ISO 20685-1 allowed errors, m: girths 9 mm, small girths 4 mm, lengths and heights 5 mm.
 GIRTH_ALLOWANCE, SMALL_GIRTH_ALLOWANCE, LENGTH_ALLOWANCE = 0.009, 0.004, 0.005

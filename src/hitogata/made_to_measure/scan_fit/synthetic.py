@@ -13,10 +13,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from hitogata.body import Body
-from hitogata.fit.register import rotation_vector
-from hitogata.fit.scan import UNITS, Scan
+from hitogata.body.model import Body
 from hitogata.geometry.normals import vertex_normals
+from hitogata.made_to_measure.scan_fit.register import rotation_vector
+from hitogata.made_to_measure.scan_fit.scan import UNITS, Scan
 from hitogata.measure.landmarks import body_landmarks
 
 HOLE_RADIUS = 0.05  # m

@@ -5,7 +5,7 @@ length (`measurement_paths`, polylines on the skin) change to first order by
 the motion at their points along the polyline's own directions (a point's
 motion is its nearest vertices', inverse-distance weighted); a height above the
 floor by its landmark's rise less the lowest skin point's; the mass by the
-enclosed volume's gradient. Used by `hitogata.made_to_measure` to steer its
+enclosed volume's gradient. Used by `hitogata.made_to_measure.solve` to steer its
 solve, whose residuals are always `measure`'s own values.
 """
 
@@ -14,10 +14,9 @@ from __future__ import annotations
 import numpy as np
 from scipy.spatial import cKDTree
 
-from hitogata.body import Body
+from hitogata.body.model import Body
 from hitogata.measure import measurement_paths
-from hitogata.measure.landmarks import landmark_positions
-from hitogata.measure.landmarks import body_landmarks
+from hitogata.measure.landmarks import body_landmarks, landmark_positions
 
 HEIGHT_MATCH = 1e-4  # m: a height measurement is a landmark's if it is this close to the landmark's height
 NEAREST = 3  # skin vertices that carry a path point's motion

@@ -1,6 +1,6 @@
 """A heavy body's rest skin where it meets itself: touching, never passing through.
 
-MakeHuman's weight targets extrapolated past their slider (`hitogata.shape.WEIGHT_MAX`) move each
+MakeHuman's weight targets extrapolated past their slider (`hitogata.body.shape.WEIGHT_MAX`) move each
 vertex along a straight line fixed by the target, heedless of the skin it meets: at BMI 50 the inner
 thighs pass into each other, the upper arm into the flank, the belly and the breasts fold through
 the skin below them (151–228 crossing triangle pairs, against 0–35 for MakeHuman's own bodies: the
@@ -37,11 +37,11 @@ from collections.abc import Sequence
 import numpy as np
 import scipy.sparse as sp
 
+from hitogata.body.rig import Rig
 from hitogata.geometry.barrier_contact import RINGS, _grow, barrier_resolve, contact_regions
 from hitogata.geometry.contact import SelfContact
 from hitogata.geometry.mesh_checks import self_intersections
 from hitogata.geometry.offset_limit import OffsetLimiter
-from hitogata.rig import Rig
 
 # rig bones (side suffix dropped) whose skin and their descendants' make one contact group
 LIMB_ROOTS = ("upperleg01", "lowerleg01", "foot", "upperarm01", "lowerarm01", "wrist", "clavicle", "neck01", "head")

@@ -14,9 +14,9 @@ import itertools
 import numpy as np
 from threadpoolctl import threadpool_limits
 
-from hitogata.fit.model import POSE_NAMES, T_POSE, BodyModel
-from hitogata.fit.register import SIGMA, Registration, Surface, gauss_newton_step
-from hitogata.pose import poser_for
+from hitogata.made_to_measure.scan_fit.model import POSE_NAMES, T_POSE, BodyModel
+from hitogata.made_to_measure.scan_fit.register import SIGMA, Registration, Surface, gauss_newton_step
+from hitogata.posing.pose import poser_for
 
 ALIGN_POINTS = 800  # scan points per candidate
 ALIGN_STEPS = 3  # rigid-only iterations per candidate and round

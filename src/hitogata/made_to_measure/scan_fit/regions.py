@@ -12,7 +12,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from hitogata.body import Body
+from hitogata.body.model import Body
 
 LIMB_PARTS = {"arm": ("upperarm", "lowerarm"), "hand": ("wrist", "metacarpal", "finger"),
               "leg": ("upperleg", "lowerleg"), "foot": ("foot", "toe")}

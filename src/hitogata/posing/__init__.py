@@ -1,0 +1,24 @@
+"""Posing: a body posed by its muscles or joint angles, beside the skeleton and muscles it drives.
+
+- `pose`: `Poser` (a body's skeleton and muscles placed once, then posed), `PosedBody`, `pose_body`
+  and `poser_for` (the poser kept with a body);
+- `skinning`: the skin carried by the posed skeleton (linear blend, dual quaternions);
+- `names`: muscle and joint names as a person writes them, resolved to the lists' names.
+
+The names below are imported on first use (`hitogata.lazy`).
+"""
+
+from typing import TYPE_CHECKING
+
+from hitogata.lazy import lazy_names
+
+if TYPE_CHECKING:
+    from hitogata.posing.pose import PosedBody, Poser, pose_body, poser_for
+
+__all__ = ["PosedBody", "Poser", "pose_body", "poser_for"]
+__getattr__, __dir__ = lazy_names(globals(), {
+    "PosedBody": "hitogata.posing.pose",
+    "Poser": "hitogata.posing.pose",
+    "pose_body": "hitogata.posing.pose",
+    "poser_for": "hitogata.posing.pose",
+})
