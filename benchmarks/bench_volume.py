@@ -6,7 +6,7 @@ tets, volume error against the skin, mean and max (Hausdorff) surface
 distance, region volumes.
 
 Part 2, the whole body at the elastic default (40 mm, soft tissue round the
-bone capsules) over the grid of `tests/test_body_mesh_grid.py`: the stuffed
+bone capsules) over the grid of `tests/volume/test_body_mesh_grid.py`: the stuffed
 mesh as it was (the baseline, measured in the same run: `stuff` alone) and
 after `hitogata.volume.repair`, each with `hitogata.volume.integrity`'s
 figures (pieces, pinched vertices and edges, non-manifold boundary edges

@@ -71,7 +71,7 @@ _EXPORTS: dict[str, str] = {
     "HitogataError": "hitogata.errors",
 }
 
-# Spelled out for linters and type checkers; tests/test_front_door.py checks it matches _EXPORTS.
+# Spelled out for linters and type checkers; tests/api/test_front_door.py checks it matches _EXPORTS.
 __all__ = [
     "__version__",
     "answer_dataset",

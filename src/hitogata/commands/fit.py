@@ -17,8 +17,8 @@ from hitogata.export.scans import SCAN_SUFFIXES
 from hitogata.made_to_measure.scan_fit.scan import UNITS
 
 # m: a scan the model cannot come this close to (median, scan to body) is not of a standing person;
-# a scan of a person standing in any pose the fit follows comes within 2 mm (tests/test_fit_scan.py,
-# tests/test_fit_pose.py)
+# a scan of a person standing in any pose the fit follows comes within 2 mm (tests/made_to_measure/test_fit_scan.py,
+# tests/made_to_measure/test_fit_pose.py)
 MAX_MEDIAN = 0.025
 
 

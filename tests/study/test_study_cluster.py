@@ -22,7 +22,7 @@ from hitogata.study.runner import FAILED, ROWS, run_on_client, run_serial
 from hitogata.study.spec import load_study
 from waiting import wait_for
 
-STUDIES = Path(__file__).parents[1] / "src" / "hitogata" / "data" / "studies"
+STUDIES = Path(__file__).parents[2] / "src" / "hitogata" / "data" / "studies"
 CHART = """size,sex,stature_cm,mass_kg
 XS,female,150,41
 M,female,165,62

@@ -1,5 +1,5 @@
 """Self-contact as a barrier problem (`geometry.barrier_contact`, IPC): two spheres driven through each
-other along a path (the body's elbow and knee: tests/test_self_contact.py)."""
+other along a path (the body's elbow and knee: tests/skin/test_self_contact.py)."""
 
 from __future__ import annotations
 

@@ -33,7 +33,7 @@ from hitogata.measure.measurements import GIRTHS
 from hitogata.body.shape import ShapeParameters
 from hitogata.posing import poser_for
 
-ISO_20685 = {"large girth": 9.0, "small girth": 4.0, "length": 5.0}  # mm (tests/test_measure_body.py)
+ISO_20685 = {"large girth": 9.0, "small girth": 4.0, "length": 5.0}  # mm (tests/measure/test_measure_body.py)
 SMALL_GIRTHS = ("neck_girth", "upper_arm_girth", "ankle_girth", "wrist_girth")
 WOMAN = ShapeParameters(sex=0.0, age=40.0, weight=0.7, muscle=0.4, height=0.6, proportions=0.6, cup=0.7)
 MAN = ShapeParameters(sex=1.0, age=55.0, weight=0.3, muscle=0.7, height=0.3, proportions=0.4)

@@ -28,7 +28,7 @@ from hitogata.export.body_files import write_body
 from hitogata.export.glb_read import read_glb_skin
 
 SAFE = re.compile(r"[A-Za-z0-9_-]+")
-REPO = Path(__file__).resolve().parents[1]
+REPO = Path(__file__).resolve().parents[2]
 
 
 @pytest.fixture(scope="module")

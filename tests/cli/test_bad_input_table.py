@@ -22,7 +22,7 @@ import numpy as np
 import pytest
 
 from hitogata import cli
-from test_motion_bvh import GOOD as GOOD_BVH
+from samples import SMALL_BVH as GOOD_BVH
 
 LINE_LIMIT = 300
 

@@ -11,7 +11,7 @@ from hitogata.study.sampling import Joint, clusters, sample_stature_mass, sex_co
 from hitogata.study.spec import load_study
 from hitogata.study.tasks import Task
 
-EXAMPLE = Path(__file__).parents[1] / "src" / "hitogata" / "data" / "studies" / "example.toml"
+EXAMPLE = Path(__file__).parents[2] / "src" / "hitogata" / "data" / "studies" / "example.toml"
 WOMEN = Joint(1.629, 0.064, 67.8, 11.1, 0.53, "test")
 MEN = Joint(1.756, 0.069, 85.5, 14.2, 0.53, "test")
 

@@ -17,7 +17,7 @@ def test_all_lists_every_export_and_each_resolves_to_its_defining_module() -> No
     for name, module in hitogata._EXPORTS.items():
         value = getattr(hitogata, name)
         assert value.__module__ == module, name
-    pyproject = tomllib.loads((Path(__file__).resolve().parents[1] / "pyproject.toml").read_text())
+    pyproject = tomllib.loads((Path(__file__).resolve().parents[2] / "pyproject.toml").read_text())
     assert hitogata.__version__ == pyproject["project"]["version"]
     with pytest.raises(AttributeError, match="no attribute 'nothing'"):
         hitogata.nothing  # noqa: B018

@@ -5,7 +5,7 @@ function; those under `if TYPE_CHECKING:` are annotations only and left out):
 - the layers import only downwards: base → body → posing → volume/fem → elastic → dynamics → skin →
   measure/garment → study/report/export/viewer → commands.
 
-`tests/test_layers.py` checks what an import loads at run time; this test sees the imports a function
+`tests/house/test_layers.py` checks what an import loads at run time; this test sees the imports a function
 makes when it is called, which that one cannot.
 """
 
@@ -16,7 +16,7 @@ from collections import defaultdict
 from functools import cache
 from pathlib import Path
 
-SOURCE = Path(__file__).resolve().parents[1] / "src"
+SOURCE = Path(__file__).resolve().parents[2] / "src"
 
 # Each module's layer, by its longest matching name prefix (under `hitogata.`); a module may import its
 # own layer and the layers below it only.

@@ -9,7 +9,7 @@ from pathlib import Path
 
 import pytest
 
-SOURCE = Path(__file__).resolve().parents[1] / "src"
+SOURCE = Path(__file__).resolve().parents[2] / "src"
 
 # idea -> (the owning module, the functions it defines)
 OWNERS: dict[str, tuple[str, tuple[str, ...]]] = {

@@ -23,7 +23,7 @@ from hitogata.study.runner import run_serial
 from hitogata.study.spec import load_study
 from waiting import PATIENCE
 
-STUDIES = Path(__file__).parents[1] / "src" / "hitogata" / "data" / "studies"
+STUDIES = Path(__file__).parents[2] / "src" / "hitogata" / "data" / "studies"
 CHART = "size,sex,stature_cm,mass_kg\nS,female,155,50\nL,male,185,90\n"
 REPORT = ["fit-report", "--motions", "reach", "--rate", "2", "--garment-ease=-15%", "--fabric", "400N/m"]
 
@@ -101,7 +101,7 @@ def test_the_page_shows_the_tables_it_wrote(report):
     assert len(table) == len(ease) == 22
     for name, r in ease.items():
         assert agree(table[name.replace("_", " ")][1:4], [r["standing_cm"], r["increase_cm"], r["increase_pct"]]), name
-    # pinned headline numbers (as tests/test_garment_ease.py on reach-forward)
+    # pinned headline numbers (as tests/garment/test_garment_ease.py on reach-forward)
     assert table["across back width"][1:3] == ["31.0", "+6.1"] and table["across front width"][5] == "-5.5"
     stretch = {r["zone"]: r for r in rows(report / "stretch.csv")}
     shown_stretch = {r[0]: r for r in page.tables["stretch-reach_forward"][1:]}

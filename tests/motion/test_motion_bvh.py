@@ -14,6 +14,7 @@ from hitogata.motion.clip import scenario_clip
 from hitogata.motion.joint_map import choose_joint_map
 from hitogata.motion.retarget import export_bvh, retarget
 from hitogata.posing import poser_for
+from samples import SMALL_BVH as GOOD
 
 LIMB_PARTS = ("upper_arm_l", "forearm_l", "hand_l", "upper_arm_r", "forearm_r", "thigh_l", "shank_l", "foot_l",
               "thigh_r", "shank_r", "foot_r")
@@ -178,27 +179,6 @@ def test_another_tools_bvh_imports_to_the_joint_angles_it_encodes(scene, order, 
     assert moved == pytest.approx(pelvis + [0, 0, 0.4], abs=1e-4)
 
 
-GOOD = """HIERARCHY
-ROOT Hips
-{
-  OFFSET 0 0 0
-  CHANNELS 6 Xposition Yposition Zposition Zrotation Xrotation Yrotation
-  JOINT Spine
-  {
-    OFFSET 0 10 0
-    CHANNELS 3 Zrotation Xrotation Yrotation
-    End Site
-    {
-      OFFSET 0 10 0
-    }
-  }
-}
-MOTION
-Frames: 2
-Frame Time: 0.04
-0 90 0 0 0 0 0 0 0
-0 90 0 0 0 0 0 10 0
-"""
 
 
 @pytest.mark.parametrize("old, new, said", [

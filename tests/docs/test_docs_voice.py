@@ -17,7 +17,7 @@ from pathlib import Path
 
 import pytest
 
-REPO = Path(__file__).resolve().parents[1]
+REPO = Path(__file__).resolve().parents[2]
 
 DIARY = {
     "a numbered round of work": r"\b(?:sessions?|rounds?|waves?|sprints?|iterations? of work)\s+\d+\b",

@@ -6,7 +6,7 @@ from pathlib import Path
 import pytest
 from pygltflib import GLTF2
 
-README = Path(__file__).resolve().parents[1] / "README.md"
+README = Path(__file__).resolve().parents[2] / "README.md"
 
 
 def first_python_block(text: str, heading: str) -> str:

@@ -16,7 +16,7 @@ from hitogata.study.results import read_failures, read_rows
 from hitogata.study.runner import run_on_client
 from hitogata.study.spec import load_study
 
-STUDIES = Path(__file__).parents[1] / "src" / "hitogata" / "data" / "studies"
+STUDIES = Path(__file__).parents[2] / "src" / "hitogata" / "data" / "studies"
 
 
 def test_bmi_for_age_gives_whos_figures_and_a_toddlers_bmi_is_on_length():
