@@ -3,7 +3,7 @@
 `STATIC_ITERATIONS`, then the floor repairs): its last plain step (mm; converged at ≤ 0.01 mm), its CPU
 seconds, and how far a relative nudge of the skinned nodes (1e-14, a few units of round-off) moves the corner
 nodes and the skin's elastic offset (mm). A converged solve moves by about the nudge; one that runs to its cap
-moves by whatever round-off decides (the male's loose tetrahedron made every male posture one of those).
+moves by whatever round-off decides (docs/decisions/0035-a-held-posture-decided-by-round-off.md).
 
     PYTHONPATH=src nice -n 5 python benchmarks/quasistatic_sensitivity.py [female|male ...] [--nudge 1e-14]
 """

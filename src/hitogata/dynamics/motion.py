@@ -45,7 +45,7 @@ from scipy.spatial import cKDTree
 from hitogata.dynamics.contact import skin_contact
 from hitogata.dynamics.motion_contact import MotionContact, resolve_frames
 from hitogata.dynamics.quasistatic import QuasiStatic, WarmStart, rotate, unrotate
-from hitogata.dynamics.rigging import NodeRig, anchored, boneless_nodes, joint_nodes, node_rig
+from hitogata.dynamics.rigging import NodeRig, anchored, joint_nodes, node_rig
 from hitogata.dynamics.timeline import MAX_DURATION, MAX_RATE, MAX_SUBSTEPS, RootTrack, Timeline
 from hitogata.errors import HitogataError
 from hitogata.machine import require_memory
@@ -105,16 +105,17 @@ class BodyDynamics:
         soft = tuple(model.region_names.index(r) for r in SOFT_REGIONS if r in model.region_names)
         soft = tuple(r for r in soft if np.any(model.region == r))
         corners = len(model.volume.nodes)
-        # Every piece of mesh keeps a held node (`anchored`, `boneless_nodes`): a piece hanging on released joint
-        # nodes alone floats, and SuperLU may factor its singular block on a round-off pivot instead of failing.
-        held = np.union1d(anchored(held, model.fixed_nodes, model.elements[:, :4]),
-                          boneless_nodes(model.elements[:, :4], corners, model.fixed_nodes))
         # Bone elements matter here only at the joints, whose nodes settle between the bones: there
         # they act as cartilage, so no stiffer than CARTILAGE x the stiffest soft tissue (GPa bone
         # against kPa tissue would stall the iteration).
         E = np.minimum(model.E, CARTILAGE * model.E[np.isin(model.region, soft)].max())
-        statics = solver(model.points[:corners], model.elements[:, :4], E, model.nu, held[held < corners],
-                         model.region, soft)
+        try:
+            statics = solver(model.points[:corners], model.elements[:, :4], E, model.nu,
+                             held[held < corners], model.region, soft)
+        except RuntimeError:  # SuperLU: "exactly singular": a piece of mesh hangs on released joint nodes alone
+            held = anchored(held, model.fixed_nodes, model.elements[:, :4])
+            statics = solver(model.points[:corners], model.elements[:, :4], E, model.nu,
+                             held[held < corners], model.region, soft)
         loads = dict(unit_loads) if unit_loads is not None else {
             name: model.muscle_load(name, 1.0).reshape(-1, 3) for name in model.muscle_names
             if len(model.muscle_elements(name))}

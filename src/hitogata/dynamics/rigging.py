@@ -168,34 +168,16 @@ def joint_nodes(weights: sp.csr_matrix, elements: np.ndarray, fixed_nodes: np.nd
 def anchored(held: np.ndarray, fixed_nodes: np.ndarray, corners: np.ndarray) -> np.ndarray:
     """`held` plus the bone nodes of every piece of mesh (corners joined through elements) that holds none
     of them: a piece hanging on its joints' nodes alone (once those settle freely) floats, and the
-    quasi-statics' matrix is singular (SuperLU may factor it on a round-off pivot: the male's 40 mm mesh has
-    such a tetrahedron, which the solve then put anywhere). Only such pieces: holding every joint node rigid
-    can invert an element in a deep crease."""
+    quasi-statics' matrix is singular. Used where the factorisation says so: holding joint nodes rigid can
+    invert an element in a deep crease, so bodies whose matrix factors keep their joints free."""
     n = int(corners.max()) + 1
-    piece = mesh_pieces(corners, n)
+    pairs = np.stack([np.repeat(corners[:, :1], corners.shape[1], axis=1).ravel(), corners.ravel()])
+    graph = sp.csr_matrix((np.ones(pairs.shape[1], dtype=np.int8), (pairs[0], pairs[1])), shape=(n, n))
+    _, piece = connected_components(graph, directed=False)
     fixed = np.asarray(fixed_nodes)
     fixed = fixed[fixed < n]
     bare = np.setdiff1d(piece[fixed], piece[held[held < n]])
     return np.union1d(held, fixed[np.isin(piece[fixed], bare)])
-
-
-def boneless_nodes(corners: np.ndarray, n: int, fixed_nodes: np.ndarray) -> np.ndarray:
-    """The nodes (of n) of every piece of mesh (corners joined through elements) that holds no bone node: nothing
-    holds it to the skeleton, its rigid motion is free and the quasi-statics' matrix singular on it (a round-off
-    pivot, not an error: the solve puts the piece anywhere, metres away, and the steps never converge). Such a
-    piece goes with the skinning (its nodes are held where the skinning puts them)."""
-    piece = mesh_pieces(corners, n)
-    boned = np.zeros(int(piece.max(initial=-1)) + 1, dtype=bool)
-    fixed = np.asarray(fixed_nodes, dtype=np.intp)
-    boned[piece[fixed[fixed < n]]] = True
-    return np.flatnonzero(~boned[piece])
-
-
-def mesh_pieces(corners: np.ndarray, n: int) -> np.ndarray:
-    """(n,) the piece of mesh each node belongs to: nodes joined through the elements' corners (E, k)."""
-    pairs = np.stack([np.repeat(corners[:, :1], corners.shape[1], axis=1).ravel(), corners.ravel()])
-    graph = sp.csr_matrix((np.ones(pairs.shape[1], dtype=np.int8), (pairs[0], pairs[1])), shape=(n, n))
-    return connected_components(graph, directed=False)[1]
 
 
 def node_rig(poser: Poser, model: ElasticModel, method: Skinning = "dqs", bind_skin: bool = True) -> NodeRig:
