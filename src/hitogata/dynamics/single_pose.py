@@ -21,6 +21,7 @@ from __future__ import annotations
 import json
 from collections.abc import Mapping
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 
@@ -74,7 +75,6 @@ class ElasticPose:
     posed: PosedBody  # the skeleton's pose; its vertices are skinned by the dynamics' method
     vertices: np.ndarray  # (V, 3) the elastic skin
     nodes: np.ndarray  # (N, 3) the FE nodes, elastic
-    quality: PoseQuality  # inversions, region volumes, distortion of the elastic body
     dynamics: BodyDynamics
     held_back: np.ndarray  # (V,) m: elastic displacement held back to keep the skin whole (`geometry.offset_limit`)
     barrier: BarrierResult | None = None  # the barrier's figures (free skin, Newton steps) when contact was resolved
@@ -83,6 +83,11 @@ class ElasticPose:
     @property
     def faces(self) -> np.ndarray:
         return self.posed.faces
+
+    @cached_property
+    def quality(self) -> PoseQuality:
+        """Inversions, region volumes and distortion of the elastic body (figured when first asked for)."""
+        return pose_quality(self.dynamics.model, self.nodes, "elastic")
 
     @property
     def penetrations(self) -> Penetrations:
@@ -136,8 +141,7 @@ def elastic_pose(
     slid = slide_posed_skin(body_fine_skinning(poser.body), posed.pose, dynamics.rig.method, poser.body.vertices, skin,
                             posed.faces) if slide else None
     skin = skin if slid is None else slid.coarse.vertices
-    return ElasticPose(posed, skin.astype(float), nodes, pose_quality(dynamics.model, nodes, "elastic"), dynamics,
-                       held.astype(float), resolved, slid)
+    return ElasticPose(posed, skin.astype(float), nodes, dynamics, held.astype(float), resolved, slid)
 
 
 def _resolve(dynamics: BodyDynamics, posed: PosedBody, plain: np.ndarray, offset: np.ndarray
