@@ -2,14 +2,16 @@
 then through the first frames of the stride at 5 frames a second, each solved from the last (warm).
 
 Goals: ≤ 60 s on the 2-core machine cold; one motion frame ≤ 5 s warm. Prints the wall and CPU time of
-each stage (the body, the garment against it, the contact solve, the answers and their exact checks, a
-warm motion frame's placement, tissue and solve, its answers), Newton's iterations, the least
-garment–skin distance and, for the motion frame, whether its warm start was taken.
+each stage (imports, the body and garment file, the contact solve with the garment's placement, the
+answers and their exact checks, the stride's postures, its first frame, a warm frame with its placement,
+tissue and solve, its answers), Newton's iterations, the least garment–skin distance, the exact checks
+and, for the motion frame, whether its warm start was taken.
 
-"now" is the code as it is; "before" the same run with Newton's convergence as it was (the decrement
-threshold `equilibrium.DECREMENT` at 1e-5 of the energy), in the same process after it: the figures side by
-side, their CPU ratio, each level's pressure and indentation by both with their difference (the answers
-must agree within 1 %), and the ratio of each time to its goal. Read CPU seconds where the machine is
+"now" is the code as it is (each Newton step factored by `equilibrium.factor_method`: PARDISO where
+pypardiso is installed); "before" the same run with the project's SuperLU (`equilibrium.FACTOR = "auto"`),
+in the same process after it: the figures side by side, their CPU ratio, each level's pressure and
+indentation by both with their difference (the answers must agree within 1 %), and the ratio of each time
+to its goal. Read CPU seconds where the machine is
 shared (the wall clock then counts the other processes' turns). "now" runs first, so it alone pays the
 imports and the caches a fresh process fills (its "cold" total); "before" is timed from its contact
 solve on.
