@@ -49,12 +49,13 @@ FINE_CROSSING = {"female": {}, "male": {"hip flexion 120°": 2}}
 # % change of length of the flexor side's line on the fine skin (docs/measurements.md, "Skin stretch on lines"):
 # without the creases' tether the back of the knee lengthened at 135° (+3 % on both bodies); with the volume the
 # creases give up swelling beside them (`barrier_contact.swell_weights`), not round the whole free skin, the
-# female's knee folds further (-28.2 -> -34.4 % at 135°) and the front of her elbow less (-29.4 -> -25.2 %)
+# female's knee folds further (-28.2 -> -34.4 % at 135°; the male's -24.4 -> -27.5 %) and the front of her elbow
+# less (-29.4 -> -25.2 %)
 FLEXOR = {
     "female": {("elbow 150°", "elbow_anterior"): -25.2, ("knee 135°", "knee_posterior"): -34.4,
                ("seated 90/90", "knee_posterior"): -45.2},
-    "male": {("elbow 150°", "elbow_anterior"): -27.8, ("knee 135°", "knee_posterior"): -24.4,
-             ("seated 90/90", "knee_posterior"): -37.2},
+    "male": {("elbow 150°", "elbow_anterior"): -27.8, ("knee 135°", "knee_posterior"): -27.5,
+             ("seated 90/90", "knee_posterior"): -38.8},
 }
 
 

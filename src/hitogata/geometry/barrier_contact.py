@@ -62,7 +62,10 @@ INCOMPRESSIBILITY = 1e9
 # the free skin took the groin's and the knees' volume alike (the back of the calf 6 mm out at the calf girth's
 # level sitting, nothing pressing there)
 SWELL_REACH = 0.04
-BOUND_EXPONENT = 12.0  # the tracking weight's largest exponent (e¹² ~ 1.6e5: skin bound to its tissue)
+# the tracking weight's largest exponent (e⁸ ~ 3000: skin bound to its tissue, not locked; at e¹² a hip flexed 120°
+# pressed the groin's volume into a ring round it, stretching its fine skin beyond +100 %; at e⁴ a knee's crease
+# took its own volume back, its back shortening 3 % at 135° instead of 34 %)
+BOUND_EXPONENT = 8.0
 TOLERANCE = 1e-3  # m: a Newton step below this (largest vertex move) has converged
 # m: CCD keeps the skin this far apart along a step (its time-of-impact tolerance is relative to the
 # step, so a long step could otherwise end nanometres from contact, where the next CCD misses a crossing)
