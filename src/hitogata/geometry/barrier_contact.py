@@ -3,20 +3,14 @@
 The contact method of the elastic body (`hitogata.dynamics.single_pose.elastic_pose(..., contact=True)`):
 the skin near contact is the unknown x of one smooth minimisation,
 
-    E(x) = ½ (x − y)ᵀ (D + k·L) (x − y) + ½ λ Σ_p (V_p(x) − V_p(r))² + κ Σ b(d(x)),
+    E(x) = ½ (x − y)ᵀ (I + k·L) (x − y) + ½ λ (V(x) − V(y))² + κ Σ b(d(x)),
 
 y the posture's skin (elastic or skinned), L the skin's uniform graph Laplacian (a pushed region
-carries its neighbours with it, as a membrane would), D each vertex's binding to its tissue
-(`swell_weights`), V_p the volume of piece p's skin against r (its triangles end on fixed skin: the volume it sweeps; r the
-skin whose tissue volume is kept, y itself or the elastic skin before its creases were tied back), b the
+carries its neighbours with it, as a membrane would), V the enclosed volume (y's counts an overlap
+twice, so the tissue a contact presses aside comes back as a swelling of the free skin around it), b the
 IPC log barrier (reach `DHAT`) over the vertex–triangle and edge–edge distances of skin that may meet:
 vertices of different contact groups (`hitogata.dynamics.contact`) more than `APART` apart at rest, or
 of one group whose skin folds onto itself (`folding`: a crease) more than `SAME_APART` apart.
-The volume is kept piece by piece of the free skin (`volume_pieces`: a knee's, the groin's): soft tissue
-is nearly incompressible, so the tissue a contact presses aside or a crease folds in bulges beside it
-(y's overlap holds it twice: the skin each side pushed back swells the skin round it), not in skin that
-nothing compresses, which stays bound to the tissue the elastic solve placed (D grows with the distance
-from the pressed skin, over `SWELL_REACH`).
 The barrier is infinite at contact, so a start free of crossings stays free when every Newton step is
 cut short by continuous collision detection (CCD): the pose is reached along a path of postures (the
 rest skin, skinned postures on the way, the target), each step started from the last one's minimum.
@@ -35,7 +29,6 @@ from typing import TYPE_CHECKING
 import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
-from scipy.sparse.csgraph import connected_components
 from scipy.spatial import cKDTree
 
 from hitogata.geometry.contact import SelfContact
@@ -51,21 +44,9 @@ SMOOTHING = 10.0  # k: the Laplacian's weight; a push spreads over ~√k rings
 REACH = 0.02  # m: a vertex this close to another group's vertex in the target may meet it
 RINGS = 3  # rings of skin around those that are free to move
 NEWTON = 30  # most Newton iterations a step
-# m⁻⁴: weight of ½ ΔV² of each piece, its volume held to the reference skin's (whose overlaps count twice:
-# the tissue a contact presses aside comes back as a swelling of the free skin beside it)
+# m⁻⁴: weight of ½ (V − V_target)², the enclosed volume held to the target's (whose overlaps count twice:
+# the tissue a contact presses aside comes back as a swelling of the free skin around it)
 INCOMPRESSIBILITY = 1e9
-# m: the reach of a swelling from the skin a contact or a crease presses in: the tracking weight of skin d away is
-# exp((d / SWELL_REACH)²), at most e^BOUND_EXPONENT, so the volume comes back beside what is pressed, as a pressed,
-# nearly incompressible layer bound to a firmer base bulges within about its own depth (the limbs' and trunk's soft
-# tissue over bone, 2-5 cm). The tissue lattice's element (`dynamics.single_pose.ELEMENT_SIZE`): over larger
-# distances the elastic solve has placed the tissue's volume, below it the surface must. Bound alike everywhere,
-# the free skin took the groin's and the knees' volume alike (the back of the calf 6 mm out at the calf girth's
-# level sitting, nothing pressing there)
-SWELL_REACH = 0.04
-# the tracking weight's largest exponent (e⁸ ~ 3000: skin bound to its tissue, not locked; at e¹² a hip flexed 120°
-# pressed the groin's volume into a ring round it, stretching its fine skin beyond +100 %; at e⁴ a knee's crease
-# took its own volume back, its back shortening 3 % at 135° instead of 34 %)
-BOUND_EXPONENT = 8.0
 TOLERANCE = 1e-3  # m: a Newton step below this (largest vertex move) has converged
 # m: CCD keeps the skin this far apart along a step (its time-of-impact tolerance is relative to the
 # step, so a long step could otherwise end nanometres from contact, where the next CCD misses a crossing)
@@ -145,24 +126,6 @@ def contact_regions(path: Sequence[np.ndarray], test: SelfContact, reach: float 
     return grown
 
 
-def volume_pieces(faces: np.ndarray, n: int) -> np.ndarray:
-    """(n,) the connected piece of the free skin (`faces`: its triangles, local ids of its n vertices) each
-    vertex is on: a knee's, the groin's."""
-    edges = np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]])
-    return connected_components(sp.coo_matrix((np.ones(len(edges)), (edges[:, 0], edges[:, 1])), shape=(n, n)),
-                                directed=False)[1]
-
-
-def swell_weights(x: np.ndarray, pressed: np.ndarray, reach: float = SWELL_REACH) -> np.ndarray:
-    """(n,) each vertex's weight in the tracking energy, exp((d / reach)²), d its distance (m) from the nearest
-    `pressed` vertex (`x` (n, 3); `pressed` (n,) bool): skin beside what a contact or a crease presses in is free
-    to swell, skin farther off keeps to its tissue (at most e^BOUND_EXPONENT; all 1 where nothing is pressed)."""
-    if not pressed.any():
-        return np.ones(len(x))
-    distance = cKDTree(x[pressed]).query(x)[0]
-    return np.exp(np.minimum((distance / reach) ** 2, BOUND_EXPONENT))
-
-
 def _factor(a: sp.spmatrix) -> spla.SuperLU:
     """The sparse LU of a symmetric positive definite matrix: symmetric ordering, no pivoting."""
     return spla.splu(a.tocsc(), permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0, options={"SymmetricMode": True})
@@ -207,10 +170,6 @@ class _Problem:
                                          (self.corner_rows, np.flatnonzero(self.inside.ravel()))),
                                         shape=(len(self.vertices), self.inside.size))
         self.rest = test.rest[self.vertices]
-        self.piece = volume_pieces(self.faces, len(self.vertices))
-        self.pieces = int(self.piece.max()) + 1
-        self.triangle_piece = self.piece[self.local_corners.max(axis=1)]  # each touching triangle's piece
-        self.test = test
         self.edges = np.asarray(ipctk.edges(self.faces), dtype=np.int32)
         self.mesh = ipctk.CollisionMesh(self.rest, self.edges, self.faces)
         self.groups = test.groups[self.vertices].astype(np.int32)
@@ -233,21 +192,9 @@ class _Problem:
         self.barrier = ipctk.BarrierPotential(dhat, stiffness)
         self.ccd = ipctk.AdditiveCCD()  # Li et al. 2021: a third of the tight-inclusion CCD's cost here
         sub = (test.neighbour_average[self.vertices][:, self.vertices] > 0).astype(float)
-        self.laplacian = smoothing * (sp.diags(np.asarray(sub.sum(axis=1)).ravel()) - sub)
-
-    def tracking(self, weights: np.ndarray) -> sp.csr_matrix:
-        """The tracking energy's matrix (3n, 3n), diag(`weights`) + k·L on each coordinate, dofs vertex-major
-        (x0, y0, z0, x1, …), as ipctk's."""
-        return sp.kron((sp.diags(weights) + self.laplacian).tocsr(), sp.identity(3)).tocsr()
-
-    def pressed(self, target: np.ndarray, reference: np.ndarray | None) -> np.ndarray:
-        """(n,) bool: the unknowns a contact or a crease presses in: inside another group's skin at the whole
-        skin's `target` (V, 3), or tied back from the `reference` skin by more than the tolerance."""
-        inside = np.zeros(len(target), dtype=bool)
-        inside[self.test.penetrations(target).vertex] = True
-        if reference is not None:
-            inside |= np.linalg.norm(reference - target, axis=1) > TOLERANCE
-        return inside[self.vertices]
+        laplacian = sp.diags(np.asarray(sub.sum(axis=1)).ravel()) - sub
+        a = (sp.identity(n) + smoothing * laplacian).tocsr()
+        self.tracking = sp.kron(a, sp.identity(3)).tocsr()  # dofs vertex-major (x0, y0, z0, x1, …), as ipctk's
 
     def candidates(self, x0: np.ndarray, x1: np.ndarray, within: float | None = None) -> ipctk.Candidates:
         """The primitive pairs that may meet and may come within `within` (default dhat) of each other on
@@ -270,78 +217,65 @@ class _Problem:
         c.build(candidates, self.mesh, x, self.dhat)
         return c
 
-    def volume(self, x: np.ndarray, target: np.ndarray, at_target: np.ndarray) -> tuple[np.ndarray, sp.csc_matrix]:
-        """Each piece's volume change (pieces,) m³ from the target's triangles (`target`: (T, 3, 3), the
-        touching triangles; `at_target`: their corners' triple products) with the sub-mesh at x (a piece's
-        triangles end on fixed skin, so its change is the volume its skin sweeps, whatever the origin), and
-        its gradient W (3n, pieces) in x."""
+    def volume(self, x: np.ndarray, target: np.ndarray, at_target: np.ndarray) -> tuple[float, np.ndarray]:
+        """The enclosed volume's change (m³) from the target's triangles (`target`: (T, 3, 3), the
+        touching triangles; `at_target`: their corners' triple products) with the sub-mesh at x, and its
+        gradient (n, 3) in x."""
         moved = target.copy()
         moved[self.inside] = x[self.corner_rows]
         # b×c for each corner a (d(a·(b×c))/da, and so on round the corners)
-        cross = np.cross(moved[:, [1, 2, 0]], moved[:, [2, 0, 1]])
-        change = np.bincount(self.triangle_piece, np.einsum("ij,ij->i", moved[:, 0], cross[:, 0]) - at_target,
-                             self.pieces) / 6.0
-        gradient = self.corner_sum @ cross.reshape(-1, 3)
-        n = len(self.vertices)
-        return change, sp.csc_matrix((gradient.ravel(), (np.arange(3 * n), np.repeat(self.piece, 3))),
-                                     shape=(3 * n, self.pieces))
+        b, c = moved[:, [1, 2, 0]], moved[:, [2, 0, 1]]
+        cross = np.stack([b[..., 1] * c[..., 2] - b[..., 2] * c[..., 1], b[..., 2] * c[..., 0] - b[..., 0] * c[..., 2],
+                          b[..., 0] * c[..., 1] - b[..., 1] * c[..., 0]], axis=-1)
+        change = (np.einsum("ij,ij->i", moved[:, 0], cross[:, 0]) - at_target).sum() / 6.0
+        return float(change), self.corner_sum @ cross.reshape(-1, 3)
 
     def minimise(self, x: np.ndarray, target: np.ndarray, iterations: int, tolerance: float,
-                 contacts: ipctk.NormalCollisions | None = None, reference: np.ndarray | None = None
+                 contacts: ipctk.NormalCollisions | None = None, swell: float = 0.0
                  ) -> tuple[np.ndarray, int, ipctk.NormalCollisions]:
         """Newton from x (free of crossings; `contacts`: its pairs within dhat, if known) towards the
-        minimum for the whole skin's `target`, each piece's volume held to the whole skin `reference`'s
-        (None: the target's), swelling beside the skin pressed in (`swell_weights`), every step limited by
-        CCD and backtracked to decrease the energy (the volume term Gauss–Newton, its Hessian λ W Wᵀ of rank
-        the pieces' number by Sherman–Morrison–Woodbury); the minimum, the iterations taken and the
-        minimum's pairs within dhat (the next step's start)."""
+        minimum for the whole skin's `target` (its enclosed volume plus `swell`), every step limited by
+        CCD and backtracked to decrease the energy (the volume term Gauss–Newton, its rank-one Hessian by
+        Sherman–Morrison); the minimum, the iterations taken and the minimum's pairs within dhat (the
+        next step's start)."""
         import ipctk
 
         y = target[self.vertices]
-        full = target[self.touching]
-        at_target = np.einsum("ij,ij->i", full[:, 0], np.cross(full[:, 1], full[:, 2]))
-        # each piece's volume the reference holds beyond the target's (m³: the tissue a crease gives up)
-        swell = np.zeros(self.pieces) if reference is None else self.volume(reference[self.vertices], full,
-                                                                            at_target)[0]
         # a step that starts out of contact and meets nothing at the target (a static query, the cheaper) nor on
-        # the way: the target as it is (a step in contact, or holding a volume, is solved)
-        if not swell.any() and (contacts is None or not len(contacts)):
+        # the way: the target as it is (a step in contact, or holding the volume, is solved)
+        if not swell and (contacts is None or not len(contacts)):
             meeting = self.collisions(self.candidates(y, y), y)
             if not len(meeting) and self.stepsize(self.candidates(x, y), x, y) >= 1.0:
                 return y.copy(), 0, meeting
+        full = target[self.touching]
+        at_target = np.einsum("ij,ij->i", full[:, 0], np.cross(full[:, 1], full[:, 2]))
         lam = self.incompressibility
-        tracking = self.tracking(swell_weights(y, self.pressed(target, reference)))
 
-        def energy(x: np.ndarray, contacts: ipctk.NormalCollisions
-                   ) -> tuple[float, np.ndarray, np.ndarray, sp.csc_matrix]:
-            """E at x, with its tracking term's gradient, each piece's volume change beyond its swell and the
-            volumes' gradient."""
+        def energy(x: np.ndarray, contacts: ipctk.NormalCollisions) -> tuple[float, np.ndarray, float, np.ndarray]:
+            """E at x, with its tracking term's gradient, the volume's change and the volume's gradient."""
             d = (x - y).ravel()
-            tracked = tracking @ d
-            change, sweep = self.volume(x, full, at_target)
+            tracked = self.tracking @ d
+            change, w = self.volume(x, full, at_target)
             change -= swell
-            e = 0.5 * float(d @ tracked) + 0.5 * lam * float(change @ change) + self.barrier(contacts, self.mesh, x)
-            return e, tracked, change, sweep
+            e = 0.5 * float(d @ tracked) + 0.5 * lam * change ** 2 + self.barrier(contacts, self.mesh, x)
+            return e, tracked, change, w.ravel()
 
         x = x.copy()
         if contacts is None:
             contacts = self.collisions(self.candidates(x, x), x)
-        e0, tracked, change, sweep = energy(x, contacts)
+        e0, tracked, change, w = energy(x, contacts)
         taken = 0
         reach = MAX_STEP  # the trust region: the longest vertex move offered to CCD
         while taken < iterations:
             taken += 1
             others = tracked + self.barrier.gradient(contacts, self.mesh, x)  # the gradient but the volume's
-            gradient = others + lam * (sweep @ change)
+            gradient = others + lam * change * w
             hessian = self.barrier.hessian(contacts, self.mesh, x, ipctk.PSDProjectionMethod.CLAMP)
-            h = _factor(tracking + hessian)
-            # (H + λ W Wᵀ) step = −(others + λ W ΔV) by Sherman–Morrison–Woodbury, the volume's large terms kept
-            # out of the solves (solved with them, the step is a small difference of large vectors)
-            u = h.solve(-others)
-            if lam > 0.0:
-                z = h.solve(sweep.toarray())
-                u -= z @ np.linalg.solve(np.eye(self.pieces) / lam + sweep.T @ z, sweep.T @ u + change)
-            step = u.reshape(-1, 3)
+            h = _factor(self.tracking + hessian)
+            # (H + λ w wᵀ) step = −(others + λ·ΔV·w) by Sherman–Morrison, the volume's large terms kept out of
+            # the solves (solved with them, the step is a small difference of large vectors)
+            u, v = h.solve(-others), h.solve(w)
+            step = (u - v * (lam * (change + w @ u) / (1.0 + lam * (w @ v)))).reshape(-1, 3)
             longest = float(np.linalg.norm(step, axis=1).max())
             if longest < tolerance:
                 break
@@ -356,11 +290,11 @@ class _Problem:
             while True:  # backtracking (Armijo) within the collision-free part of the step
                 trial = x + alpha * step
                 contacts = self.collisions(self.candidates(trial, trial), trial)  # kept for the next iteration
-                e, t, ch, sw = energy(trial, contacts)
+                e, t, ch, wt = energy(trial, contacts)
                 if alpha <= 1e-6 or e <= e0 + 1e-4 * alpha * slope:
                     break
                 alpha *= 0.5
-            x, e0, tracked, change, sweep = trial, e, t, ch, sw
+            x, e0, tracked, change, w = trial, e, t, ch, wt
             if alpha * np.abs(step).max() < tolerance:
                 break
         return x, taken, contacts
@@ -373,14 +307,12 @@ class _Problem:
 def barrier_resolve(path: Sequence[np.ndarray], test: SelfContact, stiffness: float = STIFFNESS,
                     smoothing: float = SMOOTHING, dhat: float = DHAT, reach: float = REACH, rings: int = RINGS,
                     iterations: int = NEWTON, tolerance: float = TOLERANCE,
-                    incompressibility: float = INCOMPRESSIBILITY, folding: Sequence[int] = (),
-                    reference: np.ndarray | None = None, free: np.ndarray | None = None, resumed: bool = False
-                    ) -> BarrierResult:
+                    incompressibility: float = INCOMPRESSIBILITY, folding: Sequence[int] = (), swell: float = 0.0,
+                    free: np.ndarray | None = None, resumed: bool = False) -> BarrierResult:
     """The skin at the last of `path`'s postures (each (V, 3); the first should be free of crossings,
     e.g. the rest skin), with no skin of one contact group passing into another's: each posture in
-    turn is the target y of the barrier problem, started from the previous solution. reference (V, 3): the
-    skin whose volume the last step holds, piece by piece (`volume_pieces`; default the last posture: the
-    elastic skin before its creases were tied back gives the volume they give up back beside them);
+    turn is the target y of the barrier problem, started from the previous solution. swell (m³): the
+    last step holds the enclosed volume at V(y) + swell (the volume a crease gives up, back round it);
     free (steps, V) bool: each step's unknowns, if already found (default: `contact_regions` of the path:
     the skin that may meet other skin by that step; the rest takes the step's posture, as skin that may
     meet nothing takes it); resumed: the first posture is a `before_last` of a barrier on the same free
@@ -405,14 +337,14 @@ def barrier_resolve(path: Sequence[np.ndarray], test: SelfContact, stiffness: fl
                 # skin that took its postures unchecked crosses where it joins the unknowns: every step with
                 # all of them, as from the path's start
                 return barrier_resolve(path, test, stiffness, smoothing, dhat, reach, rings, iterations, tolerance,
-                                       incompressibility, folding, reference, np.broadcast_to(free[-1], free.shape),
+                                       incompressibility, folding, swell, np.broadcast_to(free[-1], free.shape),
                                        resumed)
         skin = np.array(y, dtype=float)
         if problem is None:  # nothing comes near other skin yet: the posture as it is
             taken.append(0)
             continue
         x, n, contacts = problem.minimise(before[problem.vertices], skin, iterations, tolerance, contacts,
-                                          reference if k == steps else None)
+                                          swell if k == steps else 0.0)
         skin[problem.vertices] = x
         taken.append(n)
     gap = dhat if problem is None or contacts is None else problem.min_distance(skin[problem.vertices], contacts)
