@@ -8,8 +8,9 @@ is compared on reading. It is written to a temporary file in the same folder and
 renamed into place: a reader never sees half an entry. A process about to build
 an entry holds the entry's lock file (`building`) while it builds, so a second
 process or Dask worker asking for the same entry waits and then reads it instead
-of building it again; a builder that dies releases its lock with its process. An entry that cannot be read whole (truncated, corrupt, another key) is
-removed with a one-line note and built again, never used.
+of building it again; a builder that dies releases its lock with its process. An
+entry that cannot be read whole (truncated, corrupt, another key) is removed with
+a one-line note and built again, never used.
 
 Where: `$HITOGATA_CACHE`, else the platform's user cache folder (`~/.cache/hitogata`
 on Linux). Size: at most `$HITOGATA_CACHE_LIMIT` megabytes (default `DEFAULT_LIMIT_MB`);
@@ -31,7 +32,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
-from filelock import FileLock
+from filelock import FileLock, Timeout
 
 from hitogata.errors import HitogataError
 from hitogata.export.atomic import write_atomically
@@ -171,7 +172,8 @@ def info() -> CacheInfo:
 
 
 def clear() -> tuple[int, int]:
-    """Remove every entry (and any temporary file a writer left); returns (entries, bytes) removed."""
+    """Remove every entry (and any temporary file a writer left, and the lock files of entries no process is
+    building); returns (entries, bytes) removed."""
     folder = cache_dir()
     removed, size = 0, 0
     for path in _entries(folder):
@@ -180,6 +182,12 @@ def clear() -> tuple[int, int]:
         removed += 1
     for path in folder.glob(".*.tmp") if folder.is_dir() else ():
         path.unlink(missing_ok=True)
+    for path in folder.glob(f"*{LOCK_SUFFIX}") if folder.is_dir() else ():
+        try:
+            with FileLock(path, blocking=False):  # an entry being built now keeps its lock
+                path.unlink(missing_ok=True)
+        except Timeout:
+            pass
     return removed, size
 
 
