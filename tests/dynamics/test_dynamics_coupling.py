@@ -6,8 +6,10 @@ import numpy as np
 import pytest
 
 from hitogata.dynamics import BodyDynamics, Keyframe, Timeline, simulate
+from hitogata.dynamics.quasistatic import rotate
 from hitogata.dynamics.rigging import joint_nodes
 from hitogata.elastic import build_elastic_model
+from hitogata.fem import no_modes
 
 STRETCH = ("contraction", "rectus_abdominis_l")
 
@@ -74,6 +76,25 @@ def test_a_held_contraction_settles_at_the_rate_the_damping_ratios_give(dynamics
     gap = np.linalg.norm(dynamics.superpose(motion.q[-1] - motion.s[-1]), axis=1).max()
     peak = np.linalg.norm(motion.elastic, axis=2).max()
     assert peak > 1e-3 and gap < 1e-3 * peak
+
+
+def test_a_model_built_without_modes_is_the_quasi_static_part_and_takes_its_modes_later(dynamics, female, model):
+    """Held postures need no modes: a model built with none moves as the full dynamics' quasi-static part
+    (its elastic displacement less the modes' R Φ (q − s)); given the modes afterwards it is the full
+    dynamics exactly."""
+    bare = BodyDynamics.build(female, dataclasses.replace(model, modes=no_modes(len(model.points))))
+    assert bare.eigenvalues.shape == (0,) and bare.vectors.shape == (len(model.points), 3, 0)
+    ramp = ramp_and_hold(-0.05)
+    quasi = simulate(bare, ramp, duration=0.3, rate=20, on_limit="clamp")
+    full = simulate(dynamics, ramp, duration=0.3, rate=20, on_limit="clamp")
+    _, node_rotations = dynamics.rig.pose(full.rotations, full.translations)
+    modal = np.stack([rotate(r, dynamics.superpose(q - s)) for r, q, s in zip(node_rotations, full.q, full.s)])
+    peak = np.linalg.norm(full.elastic, axis=2).max()
+    assert peak > 1e-3 and np.linalg.norm(modal, axis=2).max() > 1e-2 * peak  # the modes do move it
+    assert np.abs(quasi.elastic - (full.elastic - modal)).max() < 1e-5 * peak  # float32 frames
+    given = bare.with_modes(model.modes)
+    for name in ("vectors", "vectors32", "projector", "eigenvalues"):
+        assert np.array_equal(getattr(given, name), getattr(dynamics, name)), name
 
 
 def test_undamped_modal_dynamics_keeps_its_energy_for_10_s(female, model):

@@ -60,6 +60,7 @@ if TYPE_CHECKING:
     from hitogata.body.model import Body
     from hitogata.geometry.contact import SelfContact
     from hitogata.elastic import ElasticModel
+    from hitogata.fem.modes import Modes
 
 CARTILAGE = 10.0
 CUT_FADE = 4.0  # elements: the skin's elastic displacement fades in over this distance from a trunk's cuts
@@ -120,14 +121,15 @@ class BodyDynamics:
             name: model.muscle_load(name, 1.0).reshape(-1, 3) for name in model.muscle_names
             if len(model.muscle_elements(name))}
         mass = lumped_masses(model.points, model.elements, model.rho)[::3]
-        # A mode without stiffness (a piece of mesh hinged at one node) has no equilibrium to return
-        # to: its motion is left to the quasi-statics.
-        stiff = np.asarray(model.modes.eigenvalues) > (2.0 * np.pi * MIN_FREQUENCY) ** 2
-        phi = model.modes.vectors[:, stiff]
-        projector = np.ascontiguousarray((model.M @ phi).T)
-        return cls(poser, model, rig, statics, loads, mass, phi.reshape(len(model.points), 3, -1),
-                   np.ascontiguousarray(phi, dtype=np.float32), projector, np.asarray(model.modes.eigenvalues)[stiff],
-                   cut_fade(body.vertices, model))
+        return cls(poser, model, rig, statics, loads, mass, *_modal_basis(model), cut_fade(body.vertices, model))
+
+    def with_modes(self, modes: Modes) -> BodyDynamics:
+        """The same dynamics with the model's modes replaced by `modes` (of the same K and M): a body built
+        for held postures, which need none, given the modes a motion's dynamics superposes."""
+        model = replace(self.model, modes=modes)
+        vectors, vectors32, projector, eigenvalues = _modal_basis(model)
+        return replace(self, model=model, vectors=vectors, vectors32=vectors32, projector=projector,
+                       eigenvalues=eigenvalues)
 
     @property
     def n_nodes(self) -> int:
@@ -218,6 +220,17 @@ class BodyDynamics:
         if elements.shape[1] == 10:
             delta[elements[:, 4:]] = 0.5 * (delta[elements[:, P2_EDGES[:, 0]]] + delta[elements[:, P2_EDGES[:, 1]]])
         return delta, size
+
+
+def _modal_basis(model: ElasticModel) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """The model's stiff modes as the dynamics superposes them: shapes (N, 3, k), the same (3N, k) in float32,
+    the projector Φᵀ M (k, 3N) and the eigenvalues (k,). A mode without stiffness (a piece of mesh hinged
+    at one node) has no equilibrium to return to: its motion is left to the quasi-statics."""
+    stiff = np.asarray(model.modes.eigenvalues) > (2.0 * np.pi * MIN_FREQUENCY) ** 2
+    phi = model.modes.vectors[:, stiff]
+    projector = np.ascontiguousarray((model.M @ phi).T)
+    return (phi.reshape(len(model.points), 3, -1), np.ascontiguousarray(phi, dtype=np.float32), projector,
+            np.asarray(model.modes.eigenvalues)[stiff])
 
 
 def cut_fade(vertices: np.ndarray, model: ElasticModel) -> np.ndarray:

@@ -30,6 +30,8 @@ from hitogata.dynamics.contact import approach
 from hitogata.dynamics.creases import solve_creased
 from hitogata.dynamics.motion import BodyDynamics
 from hitogata.elastic.materials import Materials
+from hitogata.elastic.model import EIGEN_TOLERANCE
+from hitogata.fem.modes import solve_modes
 from hitogata.dynamics.quality import STATIC_ITERATIONS, PoseQuality, pose_quality
 from hitogata.dynamics.quasistatic import rotate
 from hitogata.geometry.barrier_contact import BarrierResult, contact_regions
@@ -49,11 +51,13 @@ def held_dynamics(body: Body) -> dict[tuple[float, str], BodyDynamics]:
 
 
 def elastic_dynamics(body: Body, element_size: float = ELEMENT_SIZE, materials: Materials | None = None,
-                     n_modes: int = 2, cache: bool | None = None) -> BodyDynamics:
+                     n_modes: int = 0, cache: bool | None = None) -> BodyDynamics:
     """The whole body's elastic model ready for posing, built once per body, element size and materials
     (kept with the body, `held_dynamics`, and on disk: `dynamics.model_cache`; `cache` False: not read
     nor written there, None: as `HITOGATA_NO_CACHE` says; `materials` None: the shipped presets).
-    Statics need no modes (2 by default); a model built with more serves a call asking for fewer."""
+    A held posture needs no modes (none by default: their factor is half the build); a motion's dynamics
+    asks for its `n_modes`, solved then on the model already built, which then serves every call asking
+    for as many or fewer."""
     from hitogata.dynamics.model_cache import cached_dynamics
     from hitogata.elastic import load_materials
     from hitogata.elastic.cache import materials_values
@@ -62,9 +66,13 @@ def elastic_dynamics(body: Body, element_size: float = ELEMENT_SIZE, materials: 
     key = (element_size, json.dumps(materials_values(table)))  # by value: a file's name is not its materials
     built = body.prepared(held_dynamics)
     cached = built.get(key)
-    if cached is None or len(cached.eigenvalues) < n_modes:
+    if cached is None:
         built[key] = cached = cached_dynamics(body, cache=cache, extent="body", element_size=element_size,
                                               n_modes=n_modes, materials=table)
+    elif len(cached.model.modes.eigenvalues) < n_modes:
+        model = cached.model
+        built[key] = cached = cached.with_modes(
+            solve_modes(model.K, model.M, n_modes, model.fixed_nodes, tol=EIGEN_TOLERANCE))
     return cached
 
 

@@ -29,6 +29,7 @@ from hitogata.fem import (
     gravity_load,
     mass_matrix,
     muscle_eigenstrain,
+    no_modes,
     p2_mesh,
     rayleigh_coefficients,
     region_materials,
@@ -175,7 +176,8 @@ def build_elastic_model(body: Body, *, extent: Extent = "trunk", element_size: f
 
     extent: "trunk" (the paper's) or "body"; element_size: lattice spacing in
     mm (default per element type, `DEFAULT_ELEMENT_SIZES`); element: "P2"
-    (quadratic tets, default) or "P1"; materials: a TOML path, a `Materials`,
+    (quadratic tets, default) or "P1"; n_modes: the lowest modes to solve (0: none, for
+    held postures, which need none); materials: a TOML path, a `Materials`,
     or None for the shipped defaults; bone: "rigid" (bone nodes follow the
     skeleton) or "elastic" (bone deforms, only its axis follows the
     skeleton); cuts: "free" (the paper's bare trunk: fixed_nodes are the bone
@@ -211,7 +213,8 @@ def build_elastic_model(body: Body, *, extent: Extent = "trunk", element_size: f
     timings["assembly"] = time.perf_counter() - start
 
     start = time.perf_counter()
-    modes = solve_modes(system.K, system.M, n_modes, system.fixed_nodes, solver=solver, tol=EIGEN_TOLERANCE)
+    modes = no_modes(len(system.points)) if n_modes == 0 else solve_modes(
+        system.K, system.M, n_modes, system.fixed_nodes, solver=solver, tol=EIGEN_TOLERANCE)
     timings["modes"] = time.perf_counter() - start
 
     start = time.perf_counter()

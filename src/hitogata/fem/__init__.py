@@ -52,7 +52,7 @@ from hitogata.fem.modal_dynamics import (
     modal_step,
     superpose,
 )
-from hitogata.fem.modes import Modes, frequencies_hz, solve_modes
+from hitogata.fem.modes import Modes, frequencies_hz, no_modes, solve_modes
 
 __all__ = [
     "Material", "ModalStep", "Modes", "Pattern",
@@ -60,6 +60,6 @@ __all__ = [
     "damping_ratios", "eigenstrain_load", "factorize", "fibre_eigenstrain",
     "frequencies_hz", "gravity_load", "integrate_modes", "lift_node_set", "lumped_masses", "mass_matrix",
     "modal_damping", "modal_energy", "modal_loads", "modal_step", "muscle_eigenstrain",
-    "nodal_load", "p2_mesh", "rayleigh_coefficients", "region_materials", "solve_modes",
+    "no_modes", "nodal_load", "p2_mesh", "rayleigh_coefficients", "region_materials", "solve_modes",
     "sparsity", "stiffness_matrix", "superpose", "tet_geometry", "traction_load",
 ]

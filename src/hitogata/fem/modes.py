@@ -39,6 +39,12 @@ class Modes:
         return frequencies_hz(self.eigenvalues)
 
 
+def no_modes(n_nodes: int) -> Modes:
+    """No modes of a model of `n_nodes` nodes: what a model built for held postures carries (statics need
+    none, and the shift-invert factor they would take is half the model's build)."""
+    return Modes(np.zeros(0), np.zeros((3 * n_nodes, 0)))
+
+
 def frequencies_hz(eigenvalues: np.ndarray) -> np.ndarray:
     """sqrt(lambda) / 2 pi, with round-off negatives (rigid-body modes) read as 0 Hz."""
     return np.sqrt(np.maximum(np.asarray(eigenvalues, dtype=float), 0.0)) / (2.0 * np.pi)

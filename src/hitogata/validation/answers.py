@@ -104,7 +104,7 @@ class BodyCache:
         if key not in self.bodies:
             try:
                 built = self.bodies[key] = _build_body(sex, subjects)
-                self.modes[id(built)] = RESONANCE_MODES if key in self.resonant else 2
+                self.modes[id(built)] = RESONANCE_MODES if key in self.resonant else 0
             except HitogataError as err:
                 self.bodies[key] = err
         made = self.bodies[key]
@@ -116,7 +116,7 @@ class BodyCache:
         """The body's whole elastic model for held postures (with its modes where a row needs them)."""
         from hitogata.dynamics.single_pose import elastic_dynamics
 
-        return elastic_dynamics(body, self.element_size, self.materials, n_modes=self.modes.get(id(body), 2))
+        return elastic_dynamics(body, self.element_size, self.materials, n_modes=self.modes.get(id(body), 0))
 
 
 def _build_body(sex: str, subjects: Subjects) -> Body:
