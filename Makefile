@@ -4,7 +4,7 @@ VENV ?= .venv
 PY := $(VENV)/bin/python
 STAMP := $(VENV)/.installed-stamp
 
-.PHONY: demo test test-fast lint bench install clean system-render system-test
+.PHONY: demo test test-fast repin lint bench install clean system-render system-test
 
 demo: system-render $(STAMP)
 	$(VENV)/bin/hitogata demo --out demo --force  # a second run replaces the first one's files
@@ -21,6 +21,14 @@ test: system-test $(STAMP) tools/node_modules/.package-lock.json lint
 # (load 5-7; the wider not-slow set took 33 min in one process there), so about 2.5 min on two idle cores.
 test-fast: $(STAMP)
 	$(PY) -m pytest -q -n 2 --dist loadscope -m "not slow and not integration and not browser and not render" $(PYTEST_ARGS)
+
+# Regression figures live in tests/golden/ (tests/golden.py). After a change that moves them on purpose:
+# make repin TESTS=tests/skin/test_extreme_poses.py  (one process) lists each moved figure, old and new, then
+# the golden files' diff; the change says why each moved (CHANGELOG.md or its decision).
+TESTS ?= tests
+repin: $(STAMP)
+	$(PY) -m pytest -q -n0 --repin $(TESTS)
+	git diff --stat -- tests/golden
 
 lint: $(STAMP)
 	$(VENV)/bin/ruff check src tests benchmarks

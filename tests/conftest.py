@@ -9,9 +9,11 @@ through `gltf_validator.needs_validator`), and `-m "not slow"` for a quick run.
 import os
 import shutil
 import tempfile
+from pathlib import Path
 
 import pytest
 
+from golden import GoldenFile, golden_path
 from hitogata.body import Body, default_body
 from hitogata.disk_cache import CACHE_ENV
 
@@ -52,15 +54,49 @@ NEEDS: dict[str, tuple[str, ...]] = {
 
 
 _CACHE_FOLDER = pytest.StashKey[str]()
+_GOLDEN = pytest.StashKey[dict[Path, GoldenFile]]()
+
+
+def pytest_addoption(parser: pytest.Parser) -> None:
+    parser.addoption("--repin", action="store_true",
+                     help="write the figures the tests compute into their golden files (tests/golden.py), in one "
+                          "process (-n0), and list those that moved")
 
 
 def pytest_configure(config: pytest.Config) -> None:
     """The model cache in a folder of this run, never the user's: set before pytest-xdist starts its workers
-    (they inherit it and share it), and by each process its own when run alone."""
+    (they inherit it and share it), and by each process its own when run alone. `--repin` in one process."""
+    if config.getoption("repin") and (config.getoption("numprocesses", None) or 0):
+        raise pytest.UsageError("--repin writes the golden files from one process: add -n0")
+    config.stash[_GOLDEN] = {}
     if CACHE_ENV not in os.environ or not os.environ.get("PYTEST_XDIST_WORKER"):
         folder = tempfile.mkdtemp(prefix="hitogata-test-cache-")
         os.environ[CACHE_ENV] = folder
         config.stash[_CACHE_FOLDER] = folder
+
+
+@pytest.fixture(scope="module")
+def golden(request: pytest.FixtureRequest) -> GoldenFile:
+    """The test module's golden figures (`tests/golden.py`): `golden.check(key, value, rel=..., abs=...)`."""
+    files = request.config.stash[_GOLDEN]
+    path = golden_path(request.module.__file__)
+    if path not in files:
+        files[path] = GoldenFile(path, bool(request.config.getoption("repin")))
+    return files[path]
+
+
+def pytest_terminal_summary(terminalreporter, config: pytest.Config) -> None:
+    """With --repin: the golden files written, and every figure that moved (old → new)."""
+    if not config.getoption("repin"):
+        return
+    for path, figures in sorted(config.stash.get(_GOLDEN, {}).items()):
+        if figures.moved:
+            figures.write()
+            terminalreporter.write_line(f"{path.relative_to(Path(__file__).parents[1])}: {len(figures.moved)} moved")
+            for key, (old, new) in sorted(figures.moved.items()):
+                terminalreporter.write_line(f"  {key}: {old} -> {new}")
+    if not any(f.moved for f in config.stash.get(_GOLDEN, {}).values()):
+        terminalreporter.write_line("golden files: no figure moved")
 
 
 def pytest_unconfigure(config: pytest.Config) -> None:
