@@ -58,6 +58,14 @@ def test_the_shipped_set_has_every_kind_from_enough_sources():
         assert r.unit in UNITS[r.kind] and r.sd >= 0, r.id
 
 
+def test_every_guessed_spread_is_said_in_its_note():
+    """A row whose spread is an assumption (no spread in the paper) says so where a reader looks: its note."""
+    guessed = [r for r in load_dataset().rows if r.sd_of == "guessed"]
+    assert guessed
+    for r in guessed:
+        assert "GUESSED SPREAD" in r.note and r.sd > 0, r.id
+
+
 def test_every_shipped_posture_is_one_the_skeleton_takes(female):
     from hitogata.validation.answers import reachable
 
