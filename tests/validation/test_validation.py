@@ -13,7 +13,7 @@ from hitogata.elastic.materials import load_materials
 from hitogata.measure.strain import directional_stretch
 from hitogata.validation import KINDS, load_dataset
 from hitogata.validation.answers import BodyCache, answer_dataset
-from hitogata.validation.dataset import UNITS
+from hitogata.validation.dataset import UNITS, Dataset
 from hitogata.posing import poser_for
 
 SOURCE = """
@@ -56,6 +56,30 @@ def test_the_shipped_set_has_every_kind_from_enough_sources():
         source = data.sources[r.source]
         assert source.authors and source.journal and source.method and source.n >= 1, r.id
         assert r.unit in UNITS[r.kind] and r.sd >= 0, r.id
+
+
+def test_every_guessed_spread_is_said_in_its_note():
+    """A row whose spread is an assumption (no spread in the paper) says so where a reader looks: its note."""
+    guessed = [r for r in load_dataset().rows if r.sd_of == "guessed"]
+    assert guessed
+    for r in guessed:
+        assert "GUESSED SPREAD" in r.note and r.sd > 0, r.id
+
+
+def test_the_chest_girth_of_a_light_arm_lift_is_shipped_as_the_study_gives_it():
+    """The 4D-scan figure a pattern maker asks first (the chest girth with the arms lifted a little: about
+    +8 cm) is in the set as read: one man, a round figure with a guessed spread, the arm angle an assumption
+    the note states; and the model answers it on the skinned surface."""
+    data = load_dataset()
+    row = next(r for r in data.rows if r.id == "klepser2020-chest-armlift")
+    assert (row.kind, row.quantity, row.unit, row.mean, row.sd_of) == (
+        "posture_change", "chest_girth", "cm", 8.0, "guessed")
+    assert "ASSUMPTION" in row.note and not row.read_off_plot
+    assert set(row.posture) == {"shoulder.flexion"} and 0 < row.posture["shoulder.flexion"] < 90
+    assert data.source_of(row).subjects.sex == "male"
+    alone = Dataset(data.path, data.sources, (row,))
+    answer = answer_dataset(alone, surfaces=("skinned",))[0].answers["skinned"]
+    assert answer.value is not None and np.isfinite(answer.value), answer.reason
 
 
 def test_every_shipped_posture_is_one_the_skeleton_takes(female):
@@ -213,3 +237,18 @@ def test_the_docs_page_is_the_one_validate_writes():
     for kind in {r.kind for r in data.rows}:  # each kind's table holds its rows in the file's order
         rows = [r.id for r in data.rows if r.kind == kind]
         assert [x for x in listed if x in rows][:len(rows)] == rows, kind
+
+
+def test_a_guessed_spread_bounds_no_posture_change():
+    """The envelope of plausible posture changes takes only rows whose spread was measured: the calf's from the
+    studies that gave one (not the guessed ones), the chest's from the skin (its one row's spread is guessed)."""
+    from hitogata.validation.envelope import allowed_change
+
+    data = load_dataset()
+    calf = allowed_change(data, "calf_girth", 0.36)
+    assert "gerilabs2022-calf-sit-r" in calf.basis and "jeong2020" not in calf.basis
+    widest = max(abs(r.mean) + 2 * r.sd for r in data.rows
+                 if r.quantity == "calf_girth" and r.sd_of != "guessed") / 100
+    assert calf.high == pytest.approx(widest) and calf.low == pytest.approx(-widest)
+    chest = allowed_change(data, "chest_girth", 1.0)
+    assert chest.basis == "the skin's measured stretch" and chest.high > 0.12  # wider than the guessed +8 ± 2·2 cm

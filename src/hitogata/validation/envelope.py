@@ -1,8 +1,9 @@
 """The changes with posture that measured people allow: a girth or length's plausible range, from the rows.
 
 Where the validation set measured a girth or length in some posture, no posture changes it, either way,
-by more than the largest of those rows' |mean| + 2 SD (the most any measured posture moved it). Where it
-holds no row of that
+by more than the largest of those rows' |mean| + 2 SD (the most any measured posture moved it). A row
+whose spread was guessed (`sd_of = "guessed"`: its study gave a mean alone) bounds nothing, as it counts
+in no headline share: its 2 SD is nobody's measurement. Where the set holds no measured row of that
 measurement, the skin sets the bound: a surface length or girth cannot stretch or shrink more than the
 skin along it does, so the largest skin stretch and shrink the set's skin-strain rows report (mean ± 2 SD)
 bound it, either way.
@@ -31,7 +32,7 @@ def allowed_change(dataset: Dataset, name: str, standing: float) -> Allowed:
     """The range of `name`'s change from standing (m) that the validation rows allow (module text)."""
     spans = []
     for row in dataset.rows:
-        if row.kind == "posture_change" and row.quantity == name:
+        if row.kind == "posture_change" and row.quantity == name and row.sd_of != "guessed":
             scale = 0.01 if row.unit == "cm" else standing / 100.0
             spans.append(((row.mean - 2 * row.sd) * scale, (row.mean + 2 * row.sd) * scale, row.id))
     if spans:
