@@ -15,7 +15,8 @@ import numpy as np
 import pytest
 
 from hitogata.body import Body, default_body
-from hitogata.elastic import DEFAULT_ELEMENT_SIZES, build_elastic_model
+from hitogata.dynamics.model_cache import cached_dynamics
+from hitogata.elastic import DEFAULT_ELEMENT_SIZES
 from hitogata.elastic.model import EIGEN_TOLERANCE, assemble_system
 from hitogata.fem import solve_modes
 from hitogata.volume import build_volume_model
@@ -92,6 +93,6 @@ def test_default_bodies_lowest_whole_body_frequencies(golden, sex):
     """The whole body's six lowest frequencies (Hz) at the elastic defaults (P2, 40 mm, rigid bone, shipped
     materials): the demo's default bodies, pinned to 1e-3 in tests/golden/volume/test_body_mesh_grid.json
     (docs/elastic.md quotes them)."""
-    body, volume = _whole_body(sex, None, None)
-    model = build_elastic_model(body, extent="body", n_modes=6, volume=volume)
+    # the model cache's entry, which tests/elastic/test_elastic_model.py reads too: built once in a run
+    model = cached_dynamics(default_body(sex), extent="body", element_size=40.0, n_modes=6).model
     golden.check(f"{sex}.whole_body_frequencies_hz", model.frequencies, rel=1e-3)
