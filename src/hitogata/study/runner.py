@@ -14,6 +14,7 @@ body-independent data is loaded once per worker by a worker plugin.
 from __future__ import annotations
 
 import json
+import logging
 import os
 import secrets
 import signal
@@ -183,7 +184,9 @@ def local_cluster(workers: int, memory_limit: str = MEMORY_LIMIT, dashboard: str
     Everything listens on this machine only: the scheduler and workers on 127.0.0.1, the dashboard
     where `dashboard` says (host:port; None: no dashboard). The worker processes start with Ctrl-C
     ignored: the terminal sends it to the whole process group, and the command, not each worker,
-    answers it (the cluster is closed, no worker prints a traceback).
+    answers it (the cluster is closed, no worker prints a traceback). Dask's own log lines are kept to
+    the critical ones: a task's failure reaches the command through its future and is said there, and a
+    worker whose heartbeat meets the scheduler closing on Ctrl-C logs a traceback at ERROR level.
     """
     from distributed import Client, LocalCluster
 
@@ -191,7 +194,7 @@ def local_cluster(workers: int, memory_limit: str = MEMORY_LIMIT, dashboard: str
     previous = signal.signal(signal.SIGINT, signal.SIG_IGN) if main else None
     try:
         cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, memory_limit=memory_limit,
-                               host="127.0.0.1", dashboard_address=dashboard, silence_logs=40)
+                               host="127.0.0.1", dashboard_address=dashboard, silence_logs=logging.CRITICAL)
     finally:
         if main:
             signal.signal(signal.SIGINT, previous)
