@@ -94,7 +94,7 @@ class BodyCache:
     element_size: float = MODEL_ELEMENT_SIZE  # mm, the whole body's lattice
     resonant: set[tuple] = field(default_factory=set)
     bodies: dict[tuple, Body | HitogataError] = field(default_factory=dict)
-    modes: dict[int, int] = field(default_factory=dict)  # id(body) → modes its elastic model is built with
+    modes: dict[int, int] = field(default_factory=dict)  # id(body) → modes its elastic model needs (resonance rows' bodies)
     postures: dict[tuple, tuple[np.ndarray, np.ndarray]] = field(default_factory=dict)
     garments: dict[tuple, object] = field(default_factory=dict)  # (body, contact garment) → solve or its error
     covered: dict[str, tuple[str, ...]] = field(default_factory=dict)  # pressure row id → its garment's levels
@@ -104,7 +104,8 @@ class BodyCache:
         if key not in self.bodies:
             try:
                 built = self.bodies[key] = _build_body(sex, subjects)
-                self.modes[id(built)] = RESONANCE_MODES if key in self.resonant else 0
+                if key in self.resonant:
+                    self.modes[id(built)] = RESONANCE_MODES
             except HitogataError as err:
                 self.bodies[key] = err
         made = self.bodies[key]
