@@ -61,8 +61,10 @@ def refuse_body_options(args: argparse.Namespace, why: str) -> None:
         raise HitogataError(f"{given[0]} {value}: does not apply here ({why}); leave out {', '.join(given)}")
 
 
-def add_materials_argument(parser: argparse.ArgumentParser, help: str = "the tissue materials") -> None:
-    """--materials: a shipped preset by name or a materials TOML file (e.g. written by `hitogata identify`)."""
+def add_materials_argument(parser: argparse.ArgumentParser, help: str = "the tissue materials",
+                           option: str = "--materials", default_text: str = "literature") -> None:
+    """--materials (or `option`): a shipped preset by name or a materials TOML file (e.g. written by
+    `hitogata identify`)."""
     from hitogata.commands.paths import input_path
     from hitogata.options import MATERIALS_PRESETS
 
@@ -71,9 +73,9 @@ def add_materials_argument(parser: argparse.ArgumentParser, help: str = "the tis
 
         return shipped_materials()
 
-    parser.add_argument("--materials", default=None, type=input_path("file", suffixes=(".toml",), names=presets),
+    parser.add_argument(option, default=None, type=input_path("file", suffixes=(".toml",), names=presets),
                         help=f"{help}: a preset ({', '.join(MATERIALS_PRESETS)}) or a materials TOML file (e.g. "
-                             "from hitogata identify); default literature")
+                             f"from hitogata identify); default {default_text}")
 
 
 def add_cache_argument(parser: argparse.ArgumentParser) -> None:

@@ -61,6 +61,29 @@ def compare(answers: Sequence[RowAnswers]) -> list[Comparison]:
                        {s: a.answers[s].reason for s in a.answers if a.answers[s].value is None}) for a in answers]
 
 
+def with_surface(comparisons: Sequence[Comparison], others: Sequence[Comparison], surface: str,
+                 name: str) -> list[Comparison]:
+    """`comparisons` with `others`' answers on `surface` added as the surface `name` (the same rows, in order:
+    the elastic surface answered again with other materials, say)."""
+    if [c.row.id for c in comparisons] != [c.row.id for c in others]:
+        raise ValueError("the two comparisons hold different rows")
+    out = []
+    for mine, other in zip(comparisons, others, strict=True):
+        values, reasons = dict(mine.values), dict(mine.reasons)
+        if surface in other.values:
+            values[name] = other.values[surface]
+        if surface in other.reasons:
+            reasons[name] = other.reasons[surface]
+        out.append(Comparison(mine.row, values, reasons))
+    return out
+
+
+def surfaces_of(comparisons: Sequence[Comparison]) -> tuple[str, ...]:
+    """The surfaces answered: the skinned and the elastic, then any added (`with_surface`), in order."""
+    extra = dict.fromkeys(s for c in comparisons for s in c.values if s not in SURFACES)
+    return (*SURFACES, *extra)
+
+
 def summary(comparisons: Sequence[Comparison]) -> list[Share]:
     """Per kind (and 'all') and surface: rows answered, within 1 SD, within 2 SD, undefined. Rows whose
     study reported no spread (`sd_of = "guessed"`) are left out: an error in units of an assumed SD
@@ -71,7 +94,7 @@ def summary(comparisons: Sequence[Comparison]) -> list[Share]:
         mine = [c for c in reported if kind in ("all", c.row.kind)]
         if not mine:
             continue
-        for surface in SURFACES:
+        for surface in surfaces_of(comparisons):
             zs = [c.z(surface) for c in mine if surface in c.values]
             answered = [abs(z) for z in zs if z is not None]
             if not zs:
@@ -120,6 +143,12 @@ COLUMNS = ("row", "kind", "quantity", "posture", "source", "where", "read_off_pl
            "sd_of", "unit", "skinned", "elastic", "z_skinned", "z_elastic", "undefined_because")
 
 
+def columns(comparisons: Sequence[Comparison]) -> tuple[str, ...]:
+    """The table's columns: `COLUMNS`, then an added surface's answer and z (`with_surface`) before the reasons."""
+    extra = surfaces_of(comparisons)[len(SURFACES):]
+    return (*COLUMNS[:-1], *(c for s in extra for c in (s, f"z_{s}")), COLUMNS[-1])
+
+
 def posture_text(row: Row) -> str:
     """'thigh.flexion=90deg …', 'standing' for a postured row at rest, '' for a row without a posture."""
     if row.kind not in POSTURED:
@@ -130,6 +159,7 @@ def posture_text(row: Row) -> str:
 def records(comparisons: Sequence[Comparison], dataset: Dataset) -> list[dict]:
     """One dict per row with the table's columns (numbers rounded for reading, None where undefined)."""
     out = []
+    extra = surfaces_of(comparisons)[len(SURFACES):]
     for c in comparisons:
         r = c.row
         out.append({
@@ -138,6 +168,7 @@ def records(comparisons: Sequence[Comparison], dataset: Dataset) -> list[dict]:
             "measured_mean": r.mean, "measured_sd": r.sd, "sd_of": r.sd_of, "unit": r.unit,
             "skinned": _round(c.values.get("skinned")), "elastic": _round(c.values.get("elastic")),
             "z_skinned": _round(c.z("skinned")), "z_elastic": _round(c.z("elastic")),
+            **{k: v for s in extra for k, v in ((s, _round(c.values.get(s))), (f"z_{s}", _round(c.z(s))))},
             "undefined_because": "; ".join(f"{s}: {why}" for s, why in c.reasons.items()),
         })
     return out
@@ -149,18 +180,21 @@ def _round(value: float | None) -> float | None:
 
 def table_csv(comparisons: Sequence[Comparison], dataset: Dataset) -> str:
     buffer = io.StringIO()
-    writer = csv.DictWriter(buffer, COLUMNS, lineterminator="\n")
+    writer = csv.DictWriter(buffer, columns(comparisons), lineterminator="\n")
     writer.writeheader()
     for rec in records(comparisons, dataset):
         writer.writerow({k: "" if v is None else v for k, v in rec.items()})
     return buffer.getvalue()
 
 
-def table_json(comparisons: Sequence[Comparison], dataset: Dataset, materials: str) -> str:
+def table_json(comparisons: Sequence[Comparison], dataset: Dataset, materials: str,
+               also: Mapping[str, str] | None = None) -> str:
+    """The table as JSON; `also`: each added surface's materials (`with_surface`)."""
     shares = summary(comparisons)
     doc = {
         "validation_set": dataset.path,
         "materials": materials,
+        "materials_of_added_surfaces": dict(also or {}),
         "headline_within_2sd": headline(shares),
         "pressure_mean_abs_z": vars(pressure_errors(comparisons)),
         "summary": [{"kind": s.kind, "surface": s.surface, "answered": s.answered, "within_1sd": s.within_1sd,
@@ -195,10 +229,20 @@ PRESSURE_NOTE = [
 ]
 
 
-def table_markdown(comparisons: Sequence[Comparison], dataset: Dataset, materials: str, command: str) -> str:
-    """The docs page: headline, summary by kind, every row, the rows outside 2 SD with their reasons, sources."""
+def surface_label(surface: str) -> str:
+    """How the page names a surface: 'elastic_calibrated' (an added one, `with_surface`) as 'elastic (calibrated)'."""
+    base, _, materials = surface.partition("_")
+    return f"{base} ({materials})" if materials else surface
+
+
+def table_markdown(comparisons: Sequence[Comparison], dataset: Dataset, materials: str, command: str,
+                   also: Mapping[str, str] | None = None) -> str:
+    """The docs page: headline, summary by kind, every row, the rows outside 2 SD with their reasons, sources.
+    `also`: each added surface's materials as the page names them (`with_surface`)."""
     shares = summary(comparisons)
     head = headline(shares)
+    extra = surfaces_of(comparisons)[len(SURFACES):]
+    also = also or {}
     lines = [
         "# hitogata beside measured people",
         "",
@@ -209,16 +253,18 @@ def table_markdown(comparisons: Sequence[Comparison], dataset: Dataset, material
         "study's standard deviation; ✗ marks |z| > 2. Rows whose study reported no spread are shown",
         "with the spread the set assumes, and left out of the shares.",
         "",
-        f"Materials: `{materials}`.",
+        f"Materials: `{materials}`" + "".join(f"; {surface_label(s)}: the elastic surface again with `{also.get(s, s)}`"
+                                               for s in extra) + ".",
         "",
         "**Share of rows within 2 SD of the measurement:** "
-        + ", ".join(f"{s} {_pct(v)}" for s, v in head.items()) + ".",
+        + ", ".join(f"{surface_label(s)} {_pct(v)}" for s, v in head.items()) + ".",
         "",
         "| kind | surface | rows answered | within 1 SD | within 2 SD | undefined |",
         "|---|---|---|---|---|---|",
     ]
     for s in shares:
-        lines.append(f"| {s.kind} | {s.surface} | {s.answered} | {_pct(s.share_1sd)} | {_pct(s.share_2sd)} | "
+        lines.append(f"| {s.kind} | {surface_label(s.surface)} | {s.answered} | {_pct(s.share_1sd)} | "
+                     f"{_pct(s.share_2sd)} | "
                      f"{s.undefined} |")
     for kind in KINDS:
         mine = [c for c in comparisons if c.row.kind == kind]
@@ -228,8 +274,9 @@ def table_markdown(comparisons: Sequence[Comparison], dataset: Dataset, material
         lines += ["", f"## {kind.replace('_', ' ')}", ""]
         if kind == "pressure":
             lines += PRESSURE_NOTE
-        lines += [f"| row | quantity | posture | measured | {columns[0]} | z | {columns[1]} | z | source |",
-                  "|---|---|---|---|---|---|---|---|---|"]
+        added = "".join(f" {surface_label(s)} | z |" for s in extra)
+        lines += [f"| row | quantity | posture | measured | {columns[0]} | z | {columns[1]} | z |{added} source |",
+                  "|---|---|---|---|---|---|---|---|" + "---|---|" * len(extra) + "---|"]
         for c in mine:
             r = c.row
             plot = (" (plot)" if r.read_off_plot else "") + (" (spread assumed)" if r.sd_of == "guessed" else "")
@@ -237,20 +284,25 @@ def table_markdown(comparisons: Sequence[Comparison], dataset: Dataset, material
                 f"| {r.id} | {r.quantity} | {posture_text(r)} | {r.mean:.3g} ± {r.sd:.2g} {r.unit}{plot} | "
                 f"{_cell(c.values.get('skinned')) if 'skinned' in c.values else '—'} | {_z_cell(c.z('skinned'))} | "
                 f"{_cell(c.values.get('elastic'))} | {_z_cell(c.z('elastic'))} | "
-                f"{dataset.sources[r.source].authors.split(',')[0]} {dataset.sources[r.source].year}, {r.where} |")
+                + "".join(f"{_cell(c.values.get(s)) if s in c.values else '—'} | {_z_cell(c.z(s))} | " for s in extra)
+                + f"{dataset.sources[r.source].authors.split(',')[0]} {dataset.sources[r.source].year}, {r.where} |")
         if kind == "pressure":
             lines += ["", pressure_line(pressure_errors(mine))]
-    misses = [c for c in comparisons if any(z is not None and abs(z) > 2 for z in (c.z(s) for s in SURFACES))]
+    misses = [c for c in comparisons
+              if any(z is not None and abs(z) > 2 for z in (c.z(s) for s in surfaces_of(comparisons)))]
     if misses:
         lines += ["", "## Rows outside 2 SD, and why", "",
                   "Each with the study's own caveats as the validation set records them (where the model's posture, "
                   "zone or tissue differs from what the study measured):", ""]
-        lines += [f"- **{c.row.id}** ({'; '.join(f'{s} z {c.z(s):+.1f}' for s in SURFACES if c.z(s) is not None)}): "
+        lines += [f"- **{c.row.id}** ("
+                  + "; ".join(f"{surface_label(s)} z {z:+.1f}" for s in surfaces_of(comparisons)
+                              if (z := c.z(s)) is not None) + f"): "
                   f"{c.row.note or c.row.definition}" for c in misses]
     undefined = [c for c in comparisons if c.reasons]
     if undefined:
         lines += ["", "## Answers reported as undefined", ""]
-        lines += [f"- {c.row.id}: " + "; ".join(f"{s}: {why}" for s, why in c.reasons.items()) for c in undefined]
+        lines += [f"- {c.row.id}: " + "; ".join(f"{surface_label(s)}: {why}" for s, why in c.reasons.items())
+                  for c in undefined]
     lines += ["", "## Sources", ""]
     for src in dataset.sources.values():
         who = src.subjects
