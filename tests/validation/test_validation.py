@@ -155,6 +155,28 @@ def test_stiffness_rows_read_the_region_moduli_and_the_dermis_is_undefined(tmp_p
     assert got["dermis"].value is None and "one layer" in got["dermis"].reason
 
 
+def test_identification_fits_no_row_the_table_calls_undefined(tmp_path, capsys):
+    """The dermis alone is undefined in the table, so identification neither fits nor predicts it: the skin-and-fat
+    layer's modulus comes from the fat rows only, and a set of dermis rows alone is one line."""
+    from hitogata.validation.identify import identifiable, identify
+
+    text = SOURCE + "".join([row("fat", "stiffness", 3.0, 0.3, "kPa", "fat.shear_modulus.thigh", ""),
+                             row("dermis", "stiffness", 100.0, 30.0, "kPa", "skin.youngs_modulus.forearm", "")])
+    data = tmp_path / "rows.toml"
+    data.write_text(text)
+    assert [r.id for r in identifiable(load_dataset(data)).rows] == ["fat"]
+    fit = identify(load_dataset(data), load_materials())
+    fitted = dict(zip(fit.names, fit.constants))
+    # the fat row alone pins the layer: E = 2 (1 + nu) G at the fitted nu, not pulled towards the dermis's 100 kPa
+    assert fitted["skin.youngs_modulus"] == pytest.approx(2 * (1 + fitted["soft.poissons_ratio"]) * 3000.0, rel=0.02)
+    data.write_text(SOURCE + row("dermis", "stiffness", 100.0, 30.0, "kPa", "skin.youngs_modulus.forearm", ""))
+    out = tmp_path / "m.toml"
+    assert main(["identify", "--data", str(data), "--out", str(out)]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and "'dermis'" in err and "no region of the model" in err, err
+    assert not out.exists()
+
+
 def test_a_myometer_tap_is_undefined_and_not_fitted(tmp_path, capsys):
     """A hand-held probe's tap rings the tissue under it, not the segment on its skeleton: no answer, no fit."""
     from hitogata.validation.identify import identifiable

@@ -285,14 +285,34 @@ def _zone_directions(body: Body, faces: np.ndarray, zone, direction: str) -> tup
     return (along if direction == "vertical" else np.cross(normal, along)), area
 
 
-def _stiffness(row: Row, materials: Materials) -> Answer:
-    tissue, modulus, _ = row.quantity.split(".")
+DERMIS = ("the dermis is no region of its own: the model's skin region is skin and subcutaneous fat as one "
+          "layer (compare the fat rows)")
+
+
+def stiffness_region(row: Row) -> str | None:
+    """The model region a stiffness row measures ('muscle', or 'skin': the skin-and-fat layer, for fat), None for
+    the dermis alone, which is no region of the model (its answer is undefined, and identification fits no such
+    row)."""
+    tissue = row.quantity.split(".")[0]
     if tissue == "skin":
-        return Answer.undefined("the dermis is no region of its own: the model's skin region is skin and "
-                                "subcutaneous fat as one layer (compare the fat rows)")
-    m = materials.regions["muscle" if tissue == "muscle" else "skin"]
-    value = m.E if modulus == "youngs_modulus" else m.E / (2.0 * (1.0 + m.nu))
-    return Answer(value / 1000.0)
+        return None
+    return "muscle" if tissue == "muscle" else "skin"
+
+
+def stiffness_value(row: Row, youngs_modulus: float, poissons_ratio: float) -> float:
+    """A stiffness row's model value (kPa) from its region's Young's modulus (Pa) and Poisson's ratio: the
+    modulus itself, or the shear modulus E / 2(1 + ν), as the row's quantity names it."""
+    modulus = row.quantity.split(".")[1]
+    value = youngs_modulus if modulus == "youngs_modulus" else youngs_modulus / (2.0 * (1.0 + poissons_ratio))
+    return value / 1000.0
+
+
+def _stiffness(row: Row, materials: Materials) -> Answer:
+    region = stiffness_region(row)
+    if region is None:
+        return Answer.undefined(DERMIS)
+    m = materials.regions[region]
+    return Answer(stiffness_value(row, m.E, m.nu))
 
 
 def _resonance(row: Row, body: Body, cache: BodyCache) -> Answer:

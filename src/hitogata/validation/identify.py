@@ -38,7 +38,14 @@ from hitogata.elastic.materials import Materials
 from hitogata.errors import HitogataError
 from hitogata.fem import Material, mass_matrix, sparsity, stiffness_matrix
 from hitogata.elastic.resonance import weighted_response
-from hitogata.validation.answers import MODEL_ELEMENT_SIZE, RESONANCE_MODES, BodyCache, sexes
+from hitogata.validation.answers import (
+    MODEL_ELEMENT_SIZE,
+    RESONANCE_MODES,
+    BodyCache,
+    sexes,
+    stiffness_region,
+    stiffness_value,
+)
 from hitogata.validation.dataset import Dataset, Row
 
 IDENTIFIABLE = ("stiffness", "frequency", "damping")
@@ -229,10 +236,9 @@ def row_value(row: Row, theta: np.ndarray, reduced: Sequence[ReducedBody]) -> fl
     """The model's value for an identifiable row at constants `theta` (reduced bodies: the row's, one per sex)."""
     v = dict(zip(NAMES, theta))
     if row.kind == "stiffness":
-        tissue, modulus, _ = row.quantity.split(".")
-        region = "muscle" if tissue == "muscle" else "skin"
-        E, nu = v[f"{region}.youngs_modulus"], v["soft.poissons_ratio"]
-        return (E if modulus == "youngs_modulus" else E / (2 * (1 + nu))) / 1000.0
+        region = stiffness_region(row)
+        assert region is not None, row.id  # `identifiable` leaves out the rows of no model region
+        return stiffness_value(row, v[f"{region}.youngs_modulus"], v["soft.poissons_ratio"])
     answers = [body.resonance(theta, row.quantity) for body in reduced]
     f = float(np.mean([a[0] for a in answers]))
     zeta = float(np.mean([a[1] for a in answers]))
@@ -265,18 +271,26 @@ class Identification:
 
 
 def identifiable(dataset: Dataset) -> Dataset:
-    """The rows identification can use: a selection holding another kind is a one-line error; rows of a local
-    probe (a myometer's tap) are left out, since the model's resonance is the segment's (none left: an error)."""
+    """The rows identification can use: a selection holding another kind is a one-line error; the rows whose
+    answer the model does not compute (`hitogata validate` reports them undefined) are left out: a local probe's
+    tap (a myometer's: the model's resonance is the segment's) and the dermis alone (no region of the model).
+    None left: an error."""
     other = [r for r in dataset.rows if r.kind not in IDENTIFIABLE]
     if other:
         raise HitogataError(f"{dataset.path}: row {other[0].id!r} is a {other[0].kind} row; identification uses "
                             f"{', '.join(IDENTIFIABLE)} rows (select them with --kinds or --rows)")
-    fitted = tuple(r for r in dataset.rows if not r.probe)
+    fitted = tuple(r for r in dataset.rows if computed(r))
     if not fitted:
         first = dataset.rows[0]
-        raise HitogataError(f"{dataset.path}: row {first.id!r} is a {first.probe} tap, which the model does not "
+        what = f"a {first.probe} tap" if first.probe else "the dermis alone, no region of the model"
+        raise HitogataError(f"{dataset.path}: row {first.id!r} is {what}, which the model does not "
                             f"compute; identification fits a segment's resonance, stiffness rows or both")
     return Dataset(dataset.path, dataset.sources, fitted)
+
+
+def computed(row: Row) -> bool:
+    """Whether the model computes the row's answer: not a local probe's tap, not the dermis alone."""
+    return not row.probe and (row.kind != "stiffness" or stiffness_region(row) is not None)
 
 
 def identify(dataset: Dataset, materials: Materials, held_out: Dataset | None = None,
@@ -285,8 +299,8 @@ def identify(dataset: Dataset, materials: Materials, held_out: Dataset | None = 
     rows (identifiable, kept apart) are predicted with the fit. `element_size` (mm): the whole body's
     lattice, as `answer_dataset`'s."""
     dataset = identifiable(dataset)
-    if held_out is not None:  # a local probe's rows are neither fitted nor predicted
-        held_out = Dataset(held_out.path, held_out.sources, tuple(r for r in held_out.rows if not r.probe))
+    if held_out is not None:  # the rows the model does not compute are neither fitted nor predicted
+        held_out = Dataset(held_out.path, held_out.sources, tuple(r for r in held_out.rows if computed(r)))
     say = progress or (lambda _: None)
     rows = dataset.rows
     theta0 = constants_of(materials)
