@@ -273,17 +273,35 @@ def test_a_mixed_group_is_the_mean_of_a_female_and_a_male_body(tmp_path):
     both = answer_dataset(data, surfaces=("skinned",))[0].answers["skinned"].value
     cache = BodyCache(load_materials())
     from hitogata.measure.measurements import measure
-    from hitogata.validation.answers import clinical_posture
 
     values = []
     for sex in ("female", "male"):
         body = cache.body(sex, data.sources["demo2001"].subjects)
-        posed = poser_for(body).pose(clinical=clinical_posture(data.rows[0], poser_for(body).skeleton.dof_names +
-                                                          ("shoulder_l.flexion", "shoulder_r.flexion"), "test"),
-                                skinning="dqs")
-        values.append(100 * (measure(posed).chest_girth - measure(body).chest_girth))
+        raised, hanging = (poser_for(body).pose(clinical={f"shoulder_{side}.flexion": np.radians(angle)
+                                                          for side in "lr"}, skinning="dqs") for angle in (90, 0))
+        values.append(100 * (measure(raised).chest_girth - measure(hanging).chest_girth))
     assert both == pytest.approx(np.mean(values), rel=1e-9)
     assert values[0] != pytest.approx(values[1], rel=1e-3)  # two different bodies
+
+
+def test_a_change_is_measured_from_standing_with_the_moved_joints_at_zero(tmp_path):
+    """Standing, for a posture row, is the anatomical position of the joints the row moves (arms hanging, knees
+    straight), not the body's rest pose (arms abducted about 42°): lifting the arms forward a little from hanging
+    leaves the skinned chest girth as it was, where a change from the rest pose would count the arms coming
+    down to the sides (-2.3 cm on the default male)."""
+    from hitogata.measure.measurements import measure
+    from hitogata.validation.answers import standing_row
+
+    text = SOURCE.replace('sex = "female"', 'sex = "male"') + row(
+        "lift", "posture_change", 8.0, 2.0, "cm", "chest_girth", 'posture = { "shoulder.flexion" = 45 }')
+    (tmp_path / "rows.toml").write_text(text)
+    data = load_dataset(tmp_path / "rows.toml")
+    assert dict(standing_row(data.rows[0]).posture) == {"shoulder.flexion": 0.0}
+    lift = answer_dataset(data, surfaces=("skinned",))[0].answers["skinned"].value
+    body = BodyCache(load_materials()).body("male", data.sources["demo2001"].subjects)
+    hanging = poser_for(body).pose(clinical={"shoulder_l.flexion": 0.0, "shoulder_r.flexion": 0.0}, skinning="dqs")
+    from_rest = 100 * (measure(hanging).chest_girth - measure(body).chest_girth)
+    assert abs(lift) < 0.3 and from_rest < -1.0, (lift, from_rest)
 
 
 def test_the_docs_page_is_the_one_validate_writes():

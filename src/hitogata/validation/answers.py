@@ -5,12 +5,12 @@ the missing ones the default body's; a mixed group is the mean of a female
 and a male body). Then, by kind:
 
 - posture_change: the measurement (`hitogata.measure`) in the posture minus
-  standing, on the skinned surface (DQS) and on the elastic whole body held
-  in that posture with its skin's self-contact resolved
-  (`dynamics.single_pose.elastic_pose`);
-- skin_strain: the zone's area-weighted mean stretch of short skin lines drawn
-  along the limb or trunk (vertical) or round it (horizontal), or its area
-  change (`measure.strain`), on both surfaces;
+  standing (the moved joints at their clinical zero: `standing_row`), on the
+  skinned surface (DQS) and on the elastic whole body held in each posture
+  with its skin's self-contact resolved (`dynamics.single_pose.elastic_pose`);
+- skin_strain: the zone's area-weighted mean stretch, from standing, of short
+  skin lines drawn along the limb or trunk (vertical) or round it
+  (horizontal), or its area change (`measure.strain`), on both surfaces;
 - frequency, damping: the region's soft-tissue resonance of the elastic whole
   body (`elastic.resonance`); a row of a local probe (a myometer's tap on the
   tissue under it) is undefined: the model's answer is the segment's;
@@ -26,6 +26,7 @@ number.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
@@ -202,11 +203,20 @@ def _one(row: Row, body: Body, surface: str, cache: BodyCache) -> Answer:
         if surface == "elastic":
             return _contact(row, body, cache)
     skin, joints = _posture(row, body, surface, cache)
+    if row.kind == "pressure":
+        return _pressure(row, body, skin, joints)
+    standing = _posture(standing_row(row), body, surface, cache)
     if row.kind == "posture_change":
-        return _posture_change(row, body, skin, joints)
-    if row.kind == "skin_strain":
-        return _skin_strain(row, body, skin)
-    return _pressure(row, body, skin, joints)
+        return _posture_change(row, body, standing, (skin, joints))
+    return _skin_strain(row, body, standing[0], skin)
+
+
+def standing_row(row: Row) -> Row:
+    """The row's standing posture, what its change is measured from: the joints it moves at their clinical zero
+    (the anatomical position a study's subject stands in: knees straight, arms hanging at the sides), the others
+    as the body stands. Not the body's rest pose: MakeHuman's holds the arms abducted about 42° and the knees
+    flexed 9°, so a change from it would count the arms coming down as part of a lift."""
+    return dataclasses.replace(row, posture=dict.fromkeys(row.posture, 0.0))
 
 
 def _posture(row: Row, body: Body, surface: str, cache: BodyCache) -> tuple[np.ndarray, np.ndarray]:
@@ -230,18 +240,23 @@ def _posture(row: Row, body: Body, surface: str, cache: BodyCache) -> tuple[np.n
     return cache.postures[key]
 
 
-def _posture_change(row: Row, body: Body, skin: np.ndarray, joints: np.ndarray) -> Answer:
+def _posture_change(row: Row, body: Body, standing_posture: tuple[np.ndarray, np.ndarray],
+                    posture: tuple[np.ndarray, np.ndarray]) -> Answer:
+    """The change of the row's measurement from standing (`standing_row`) to the posture, each (skin, joints)."""
     from hitogata.measure.measurements import measure
 
-    standing = measure(body).get(row.quantity)
-    posed = measure(body, skin, joints).get(row.quantity)
+    standing = measure(body, *standing_posture).get(row.quantity)
+    posed = measure(body, *posture).get(row.quantity)
     if not (math.isfinite(standing) and math.isfinite(posed)):
         return Answer.undefined(f"{row.quantity} has no meaning in this posture (ISO 8559-1 defines it standing)")
     change = posed - standing
     return Answer(100.0 * change if row.unit == "cm" else 100.0 * change / standing)
 
 
-def _skin_strain(row: Row, body: Body, skin: np.ndarray) -> Answer:
+def _skin_strain(row: Row, body: Body, standing: np.ndarray, skin: np.ndarray) -> Answer:
+    """The skin's stretch from standing (`standing_row`'s skin) to the posture's, over the row's zone: the mean
+    area change, or the stretch of lines drawn along or round the limb or trunk (their directions found on the
+    rest skin, taken into each standing triangle's plane)."""
     from hitogata.measure.strain import directional_stretch, skin_strain
     from hitogata.measure.zones import ZONES, body_zones, zone_faces
 
@@ -256,11 +271,11 @@ def _skin_strain(row: Row, body: Body, skin: np.ndarray) -> Answer:
     if zone in EXTENSOR_SIDE:  # the skin over the kneecap or the point of the elbow, where the studies mark it
         faces = faces[vertex_normals(body.vertices, body.faces)[faces].mean(axis=1) @ EXTENSOR_SIDE[zone] > 0.5]
     if direction == "area":
-        strain = skin_strain(body.vertices, skin, faces)
+        strain = skin_strain(standing, skin, faces)
         weights = strain.rest_area
         return Answer(100.0 * float(np.sum(weights * strain.area_ratio) / weights.sum() - 1.0))
     directions, weights = _zone_directions(body, faces, spec, direction)
-    stretch = directional_stretch(body.vertices, skin, faces, directions)
+    stretch = directional_stretch(standing, skin, faces, directions)
     good = np.isfinite(stretch)
     return Answer(100.0 * float(np.average(stretch[good] - 1.0, weights=weights[good])))
 
