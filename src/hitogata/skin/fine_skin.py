@@ -21,7 +21,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from hitogata.body.model import Body
-from hitogata.measure.topology import topology
+from hitogata.geometry.topology import topology
 from hitogata.options import Skinning
 from hitogata.posing.pose import poser_for
 from hitogata.skeleton.kinematics import Pose

@@ -8,11 +8,11 @@ skin as a simulation frame does (`BodyDynamics.frame`). With `contact`, the
 skin's self-contact is then resolved as a barrier problem
 (`hitogata.geometry.barrier_contact`, IPC) along a path of postures: the rest
 skin, the skin skinned at even fractions of the joint angles (the same
-skinning: `dynamics.contact.approach`), the elastic skin, its creases tied back
-towards skinning's fold (`dynamics.creases`: the 40 mm tissue mesh
+skinning: `skin.contact.approach`), the elastic skin, its creases tied back
+towards skinning's fold (`skin.creases`: the 40 mm tissue mesh
 bows out where the skin of a flexed joint creases). With `slide`, the skin then
 slides over the fascia where its fine skin is stretched beyond what skin takes
-(`hitogata.geometry.skin_slide`). `elastic_dynamics` builds and caches the
+(`hitogata.skin.skin_slide`). `elastic_dynamics` builds and caches the
 whole-body model it needs, once per body and size.
 """
 
@@ -26,8 +26,8 @@ from functools import cached_property
 import numpy as np
 
 from hitogata.body.model import Body
-from hitogata.dynamics.contact import approach
-from hitogata.dynamics.creases import solve_creased
+from hitogata.skin.contact import approach, skin_contact
+from hitogata.skin.creases import solve_creased
 from hitogata.dynamics.motion import BodyDynamics
 from hitogata.elastic.materials import Materials
 from hitogata.elastic.model import EIGEN_TOLERANCE
@@ -36,10 +36,10 @@ from hitogata.dynamics.quality import STATIC_ITERATIONS, PoseQuality, pose_quali
 from hitogata.dynamics.quasistatic import rotate
 from hitogata.geometry.barrier_contact import BarrierResult, contact_regions
 from hitogata.geometry.contact import Penetrations
-from hitogata.geometry.skin_slide import SkinSlide, slide_posed_skin
+from hitogata.skin.skin_slide import SkinSlide, slide_posed_skin
 from hitogata.options import OnLimit
 from hitogata.posing.pose import PosedBody
-from hitogata.measure.fine_skin import body_fine_skinning
+from hitogata.skin.fine_skin import body_fine_skinning
 
 ELEMENT_SIZE = 40.0  # mm: the whole body's lattice for a held posture (as the large-motion tests)
 
@@ -100,7 +100,7 @@ class ElasticPose:
     @property
     def penetrations(self) -> Penetrations:
         """The skin's vertices inside another part (`hitogata.geometry.contact`), beyond the rest body's."""
-        return self.dynamics.contact.penetrations(self.vertices)
+        return skin_contact(self.dynamics.poser).penetrations(self.vertices)
 
     @property
     def skinned(self) -> np.ndarray:
@@ -108,7 +108,7 @@ class ElasticPose:
         return self.posed.vertices
 
     def fine_vertices(self) -> np.ndarray:
-        """(Vf, 3) the fine skin (`hitogata.measure.fine_skin`) carried by the same skinning and elastic field,
+        """(Vf, 3) the fine skin (`hitogata.skin.fine_skin`) carried by the same skinning and elastic field,
         or, when the skin slid, as it slid."""
         if self.slide is not None:
             return self.slide.fine.vertices
@@ -132,7 +132,7 @@ def elastic_pose(
     postures, see the module's text and docs/elastic.md); without it, the elastic displacement is
     held back where it would fold or cross the skin beyond skinning's (`BodyDynamics.frame`); slide: the
     skin then slides within the posed surface until no fine triangle is stretched beyond +95 % (or no
-    further without crossing other skin: `geometry.skin_slide`, docs/elastic.md)."""
+    further without crossing other skin: `skin.skin_slide`, docs/elastic.md)."""
     poser = dynamics.poser
     posed = poser.pose(contractions, lengths, angles, clinical, dynamics.rig.method, on_limit)
     g, r = dynamics.rig.pose(posed.pose.rotations, posed.pose.translations)
@@ -155,11 +155,11 @@ def elastic_pose(
 def _resolve(dynamics: BodyDynamics, posed: PosedBody, plain: np.ndarray, offset: np.ndarray
              ) -> tuple[BarrierResult, np.ndarray, np.ndarray]:
     """The elastic skin of `posed` (`plain` skinned + the elastic `offset`, (V, 3)) with its self-contact
-    resolved, reached from the rest skin through skinned postures on the way (`dynamics.contact.approach`),
-    its creases tied back towards skinning (`dynamics.creases`). Returns the barrier's result, the skin
+    resolved, reached from the rest skin through skinned postures on the way (`skin.contact.approach`),
+    its creases tied back towards skinning (`skin.creases`). Returns the barrier's result, the skin
     (V, 3) and how far each vertex was held back (V,)."""
     path = approach(dynamics.poser, posed.angles, dynamics.rig.method)
-    free = contact_regions([*path[1:], np.asarray(plain + offset, dtype=float)], dynamics.contact)
+    free = contact_regions([*path[1:], np.asarray(plain + offset, dtype=float)], skin_contact(dynamics.poser))
     free[-2] = free[-1]  # the posture skinned and its elastic skin: one set of unknowns (not built twice)
     solved = solve_creased(dynamics, path, plain, offset, posed.pose.rotations[0], free)
     return solved.barrier, solved.skin, solved.held
