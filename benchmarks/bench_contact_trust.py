@@ -21,7 +21,7 @@ import numpy as np
 
 from hitogata.body import default_body
 from hitogata.commands.ease import DEFAULT_MOTIONS
-from hitogata.dynamics.single_pose import elastic_dynamics, elastic_pose
+from hitogata.skin.single_pose import elastic_dynamics, elastic_pose
 from hitogata.geometry import barrier_contact
 from hitogata.motion.clip import peak_clip, scenario_clip
 from hitogata.motion.scenario import load_scenario, shipped_scenarios

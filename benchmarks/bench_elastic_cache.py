@@ -39,7 +39,7 @@ LIBRARY = """
 import json, sys, time
 import numpy as np
 from hitogata.body import default_body
-from hitogata.dynamics.single_pose import elastic_dynamics, elastic_pose
+from hitogata.skin.single_pose import elastic_dynamics, elastic_pose
 from hitogata.skeleton.extreme_poses import extreme_poses
 count, out, sexes = int(sys.argv[1]), sys.argv[2], sys.argv[3].split(",")
 rows, skins = [], {}

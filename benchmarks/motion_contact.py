@@ -1,4 +1,4 @@
-"""Self-contact through a motion (`simulate(..., contact=True)`: `hitogata.dynamics.motion_contact`, the
+"""Self-contact through a motion (`simulate(..., contact=True)`: `hitogata.skin.motion_contact`, the
 IPC barrier frame to frame) against the motion without it, and what it costs.
 
 A shipped scenario (default `elbow_flexion_body`: the left elbow to 150° and back) run on a default
@@ -8,7 +8,7 @@ without contact, in one process. Per frame: new self-crossing triangle pairs bey
 both ways; with contact the free skin, Newton iterations, the smallest gap left and the contact's
 seconds; and a line drawn on the skin (`measure.body_lines`, default the front of the elbow), its % change
 of length on the fine skin by skinning, without and with contact (the creases tied back frame by frame:
-`dynamics.creases`). Then each run's skin checks (`run.surface_problems`) and the whole motion's time both ways.
+`skin.creases`). Then each run's skin checks (`run.surface_problems`) and the whole motion's time both ways.
 
     PYTHONPATH=src python benchmarks/motion_contact.py [female|male ...] [--rate 5] [--scenario NAME] [--line NAME]
 """
@@ -23,12 +23,14 @@ import numpy as np
 from hitogata.body import default_body
 from hitogata.simulation.run import surface_problems
 from hitogata.motion.scenario import load_scenario, shipped_scenarios
-from hitogata.dynamics.single_pose import elastic_dynamics
-from hitogata.dynamics.motion import Motion, simulate
+from hitogata.skin.single_pose import elastic_dynamics
+from hitogata.dynamics.motion import Motion
 from hitogata.geometry import self_intersections, surface_integrity
 from hitogata.measure.body_lines import body_lines
 from hitogata.skeleton.kinematics import Pose
-from hitogata.measure.fine_skin import body_fine_skinning
+from hitogata.skin.contact import skin_contact
+from hitogata.skin.fine_skin import body_fine_skinning
+from hitogata.skin.motion_contact import simulate
 
 
 def crossing_pairs(v: np.ndarray, faces: np.ndarray) -> set[tuple[int, int]]:
@@ -52,7 +54,7 @@ def main(sexes: list[str], rate: float, name: str, line: str) -> None:
     for sex in sexes:
         body = default_body(sex)
         dynamics = elastic_dynamics(body, n_modes=2)  # a motion's dynamics: its two lowest modes
-        test = dynamics.contact
+        test = skin_contact(dynamics.poser)
         rest = crossing_pairs(body.vertices, body.faces)
         runs, seconds = {}, {}
         for contact in (False, True):

@@ -17,7 +17,7 @@ import numpy as np
 
 from hitogata.body import default_body
 from hitogata.dynamics.quality import STATIC_ITERATIONS
-from hitogata.dynamics.single_pose import elastic_dynamics
+from hitogata.skin.single_pose import elastic_dynamics
 from hitogata.skeleton.extreme_poses import extreme_poses
 
 

@@ -21,7 +21,8 @@ import time
 import numpy as np
 
 from hitogata.body import default_body
-from hitogata.dynamics.single_pose import elastic_dynamics, elastic_pose
+from hitogata.skin.contact import skin_contact
+from hitogata.skin.single_pose import elastic_dynamics, elastic_pose
 from hitogata.geometry import enclosed_volume, self_intersections
 from hitogata.skeleton.extreme_poses import extreme_poses
 
@@ -40,7 +41,7 @@ def main(sexes: list[str], names: list[str] | None) -> None:
     for sex in sexes:
         body = default_body(sex)
         dynamics = elastic_dynamics(body)
-        test = dynamics.contact
+        test = skin_contact(dynamics.poser)
         rest = crossing_pairs(body.vertices, body.faces)
         rest_volume = enclosed_volume(body.vertices, body.faces)
         ratios, totals = [], np.zeros(2)

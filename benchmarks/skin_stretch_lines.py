@@ -4,11 +4,11 @@ For both default bodies and each pose of issue 12 (elbow 150°, knee 135°,
 hip flexion 120°, seated, hip adduction 30°, shoulder flexion 180°, shoulder
 abduction 170°, neck flexion 45°, trunk flexion 80°, trunk rotation 45°):
 the change of length (%) of the lines of `hitogata.measure.body_lines`
-(left side), measured on the fine skin (`hitogata.measure.fine_skin`) posed
+(left side), measured on the fine skin (`hitogata.skin.fine_skin`) posed
 by linear blend skinning, by dual-quaternion skinning, by the elastic
-body (DQS + the quasi-static correction, `hitogata.dynamics.single_pose`)
+body (DQS + the quasi-static correction, `hitogata.skin.single_pose`)
 by the elastic body with its self-contact resolved (`contact=True`) and
-with its skin then slid over the fascia (`slide=True`, `geometry.skin_slide`);
+with its skin then slid over the fascia (`slide=True`, `skin.skin_slide`);
 with the fine skin's area stretched beyond +100 % (λ1 > 2, and area ratio
 > 2) and its 99.9th percentile (by area) of λ1 − 1, and the elastic body's
 inverted elements and largest tissue-region volume change. Prints a Markdown table
@@ -26,12 +26,12 @@ import time
 import numpy as np
 
 from hitogata.body import default_body
-from hitogata.dynamics.single_pose import elastic_dynamics, elastic_pose
-from hitogata.geometry.skin_slide import slide_posed_skin
+from hitogata.skin.single_pose import elastic_dynamics, elastic_pose
+from hitogata.skin.skin_slide import slide_posed_skin
 from hitogata.measure.body_lines import LINE_NAMES, body_lines
 from hitogata.measure.strain import skin_strain
 from hitogata.skeleton.extreme_poses import extreme_poses
-from hitogata.measure.fine_skin import body_fine_skinning
+from hitogata.skin.fine_skin import body_fine_skinning
 
 SHORT = {
     "elbow_posterior": "elbow post.", "elbow_anterior": "elbow ant.", "elbow_circumference": "elbow circ.",

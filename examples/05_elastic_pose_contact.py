@@ -17,7 +17,7 @@ import tempfile
 from pathlib import Path
 
 import hitogata as hg
-from hitogata.dynamics.single_pose import elastic_dynamics, elastic_pose  # the elastic pose behind `pose --elastic`
+from hitogata.skin import elastic_dynamics, elastic_pose  # the elastic pose behind `pose --elastic`
 
 out = Path(sys.argv[1]) if len(sys.argv) > 1 else Path(tempfile.mkdtemp(prefix="hitogata-05-"))
 out.mkdir(parents=True, exist_ok=True)

@@ -11,8 +11,8 @@ The whole pipeline from one import (SI units: metres, kilograms, radians)::
     motion = hg.simulate(hg.BodyDynamics.build(body, model), timeline, duration=1.0, rate=30)
 
 Each name is imported on first use, so `import hitogata` stays cheap; the
-subpackages (`hitogata.body`, `.posing`, `.elastic`, `.dynamics`, `.measure`,
-`.export`, ...) hold the rest.
+subpackages (`hitogata.body`, `.posing`, `.elastic`, `.dynamics`, `.skin`,
+`.measure`, `.export`, ...) hold the rest.
 """
 
 from __future__ import annotations
@@ -42,7 +42,7 @@ _EXPORTS: dict[str, str] = {
     # dynamics and scenarios
     "BodyDynamics": "hitogata.dynamics.motion",
     "Motion": "hitogata.dynamics.motion",
-    "simulate": "hitogata.dynamics.motion",
+    "simulate": "hitogata.skin.motion_contact",
     "Keyframe": "hitogata.dynamics.timeline",
     "Timeline": "hitogata.dynamics.timeline",
     "Scenario": "hitogata.motion.scenario",
@@ -116,7 +116,8 @@ __all__ = [
 if TYPE_CHECKING:
     from hitogata.body.model import Body, default_body
     from hitogata.export.motion_files import write_motion_glb, write_pvd, write_sequence
-    from hitogata.dynamics.motion import BodyDynamics, Motion, simulate
+    from hitogata.dynamics.motion import BodyDynamics, Motion
+    from hitogata.skin.motion_contact import simulate
     from hitogata.simulation.run import run_scenario
     from hitogata.motion.scenario import Scenario, load_scenario, shipped_scenarios
     from hitogata.dynamics.timeline import Keyframe, Timeline

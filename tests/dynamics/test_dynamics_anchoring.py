@@ -24,7 +24,7 @@ def test_an_older_womans_elastic_body_holds_a_seated_posture():
     """A 76-year-old woman of the default stature and mass: a piece of her 40 mm mesh hung on joint nodes
     alone, and the quasi-statics' matrix was singular."""
     from hitogata.body import Body
-    from hitogata.dynamics.single_pose import elastic_dynamics, elastic_pose
+    from hitogata.skin.single_pose import elastic_dynamics, elastic_pose
 
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")

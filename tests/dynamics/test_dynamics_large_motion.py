@@ -33,7 +33,7 @@ def clinical_pose(skeleton, clinical: dict[str, float]) -> np.ndarray:
 
 @pytest.fixture(scope="module")
 def body_dynamics(male):
-    from hitogata.dynamics.single_pose import elastic_dynamics
+    from hitogata.skin.single_pose import elastic_dynamics
 
     return elastic_dynamics(male, n_modes=2)  # the whole body at 40 mm, 2 modes; built once per session for the male
 

@@ -13,7 +13,7 @@ from hitogata import disk_cache
 from hitogata.body import Body
 from hitogata.cli import main
 from hitogata.dynamics.model_cache import cached_dynamics
-from hitogata.dynamics.single_pose import elastic_pose
+from hitogata.skin.single_pose import elastic_pose
 from hitogata.elastic import load_materials
 from hitogata.elastic.cache import cached, model_key, model_options
 from hitogata.fem import Material

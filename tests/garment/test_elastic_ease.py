@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 import hitogata.commands.ease as ease_command
-import hitogata.dynamics.single_pose as single_pose
+import hitogata.skin.single_pose as single_pose
 from hitogata.cli import main
 from hitogata.motion.scenario import load_scenario, shipped_scenarios
 from hitogata.garment.ease import elastic_surface, motion_ease, sampled_frames, skinned_surface

@@ -24,7 +24,7 @@ from hitogata.garment.non_extension import (
 from hitogata.motion.clip import scenario_clip
 from hitogata.posing import poser_for
 from hitogata.garment.stretch import garment_zones
-from hitogata.measure.fine_skin import body_fine_skin
+from hitogata.skin.fine_skin import body_fine_skin
 
 SHEET_ANGLE = np.degrees(np.arctan(np.sqrt((1.2**2 - 1) / (1 - 0.9**2))))
 

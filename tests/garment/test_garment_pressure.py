@@ -12,7 +12,7 @@ from hitogata.garment import Fabric, Garment, compression_class, garment_pressur
 from hitogata.garment.pressure import MMHG
 from hitogata.body.rig import posed_rig_heads
 from hitogata.measure.sections import tape_girth
-from hitogata.measure.topology import topology
+from hitogata.geometry.topology import topology
 from hitogata.posing import pose_body
 
 UP = np.array([0.0, 1.0, 0.0])

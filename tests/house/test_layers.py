@@ -9,7 +9,8 @@ import sys
 import pytest
 
 COMPUTATION = ["body", "body.model", "body.shape", "body.rig", "body.rest_contact", "skeleton", "muscles", "posing",
-               "posing.pose", "posing.skinning", "volume", "fem", "elastic", "dynamics", "measure", "geometry",
+               "posing.pose", "posing.skinning", "volume", "fem", "elastic", "dynamics", "skin", "skin.single_pose",
+               "skin.motion_contact", "measure", "geometry",
                "options", "units", "made_to_measure", "made_to_measure.solve",
                "made_to_measure.measurement_rates", "made_to_measure.size_chart", "made_to_measure.scan_fit"]
 PRESENTATION = ("matplotlib", "pyvista", "vtk", "vtkmodules", "meshio", "pygltflib", "viser", "trimesh", "PIL", "tqdm")
@@ -37,7 +38,7 @@ def test_import_hitogata_loads_only_itself() -> None:
 
 
 @pytest.mark.parametrize("package", ["body", "export", "geometry", "made_to_measure", "made_to_measure.scan_fit",
-                                     "measure", "motion", "posing", "simulation", "volume"])
+                                     "measure", "motion", "posing", "simulation", "skin", "volume"])
 def test_a_package_importing_its_names_on_first_use_resolves_each(package: str) -> None:
     """`hitogata.lazy`: every name in the package's __all__ is its defining module's, and listed by dir()."""
     import importlib

@@ -10,6 +10,12 @@ import pytest
 MOVED = {
     "hitogata.pose": ("hitogata.posing", ["PosedBody", "Poser", "pose_body", "poser_for"]),
     "hitogata.fit": ("hitogata.made_to_measure.scan_fit", ["Scan", "ScanFit", "detailed_body", "fit_scan", "make_scan"]),
+    "hitogata.dynamics.single_pose": ("hitogata.skin.single_pose",
+                                      ["ELEMENT_SIZE", "ElasticPose", "elastic_dynamics", "elastic_pose",
+                                       "held_dynamics"]),
+    "hitogata.measure.fine_skin": ("hitogata.skin.fine_skin",
+                                   ["LEVELS", "FineSkin", "FineSkinning", "body_fine_skin", "body_fine_skinning",
+                                    "fine_skinning", "subdivide"]),
 }
 
 

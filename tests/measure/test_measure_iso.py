@@ -10,7 +10,7 @@ from hitogata.body import Body
 from hitogata.measure import measure
 from hitogata.measure.measurements import MEASUREMENT_NAMES
 from hitogata.measure.sections import arc_tape, tape_girth
-from hitogata.measure.topology import topology
+from hitogata.geometry.topology import topology
 from hitogata.measure.landmarks import body_landmarks
 
 

@@ -7,7 +7,7 @@ from scipy.special import ellipe
 from measure_shapes import circle, ellipse, prism, ramanujan_ii, two_circles
 
 from hitogata.measure.sections import section, tape_girth
-from hitogata.measure.topology import topology
+from hitogata.geometry.topology import topology
 
 UP = np.array([0.0, 1.0, 0.0])
 

@@ -1,7 +1,7 @@
 """The skin's slides on a body at the supported range's extreme (male 195 cm, BMI 35, 133 kg): in the groin at
 hip flexion 120° the coarse skin's slide leaves fine skin beyond +100 % (its triangles may turn no further),
 which the fine skin's own slide takes out, its skin that would cross other skin tied harder to where it lay
-rather than held whole (`geometry.skin_slide.FINE`; docs/elastic.md, "Beyond the default bodies")."""
+rather than held whole (`skin.skin_slide.FINE`; docs/elastic.md, "Beyond the default bodies")."""
 
 from __future__ import annotations
 
@@ -10,11 +10,11 @@ import pytest
 from scipy.spatial import cKDTree
 
 from hitogata.body import Body
-from hitogata.dynamics.single_pose import elastic_dynamics, elastic_pose
+from hitogata.skin.single_pose import elastic_dynamics, elastic_pose
 from hitogata.geometry import self_intersections
 from hitogata.measure.strain import skin_strain
 from hitogata.skeleton.extreme_poses import extreme_poses
-from hitogata.measure.fine_skin import body_fine_skinning
+from hitogata.skin.fine_skin import body_fine_skinning
 
 pytestmark = pytest.mark.slow
 

@@ -3,7 +3,7 @@ self-contact resolved and its skin slid over the fascia (`elastic_pose(..., cont
 on both default bodies: the skin passes nowhere through itself, no vertex lies inside another part, no
 element inverts, the body keeps its volume, the flexor side of elbow and knee shortens (its creases
 fold: `contact.crease_tether`), and no fine triangle is stretched beyond +100 % (the skin slides over the
-fascia, and its fine skin on its own: `geometry.skin_slide`)."""
+fascia, and its fine skin on its own: `skin.skin_slide`)."""
 
 from __future__ import annotations
 
@@ -11,13 +11,13 @@ import numpy as np
 import pytest
 from scipy.spatial import cKDTree
 
-from hitogata.dynamics.single_pose import elastic_dynamics, elastic_pose
+from hitogata.skin.single_pose import elastic_dynamics, elastic_pose
 from hitogata.geometry import enclosed_volume, self_intersections
 from hitogata.measure.body_lines import body_lines
 from hitogata.measure.strain import skin_strain
 from hitogata.skeleton.extreme_poses import extreme_poses
 from hitogata.geometry.closest import closest_points_on_triangles
-from hitogata.measure.fine_skin import body_fine_skinning
+from hitogata.skin.fine_skin import body_fine_skinning
 
 pytestmark = pytest.mark.slow
 # % against rest: the tissue a contact presses aside swells round it (docs/elastic.md); a crease folded

@@ -6,12 +6,12 @@ import pytest
 
 from hitogata.body import Body
 from hitogata.measure.body_lines import body_lines
-from hitogata.measure.fine_skin import LEVELS
+from hitogata.skin.fine_skin import LEVELS
 from hitogata.measure.strain import skin_strain
 from hitogata.measure.zones import zone_strains
 from hitogata.posing import poser_for
-from hitogata.measure.fine_skin import body_fine_skin
-from hitogata.measure.fine_skin import body_fine_skinning
+from hitogata.skin.fine_skin import body_fine_skin
+from hitogata.skin.fine_skin import body_fine_skinning
 
 LINES_10CM = ("elbow_posterior", "elbow_anterior", "knee_anterior", "knee_posterior")
 

@@ -9,7 +9,7 @@ import pytest
 import trimesh
 
 from hitogata.body import default_body
-from hitogata.dynamics.contact import GROUPS, crease_tether, fold_angles, part_groups, vertex_groups
+from hitogata.skin.contact import GROUPS, crease_tether, fold_angles, part_groups, vertex_groups
 from hitogata.geometry import enclosed_volume, self_intersections
 from hitogata.geometry.contact import SelfContact
 from hitogata.posing import poser_for
@@ -96,7 +96,7 @@ def test_a_crease_is_skin_a_joint_folds_and_skinning_squeezes():
 
 @pytest.mark.slow
 def test_elbow_and_knee_of_the_elastic_body_hold_their_contact(female):
-    from hitogata.dynamics.single_pose import elastic_dynamics, elastic_pose
+    from hitogata.skin.single_pose import elastic_dynamics, elastic_pose
 
     dynamics = elastic_dynamics(female)
     faces = female.faces

@@ -1,4 +1,4 @@
-"""The skin sliding over the fascia (`geometry.skin_slide`): a pose's fine skin stretched beyond +100 %
+"""The skin sliding over the fascia (`skin.skin_slide`): a pose's fine skin stretched beyond +100 %
 is spread to the skin around it, on the surface as it was and crossing nothing new; a smooth stretch is
 left alone."""
 
@@ -8,10 +8,10 @@ import numpy as np
 import pytest
 
 from hitogata.geometry import self_intersections
-from hitogata.geometry.skin_slide import _svd, slide_posed_skin
+from hitogata.skin.skin_slide import _svd, slide_posed_skin
 from hitogata.measure.strain import skin_strain
 from hitogata.geometry.closest import closest_points_on_triangles
-from hitogata.measure.fine_skin import body_fine_skinning
+from hitogata.skin.fine_skin import body_fine_skinning
 from hitogata.posing import poser_for
 
 
@@ -33,7 +33,7 @@ def test_a_smooth_stretch_is_left_alone(female):
 
 @pytest.mark.slow
 def test_the_elbows_skin_slides_on_its_surface(female):
-    from hitogata.dynamics.single_pose import elastic_dynamics, elastic_pose
+    from hitogata.skin.single_pose import elastic_dynamics, elastic_pose
 
     dynamics = elastic_dynamics(female)
     clinical = {"forearm_l.flexion": np.radians(150)}

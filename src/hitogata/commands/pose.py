@@ -13,7 +13,7 @@ from hitogata.commands.paths import add_output
 from hitogata.commands.pose_args import add_pose_arguments
 from hitogata.commands.pose_summary import moved_count, pose_summary
 from hitogata.commands.posing import pose_from_args
-from hitogata.dynamics.single_pose import elastic_dynamics, elastic_pose
+from hitogata.skin.single_pose import elastic_dynamics, elastic_pose
 from hitogata.elastic.materials import load_materials, materials_name
 from hitogata.errors import HitogataError
 from hitogata.export.body_files import body_figures, detail_extras, shape_extras
@@ -23,7 +23,7 @@ from hitogata.export.pose_files import check_posed_path, write_posed
 from hitogata.export.posed_mesh import write_sidecar
 from hitogata.posing.pose import Poser
 from hitogata.skeleton.shoulder import CHANNEL_RANGES, channel_names
-from hitogata.measure.fine_skin import body_fine_skin
+from hitogata.skin.fine_skin import body_fine_skin
 
 
 def list_names(poser: Poser) -> list[str]:

@@ -18,13 +18,17 @@ Typical use::
 
 A scenario file's motion (`hitogata simulate s.toml --out results/`; format in docs/scenarios.md) is
 read and run by `hitogata.motion` (`load_scenario`, `run_scenario`), and its files are written by
-`hitogata.export.motion_files`: this package holds the physics and writes no file.
+`hitogata.export.motion_files`: this package holds the physics and writes no file. The skin's
+self-contact, creases and slide, and the elastic pose of a held posture, are the layer above
+(`hitogata.skin`): a motion with contact is `hitogata.simulate(..., contact=True)`
+(`hitogata.skin.motion_contact.simulate`), which hands its frames' contact in (`FrameContact`).
 
 Modules: `rigging` (skinning weights at the FE nodes), `rotations`,
 `volumes` (tet volumes and their gradients, fast), `quasistatic` (the
 tissue's rotation-invariant equilibrium on one prefactored matrix, warm-started
 by a `WarmStart` its caller hands on), `untangle`, `motion` (coupling and
-modal dynamics), `timeline`, `quality` (inversions, volumes, distortion vs skinning).
+modal dynamics), `timeline`, `quality` (inversions, volumes, distortion vs skinning),
+`model_cache` (the elastic dynamics kept on disk).
 """
 
 from hitogata.dynamics.motion import BodyDynamics, Motion, simulate

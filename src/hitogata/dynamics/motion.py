@@ -24,9 +24,10 @@ At every time step: muscle contractions and joint angles → joint angles
    beyond which the body moves by skinning alone, and held back where it
    would fold or cross the skin where skinning does not (a 40 mm mesh does
    not resolve a crease: `geometry.offset_limit`).
-5. with `contact`: every frame's skin with its self-contact resolved, each
-   frame's barrier problem started from the last one's answer (IPC in time:
-   `dynamics.motion_contact`).
+5. with a `frame_contact` handed in by the skin layer: every frame's skin with
+   its self-contact resolved, each frame's barrier problem started from the
+   last one's answer (IPC in time: `hitogata.skin.motion_contact`, whose
+   `simulate` is the front door's `hitogata.simulate(..., contact=True)`).
 
 Fictitious forces of the rotating frames on δ itself (Coriolis,
 centrifugal) are left out: δ is millimetres against metres of gross motion.
@@ -37,13 +38,11 @@ from __future__ import annotations
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, replace
 from functools import cached_property
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Protocol
 
 import numpy as np
 from scipy.spatial import cKDTree
 
-from hitogata.dynamics.contact import skin_contact
-from hitogata.dynamics.motion_contact import MotionContact, resolve_frames
 from hitogata.dynamics.quasistatic import QuasiStatic, WarmStart, rotate, unrotate
 from hitogata.dynamics.rigging import NodeRig, anchored, joint_nodes, node_rig
 from hitogata.dynamics.timeline import MAX_DURATION, MAX_RATE, MAX_SUBSTEPS, RootTrack, Timeline
@@ -58,7 +57,6 @@ from hitogata.posing.skinning import skin_vertices
 
 if TYPE_CHECKING:
     from hitogata.body.model import Body
-    from hitogata.geometry.contact import SelfContact
     from hitogata.elastic import ElasticModel
     from hitogata.fem.modes import Modes
 
@@ -135,11 +133,6 @@ class BodyDynamics:
     def n_nodes(self) -> int:
         """Number of FE nodes (corners and mid-edge nodes) of the elastic model."""
         return len(self.model.points)
-
-    @cached_property
-    def contact(self) -> SelfContact:
-        """The skin's self-contact test (`hitogata.dynamics.contact`), made on first use."""
-        return skin_contact(self.poser)
 
     def region_of(self, muscle: str) -> str | None:
         """The FE muscle region a skeleton muscle loads: its own name, or without the side (one band)."""
@@ -250,6 +243,32 @@ def cut_fade(vertices: np.ndarray, model: ElasticModel) -> np.ndarray:
     return u * u * (3.0 - 2.0 * u)
 
 
+@dataclass(frozen=True)
+class MotionContact:
+    """What resolving a motion's self-contact took, per frame (F,)."""
+
+    free: np.ndarray  # free skin vertices (0: nothing near a contact, the frame's skin as it was)
+    iterations: np.ndarray  # Newton iterations, all steps of the frame's path
+    seconds: np.ndarray  # wall time of the frame's contact
+    from_rest: np.ndarray  # bool: reached from the rest skin (the first frame, or a restart)
+    min_distance: np.ndarray  # m: the smallest gap left between skin that may meet (DHAT where none is near)
+
+
+class FrameContact(Protocol):
+    """Resolves the self-contact of a motion's frames, handed to `simulate` by the layer that owns the skin's
+    contact (`hitogata.skin.motion_contact.resolve_frames`): the frames' skins (F, V, 3) float32 with it
+    resolved, and what it took.
+
+    skins: (F, V, 3) the frames' skins as the motion computes them; skinned: (F, V, 3) the same by skinning
+    alone; rotations: (F, parts, 3, 3) the parts' rotations; angles: (F, D) the joint angles; roots: (F, 4, 4)
+    the whole body's transform per frame (None: it stands where it is); progress(frames done) after each
+    frame."""
+
+    def __call__(self, dynamics: BodyDynamics, skins: np.ndarray, skinned: np.ndarray, rotations: np.ndarray,
+                 angles: np.ndarray, roots: np.ndarray | None = None,
+                 progress: Callable[[int], None] | None = None) -> tuple[np.ndarray, MotionContact]: ...
+
+
 @dataclass(frozen=True, eq=False)
 class Motion:
     """The simulated body at the output times."""
@@ -283,12 +302,12 @@ class Motion:
 def simulate(dynamics: BodyDynamics, timeline: Timeline, duration: float, rate: float, substeps: int = 1,
              gravity: bool = True, on_limit: OnLimit = "raise", iterations: int = ITERATIONS,
              progress: Callable[[int, int], None] | None = None, root: RootTrack | None = None,
-             contact: bool = False) -> Motion:
+             frame_contact: FrameContact | None = None) -> Motion:
     """Run a timeline for `duration` seconds; outputs at `rate` frames per second, `substeps` steps per frame;
     progress(done, total) is called after each step (and each frame's contact); root: the whole body's
-    rigid motion (None: it stands where it is); contact: every frame's skin with
-    no part of it passing into another and its creases folded as a held pose's (`dynamics.motion_contact`,
-    0.1-0.4 s a frame where skin meets)."""
+    rigid motion (None: it stands where it is); frame_contact: resolves every frame's self-contact after the
+    dynamics (`FrameContact`; `hitogata.simulate(..., contact=True)`, the skin layer's `simulate`, hands in
+    `hitogata.skin.motion_contact.resolve_frames`)."""
     if not (np.isfinite(duration) and 0 < duration <= MAX_DURATION and np.isfinite(rate) and 0 < rate <= MAX_RATE):
         raise HitogataError(f"duration {duration!r} s and rate {rate!r}/s: allowed a duration up to "
                             f"{MAX_DURATION:g} s and a rate up to {MAX_RATE:g} frames/s")
@@ -300,7 +319,7 @@ def simulate(dynamics: BodyDynamics, timeline: Timeline, duration: float, rate: 
     per_frame, per_step = dynamics.n_nodes * 15, len(dynamics.eigenvalues) * 2 + 3 * len(dynamics.poser.skeleton.names)
     require_memory(8.0 * (n_frames * per_frame + n_steps * per_step),
                    f"duration {duration:g} s at {rate:g} frames/s, {substeps} substeps")
-    total = n_steps + (n_frames if contact else 0)  # progress: the steps, then each frame's contact
+    total = n_steps + (n_frames if frame_contact is not None else 0)  # progress: the steps, then each frame's contact
     t = np.arange(n_steps) * h
     sk = dynamics.poser.skeleton
     rest = {("clinical", c.name): float(sk.rest[sk.dof_names.index(c.name)]) for c in timeline.channels
@@ -361,11 +380,11 @@ def simulate(dynamics: BodyDynamics, timeline: Timeline, duration: float, rate: 
 
     motion = _frames(dynamics, t[frames], angles[frames], pose.rotations[frames], pose.translations[frames],
                      g_out, r_out, dqs_out, q[frames], s_all[frames], qd[frames])
-    if not contact:
+    if frame_contact is None:
         return motion
-    skin, took = resolve_frames(dynamics, motion.skin, motion.skinned_skin, motion.rotations, motion.angles,
-                                None if roots is None else roots[frames],
-                                None if progress is None else lambda k: progress(n_steps + k, total))
+    skin, took = frame_contact(dynamics, motion.skin, motion.skinned_skin, motion.rotations, motion.angles,
+                               None if roots is None else roots[frames],
+                               None if progress is None else lambda k: progress(n_steps + k, total))
     return replace(motion, skin=skin, contact=took)
 
 

@@ -6,10 +6,10 @@ pose's rest-relative angles, how the surface was made (`skinning`: lbs/dqs;
 `surface`: skinning or elastic); `read_posed_mesh` rebuilds the body, checks
 the surface is its skin (vertex count), and gives the posture to measure: the
 file's vertices, the rig joints of the pose, and the fine skin
-(`hitogata.measure.fine_skin`) posed by the same skinning plus the file's
+(`hitogata.skin.fine_skin`) posed by the same skinning plus the file's
 difference from it (the elastic correction, carried to the fine skin) — or,
 where the skin slid over the fascia and its fine skin slid on its own
-(`hitogata.geometry.skin_slide`), the fine skin's own PLY the sidecar names
+(`hitogata.skin.skin_slide`), the fine skin's own PLY the sidecar names
 (`fine_skin`).
 """
 
@@ -29,8 +29,8 @@ from hitogata.export.body_files import body_from_extras
 from hitogata.options import Skinning
 from hitogata.posing.pose import poser_for
 from hitogata.posing.skinning import METHODS, skin_vertices
-from hitogata.measure.fine_skin import body_fine_skin
-from hitogata.measure.fine_skin import body_fine_skinning
+from hitogata.skin.fine_skin import body_fine_skin
+from hitogata.skin.fine_skin import body_fine_skinning
 
 SURFACES = ("skinning", "elastic")
 

@@ -91,13 +91,13 @@ def elastic_surface(body: Body, contact: bool = True, workers: int | None = 1,
                     materials: Materials | None = None) -> Surface:
     """The surface source of the elastic whole body (on DQS): each frame's posture held (quasi-statics from
     rest, no loads), its skin's self-contact resolved and its creases folded with `contact`
-    (`dynamics.single_pose.elastic_pose`), then moved by the frame's root. The frames are held on `workers`
-    processes (`dynamics.held_frames`, the same answers; None: the cores free of other work, as `hitogata ease`
+    (`skin.single_pose.elastic_pose`), then moved by the frame's root. The frames are held on `workers`
+    processes (`skin.held_frames`, the same answers; None: the cores free of other work, as `hitogata ease`
     does: a script
     doing so needs the `if __name__ == "__main__":` guard of any spawned process pool); `materials`: the
     tissue's (None: the literature's). A frame asked for again (ease, stretch and pressure each ask for the
     same frames) is not solved again."""
-    from hitogata.dynamics.held_frames import HeldFrames
+    from hitogata.skin.held_frames import HeldFrames
 
     hold = HeldFrames(body, contact, workers, materials)
     held: dict[bytes, np.ndarray] = {}

@@ -19,7 +19,7 @@ from hitogata.measure.axes import JointSet
 from hitogata.measure.landmarks import body_landmarks
 from hitogata.measure.measurements import girth_planes, tape_skin
 from hitogata.measure.sections import Tape, tape_girth
-from hitogata.measure.topology import topology
+from hitogata.geometry.topology import topology
 
 LEVELS = ("ankle", "calf", "knee", "thigh", "hip", "waist")
 

@@ -18,7 +18,7 @@ S.M. thesis, 2005; Wessendorf A. M. and Newman D. J., IEEE Trans. Biomed.
 Eng. 59(12): 3432-3438, 2012). A tight garment's seams or a stiff fabric's
 grain laid along them does not hinder the motion.
 
-Per triangle of the fine skin (`measure.fine_skin`; the posed skin carried
+Per triangle of the fine skin (`skin.fine_skin`; the posed skin carried
 onto it by Loop's stencils, so any surface source will do), from the
 principal stretches of `measure.strain` between the rest and one posed frame
 (the report takes the frame where the garment zones stretch most:
@@ -45,7 +45,7 @@ from scipy.spatial import cKDTree
 
 from hitogata.body.model import Body
 from hitogata.measure.strain import skin_strain
-from hitogata.measure.fine_skin import body_fine_skin
+from hitogata.skin.fine_skin import body_fine_skin
 from hitogata.geometry.normals import face_normals
 
 MARGIN = 0.02  # the principal stretches at least this far apart (λ2 ≤ 1 ≤ λ1)

@@ -30,7 +30,7 @@ from hitogata.garment.pressure import Garment, laplace_profile
 from hitogata.measure.axes import JointSet
 from hitogata.measure.measurements import posture_arrays
 from hitogata.measure.sections import tape_girth
-from hitogata.measure.topology import topology
+from hitogata.geometry.topology import topology
 
 SPANS = (("ankle", "calf"), ("calf", "knee"), ("knee", "thigh"), ("hip", "waist"))
 SPACING = 0.01  # m between sections

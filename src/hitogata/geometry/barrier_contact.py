@@ -1,6 +1,6 @@
 """The skin's self-contact as a barrier problem (IPC: Li et al. 2020, Incremental Potential Contact).
 
-The contact method of the elastic body (`hitogata.dynamics.single_pose.elastic_pose(..., contact=True)`):
+The contact method of the elastic body (`hitogata.skin.single_pose.elastic_pose(..., contact=True)`):
 the skin near contact is the unknown x of one smooth minimisation,
 
     E(x) = ½ (x − y)ᵀ (I + k·L) (x − y) + ½ λ (V(x) − V(y))² + κ Σ b(d(x)),
@@ -9,7 +9,7 @@ y the posture's skin (elastic or skinned), L the skin's uniform graph Laplacian 
 carries its neighbours with it, as a membrane would), V the enclosed volume (y's counts an overlap
 twice, so the tissue a contact presses aside comes back as a swelling of the free skin around it), b the
 IPC log barrier (reach `DHAT`) over the vertex–triangle and edge–edge distances of skin that may meet:
-vertices of different contact groups (`hitogata.dynamics.contact`) more than `APART` apart at rest, or
+vertices of different contact groups (`hitogata.skin.contact`) more than `APART` apart at rest, or
 of one group whose skin folds onto itself (`folding`: a crease) more than `SAME_APART` apart.
 The barrier is infinite at contact, so a start free of crossings stays free when every Newton step is
 cut short by continuous collision detection (CCD): the pose is reached along a path of postures (the

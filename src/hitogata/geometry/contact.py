@@ -1,7 +1,7 @@
 """Where the skin passes into another part of the body: vertex–surface penetrations of a posed skin.
 
 The skin is split into contact groups (upper arm, forearm, thigh, chest, …:
-`hitogata.dynamics.contact.GROUPS`); a group never meets itself
+`hitogata.skin.contact.GROUPS`); a group never meets itself
 (its parts are held in shape by one or two bones), so a skin vertex is
 tested against the surface of every other group whose box it is near. The
 query is libigl's signed distance (an AABB tree over the group's triangles,

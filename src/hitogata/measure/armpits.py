@@ -34,7 +34,7 @@ from hitogata.errors import HitogataError
 from hitogata.measure.axes import UP, JointSet
 from hitogata.measure.sections import loops_around, section
 from hitogata.measure.surface_points import FaceSearch, SurfacePoint
-from hitogata.measure.topology import Topology
+from hitogata.geometry.topology import Topology
 
 SCAN_STEP = 0.01  # m between the sections scanned for the axilla
 SCAN_DEPTH = 0.25  # m below the shoulder joint

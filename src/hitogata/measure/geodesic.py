@@ -29,7 +29,7 @@ import scipy.sparse as sp
 from scipy.sparse.csgraph import dijkstra
 
 from hitogata.errors import HitogataError
-from hitogata.measure.topology import Topology, topology
+from hitogata.geometry.topology import Topology, topology
 
 # The diagonal graph is searched only this many times the first geodesic's length from the
 # start (a bound on the search, not on the answer: the graph's routes run a few per cent

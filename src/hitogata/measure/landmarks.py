@@ -62,7 +62,7 @@ from hitogata.measure.levels import ANKLE_SPAN, CALF_SPAN, extreme_girth_level
 from hitogata.measure.raycast import first_hit
 from hitogata.measure.sections import section, tape_girth
 from hitogata.measure.surface_points import FaceSearch, SurfacePoint
-from hitogata.measure.topology import Topology, topology
+from hitogata.geometry.topology import Topology, topology
 from hitogata.body.shape import ShapeParameters
 from hitogata.geometry.rotations import shortest_arc
 

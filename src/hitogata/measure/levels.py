@@ -14,7 +14,7 @@ import numpy as np
 
 from hitogata.measure.axes import unit
 from hitogata.measure.sections import tape_girth
-from hitogata.measure.topology import Topology
+from hitogata.geometry.topology import Topology
 
 LEVEL_SAMPLES = 17  # girths sampled along a limb's span
 CALF_SPAN = (0.15, 0.55)  # fractions of knee → ankle joint searched for the largest girth

@@ -21,7 +21,7 @@ from hitogata.measure.geodesic import SurfaceGeodesics, polyline_length
 from hitogata.measure.landmarks import Landmarks, body_landmarks, girdle_point
 from hitogata.measure.sections import Tape, arc_tape, tape_girth
 from hitogata.measure.surface_points import SurfacePoint, face_of, insert_points
-from hitogata.measure.topology import Topology, topology
+from hitogata.geometry.topology import Topology, topology
 from hitogata.measure.values import GIRTHS, MEASUREMENT_NAMES, Measurements, check_names
 
 __all__ = ["GIRTHS", "MEASUREMENT_NAMES", "Measurements", "check_names", "measure", "measure_surface",

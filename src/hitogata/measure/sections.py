@@ -18,7 +18,7 @@ from scipy import sparse
 from scipy.sparse import csgraph
 from scipy.spatial import ConvexHull
 
-from hitogata.measure.topology import Topology
+from hitogata.geometry.topology import Topology
 
 
 @dataclass(frozen=True)

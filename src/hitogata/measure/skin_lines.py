@@ -19,7 +19,7 @@ import numpy as np
 
 from hitogata.errors import HitogataError
 from hitogata.measure.sections import loops_around, section
-from hitogata.measure.topology import topology
+from hitogata.geometry.topology import topology
 
 
 @dataclass(frozen=True)

@@ -6,7 +6,7 @@ joint centre that mainly follows the bones meeting there (elbow, knee,
 shoulder); on the trunk, the backward-facing skin that mainly follows given
 bones (the back: the thoracic spine; the seat: the pelvis and hip). A face
 belongs to a zone when its three corners do. On the fine skin
-(`hitogata.measure.fine_skin`) a face belongs to the zone of the coarse face
+(`hitogata.skin.fine_skin`) a face belongs to the zone of the coarse face
 it lies in, so the zones are the same skin measured finer.
 """
 
@@ -20,7 +20,7 @@ from hitogata.body.model import Body
 from hitogata.errors import HitogataError
 from hitogata.measure.strain import SkinStrain
 from hitogata.geometry.normals import vertex_normals
-from hitogata.measure.fine_skin import body_fine_skin
+from hitogata.skin.fine_skin import body_fine_skin
 
 MAIN_WEIGHT = 0.5  # a vertex follows a bone group when its summed weight on it is at least this
 

@@ -10,7 +10,7 @@ existing directory, every file atomically (`export.atomic`):
   every tape drawn where it lies;
 - for a posture only: `strain_zones.csv` and `strain.png` (heat map of the
   largest principal strain, front and back), on the fine skin when its posed
-  vertices are given (`hitogata.measure.fine_skin`), else on the skin.
+  vertices are given (`hitogata.skin.fine_skin`), else on the skin.
 """
 
 from __future__ import annotations
@@ -31,7 +31,7 @@ from hitogata.measure.strain import skin_strain
 from hitogata.measure.zones import ZoneStrain, zone_strains
 from hitogata.report.heatmap import strain_heatmap
 from hitogata.report.surface import render_png
-from hitogata.measure.fine_skin import body_fine_skin
+from hitogata.skin.fine_skin import body_fine_skin
 
 LABELS = {
     "stature": "stature",

@@ -12,8 +12,8 @@ import numpy as np
 
 from hitogata.body.model import Body
 from hitogata.export import motion_files as files
-from hitogata.dynamics.motion import BodyDynamics, Motion, simulate
-from hitogata.dynamics.motion_contact import MotionContact
+from hitogata.dynamics.motion import BodyDynamics, Motion, MotionContact
+from hitogata.skin.motion_contact import simulate
 from hitogata.dynamics.quasistatic import corner_volumes
 from hitogata.motion.scenario import Scenario, make_body
 from hitogata.export.atomic import write_bytes_atomically

@@ -117,7 +117,7 @@ def warm() -> None:
     """Load everything that does not depend on the body, once per process (a worker's start-up)."""
     from hitogata.body.assets import load_assets
     from hitogata.measure.landmarks import reference_vertices
-    from hitogata.measure.topology import topology
+    from hitogata.geometry.topology import topology
 
     assets = load_assets()
     shared_lists()

@@ -7,7 +7,7 @@ and a male body). Then, by kind:
 - posture_change: the measurement (`hitogata.measure`) in the posture minus
   standing (the moved joints at their clinical zero: `standing_row`), on the
   skinned surface (DQS) and on the elastic whole body held in each posture
-  with its skin's self-contact resolved (`dynamics.single_pose.elastic_pose`);
+  with its skin's self-contact resolved (`skin.single_pose.elastic_pose`);
 - skin_strain: the zone's area-weighted mean stretch, from standing, of short
   skin lines drawn along the limb or trunk (vertical) or round it
   (horizontal), or its area change (`measure.strain`), on both surfaces;
@@ -53,7 +53,7 @@ from hitogata.validation.pressure import (
 )
 
 SURFACES = ("skinned", "elastic")
-MODEL_ELEMENT_SIZE = 40.0  # mm: the whole body's lattice, as a held posture's (`dynamics.single_pose`)
+MODEL_ELEMENT_SIZE = 40.0  # mm: the whole body's lattice, as a held posture's (`skin.single_pose`)
 RESONANCE_MODES = 60  # the lowest modes searched for a region's resonance (2-8 Hz on the default bodies)
 BOTH_SEXES = ("female", "male")
 PROBE_REASON = ("a {probe}'s tap rings the tissue under its probe (a local oscillation, ~15 Hz on a relaxed thigh), "
@@ -116,7 +116,7 @@ class BodyCache:
 
     def dynamics(self, body: Body):
         """The body's whole elastic model for held postures (with its modes where a row needs them)."""
-        from hitogata.dynamics.single_pose import elastic_dynamics
+        from hitogata.skin.single_pose import elastic_dynamics
 
         return elastic_dynamics(body, self.element_size, self.materials, n_modes=self.modes.get(id(body), 0))
 
@@ -232,7 +232,7 @@ def _posture(row: Row, body: Body, surface: str, cache: BodyCache) -> tuple[np.n
             posed = poser.pose(clinical=clinical, skinning="dqs")
             skin = posed.vertices
         else:
-            from hitogata.dynamics.single_pose import elastic_pose
+            from hitogata.skin.single_pose import elastic_pose
 
             held = elastic_pose(cache.dynamics(body), clinical=clinical, contact=True)
             posed, skin = held.posed, held.vertices

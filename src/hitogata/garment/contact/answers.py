@@ -34,7 +34,7 @@ from hitogata.garment.pressure import MMHG, Garment, compression_class, garment_
 from hitogata.geometry.mesh_checks import contains
 from hitogata.geometry.normals import vertex_areas
 from hitogata.measure.sections import tape_girth
-from hitogata.measure.topology import topology
+from hitogata.geometry.topology import topology
 
 BAND = 0.01  # m each side of a level's plane
 RAL_LETTERS = {"ankle": "B", "calf": "C", "knee": "E", "thigh": "G"}

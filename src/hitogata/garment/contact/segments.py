@@ -24,7 +24,7 @@ from hitogata.measure.axes import JointSet, unit
 from hitogata.measure.landmarks import body_landmarks
 from hitogata.measure.measurements import MAIN_WEIGHT, girth_planes, tape_skin
 from hitogata.measure.sections import plane_basis, tape_girth
-from hitogata.measure.topology import topology
+from hitogata.geometry.topology import topology
 
 ELBOW_BONES = ("upperarm02.R", "lowerarm01.R")
 SPACING = 0.01  # m between stations

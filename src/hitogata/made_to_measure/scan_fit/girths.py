@@ -26,7 +26,7 @@ from hitogata.measure.axes import JointSet
 from hitogata.measure.landmarks import body_landmarks
 from hitogata.measure.measurements import GIRTHS, girth_planes, tape_skin, tapes
 from hitogata.measure.sections import hull_perimeter, plane_basis, section
-from hitogata.measure.topology import topology
+from hitogata.geometry.topology import topology
 
 SLAB = 0.003  # m: half-thickness of the slab of cloud points taken as lying in a plane
 NEAR = 0.02  # m: scan points further than this (radially) from the fitted tape are not that part

@@ -26,8 +26,8 @@ import numpy as np
 from hitogata import disk_cache
 from hitogata.body.model import Body
 from hitogata.dynamics.motion import BodyDynamics
-from hitogata.dynamics import single_pose
-from hitogata.dynamics.single_pose import elastic_dynamics
+from hitogata.skin import single_pose
+from hitogata.skin.single_pose import elastic_dynamics
 from hitogata.elastic.materials import Materials, load_materials
 
 MIN_FRAMES = 10  # fewer frames than this are held here: starting the workers would cost more than they save

@@ -3,8 +3,8 @@
 import numpy as np
 import pytest
 
-from hitogata.dynamics import held_frames
-from hitogata.dynamics.held_frames import HeldFrames
+from hitogata.skin import held_frames
+from hitogata.skin.held_frames import HeldFrames
 
 
 @pytest.mark.slow

@@ -12,6 +12,7 @@ skinning weight.
 
 from __future__ import annotations
 
+import weakref
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -88,10 +89,19 @@ def vertex_groups(weights: sp.csr_matrix, names: tuple[str, ...]) -> np.ndarray:
     return np.asarray((weights @ onto).argmax(axis=1)).ravel()
 
 
+# each poser's self-contact test, made on first use and kept while the poser lives (`skin_contact`)
+_TESTS: weakref.WeakKeyDictionary[Poser, SelfContact] = weakref.WeakKeyDictionary()
+
+
 def skin_contact(poser: Poser) -> SelfContact:
-    """The self-contact test of a poser's body skin."""
-    body = poser.body
-    return SelfContact(body.vertices, body.faces, vertex_groups(poser.skin.weights, poser.skeleton.names))
+    """The self-contact test of a poser's body skin, made once per poser (its rest search is a whole test of
+    the skin) and kept while the poser lives: the dynamics of one body, whatever their modes, share it."""
+    test = _TESTS.get(poser)
+    if test is None:
+        body = poser.body
+        test = _TESTS[poser] = SelfContact(body.vertices, body.faces,
+                                           vertex_groups(poser.skin.weights, poser.skeleton.names))
+    return test
 
 
 def approach(poser: Poser, angles: np.ndarray, skinning: Skinning, root: np.ndarray | None = None

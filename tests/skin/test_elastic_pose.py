@@ -8,9 +8,9 @@ import pytest
 import trimesh
 
 from hitogata.cli import main
-from hitogata.dynamics.single_pose import elastic_dynamics, elastic_pose
+from hitogata.skin.single_pose import elastic_dynamics, elastic_pose
 from hitogata.measure.body_lines import body_lines
-from hitogata.measure.fine_skin import body_fine_skinning
+from hitogata.skin.fine_skin import body_fine_skinning
 
 
 @pytest.fixture()

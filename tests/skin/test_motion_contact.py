@@ -1,4 +1,4 @@
-"""Self-contact through a motion (`simulate(..., contact=True)`, `dynamics.motion_contact`): the IPC barrier
+"""Self-contact through a motion (`simulate(..., contact=True)`, `skin.motion_contact`): the IPC barrier
 frame to frame keeps the forearm's skin out of the upper arm's as the elbow flexes to 150°, where the
 motion without it keeps skinning's crossings; and `hitogata simulate --contact`."""
 
@@ -8,14 +8,16 @@ import numpy as np
 import pytest
 
 from hitogata import cli
-from hitogata.dynamics.motion import Motion, simulate
+from hitogata.dynamics.motion import Motion
 from hitogata.simulation.run import JUMP_SPEED, contact_figures
-from hitogata.dynamics.single_pose import elastic_dynamics
+from hitogata.skin.single_pose import elastic_dynamics
 from hitogata.motion.scenario import load_scenario, shipped_scenarios
 from hitogata.geometry import self_intersections, surface_integrity
 from hitogata.measure.body_lines import body_lines
 from hitogata.skeleton.kinematics import Pose
-from hitogata.measure.fine_skin import body_fine_skinning
+from hitogata.skin.contact import skin_contact
+from hitogata.skin.fine_skin import body_fine_skinning
+from hitogata.skin.motion_contact import simulate
 
 RATE = 10.0  # frames/s: the shipped scenario's flexion, 40° at 0 s → 150° at 0.9 s, in frames up to 19° apart
 
@@ -37,7 +39,7 @@ def test_contact_holds_through_an_elbow_flexion(female, flexion):
     runs, calls = flexion
     faces = female.faces
     rest = set(map(tuple, self_intersections(female.vertices, faces).tolist()))
-    test = runs[True].dynamics.contact
+    test = skin_contact(runs[True].dynamics.poser)
 
     def per_frame(skins: np.ndarray) -> list[tuple[int, int]]:
         """(new crossing pairs beyond the rest body's, vertices inside another part) per frame."""
@@ -69,7 +71,7 @@ def test_contact_holds_through_an_elbow_flexion(female, flexion):
 @pytest.mark.slow
 def test_the_elbow_crease_folds_through_the_motion(female, flexion):
     """The crease's skin is tied back towards skinning's fold frame by frame as a held pose's is
-    (`dynamics.creases`): the line across the front of the elbow shortens as skinning shortens it, where the
+    (`skin.creases`): the line across the front of the elbow shortens as skinning shortens it, where the
     40 mm tissue mesh alone bows it out (the motion without contact)."""
     runs, _ = flexion
     fine = body_fine_skinning(female)

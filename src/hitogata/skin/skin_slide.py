@@ -5,7 +5,7 @@ the buttock at hip flexion, the elbow's point) into bands of triangles stretched
 where real skin slides over the fascia and spreads the stretch over a wide area, tethered to the fascia
 by its fibrous septa (so the slide dies away from the opening joint). Here the posed coarse skin's
 vertices near such bands slide within the posed surface, the shape unchanged, until the fine skin
-(`hitogata.measure.fine_skin`, carried by the coarse skin through its Loop stencils) is stretched no
+(`hitogata.skin.fine_skin`, carried by the coarse skin through its Loop stencils) is stretched no
 more than `DONE` along any direction nor in area.
 
 The slid skin x minimises, over the free coarse vertices and on the posed surface,
@@ -52,7 +52,7 @@ from scipy.sparse.csgraph import dijkstra
 
 from hitogata.geometry.mesh_checks import edge_graph, self_intersections
 from hitogata.geometry.normals import triangle_normals, vertex_areas, vertex_normals
-from hitogata.measure.fine_skin import FineSkinning
+from hitogata.skin.fine_skin import FineSkinning
 from hitogata.geometry.strain import principal_stretches
 from hitogata.options import Skinning
 from hitogata.skeleton.kinematics import Pose

@@ -3,15 +3,15 @@
 Each frame's skin as the motion computes it (its elastic offset already held
 back where it would fold or cross beyond skinning's: `geometry.offset_limit`),
 its creases tied back towards skinning's fold as a held pose's are
-(`dynamics.creases`), is the target y_k of the barrier problem of
+(`skin.creases`), is the target y_k of the barrier problem of
 `hitogata.geometry.barrier_contact`, started from the previous frame's resolved
 skin x_{k−1}. Consecutive frames are close, so each solve is short, and the
 continuous collision detection of every Newton step keeps each frame free of
 crossings among the skin the barrier sees; where the frame crosses skin the
 barrier does not hold apart, it is held back towards the previous frame, as a
-held pose is towards its last step's start (`dynamics.contact.hold_back_crossings`).
+held pose is towards its last step's start (`skin.contact.hold_back_crossings`).
 The first frame is reached from the rest skin through skinned postures on
-the way (`dynamics.contact.approach`).
+the way (`skin.contact.approach`).
 
 A vertex not free takes its target, so skin freed at one frame and not at the
 next would jump there unchecked: frame k's path is [x_{k−1}, y_{k−1}, y_k], and
@@ -21,34 +21,39 @@ solve. A frame whose free skin lies nowhere near a contact takes its target
 as it is (no barrier). If the
 previous frame's skin crosses itself where the frame's free skin lies (skin
 that was not free, at its target), the frame is reached from rest instead.
+
+`simulate` is the motion of the elastic body (`hitogata.dynamics.simulate`) with, on `contact`, this
+resolution handed in (the dynamics take it as a `FrameContact` and know nothing of the skin's contact):
+the front door's `hitogata.simulate`.
 """
 
 from __future__ import annotations
 
 import time
 from collections.abc import Callable
-from dataclasses import dataclass
-from typing import TYPE_CHECKING
 
 import numpy as np
 
-from hitogata.dynamics.contact import approach
-from hitogata.dynamics.creases import solve_creased
+from hitogata.dynamics import motion
+from hitogata.dynamics.motion import ITERATIONS, BodyDynamics, Motion, MotionContact
+from hitogata.dynamics.timeline import RootTrack, Timeline
 from hitogata.geometry.barrier_contact import DHAT, contact_regions
+from hitogata.options import OnLimit
+from hitogata.skin.contact import approach, skin_contact
+from hitogata.skin.creases import solve_creased
 
-if TYPE_CHECKING:
-    from hitogata.dynamics.motion import BodyDynamics
 
-
-@dataclass(frozen=True)
-class MotionContact:
-    """What resolving a motion's self-contact took, per frame (F,)."""
-
-    free: np.ndarray  # free skin vertices (0: nothing near a contact, the frame's skin as it was)
-    iterations: np.ndarray  # Newton iterations, all steps of the frame's path
-    seconds: np.ndarray  # wall time of the frame's contact
-    from_rest: np.ndarray  # bool: reached from the rest skin (the first frame, or a restart)
-    min_distance: np.ndarray  # m: the smallest gap left between skin that may meet (DHAT where none is near)
+def simulate(dynamics: BodyDynamics, timeline: Timeline, duration: float, rate: float, substeps: int = 1,
+             gravity: bool = True, on_limit: OnLimit = "raise", iterations: int = ITERATIONS,
+             progress: Callable[[int, int], None] | None = None, root: RootTrack | None = None,
+             contact: bool = False) -> Motion:
+    """Run a timeline for `duration` seconds (`hitogata.dynamics.simulate`: outputs at `rate` frames per second,
+    `substeps` steps per frame; progress(done, total) after each step and each frame's contact; root: the whole
+    body's rigid motion, None: it stands where it is); contact: every frame's skin with no part of it passing
+    into another and its creases folded as a held pose's (`resolve_frames`, 0.1-0.4 s a frame where skin
+    meets)."""
+    return motion.simulate(dynamics, timeline, duration, rate, substeps, gravity, on_limit, iterations, progress,
+                           root, resolve_frames if contact else None)
 
 
 def resolve_frames(dynamics: BodyDynamics, skins: np.ndarray, skinned: np.ndarray, rotations: np.ndarray,
@@ -73,14 +78,14 @@ def resolve_frames(dynamics: BodyDynamics, skins: np.ndarray, skinned: np.ndarra
             before, from_rest[k] = _from_rest(dynamics, angles[k], root), True
         else:
             before = [previous, target]  # the last frame's skin and the target it was given
-        region = contact_regions([*before[1:], y], dynamics.contact)
+        region = contact_regions([*before[1:], y], skin_contact(dynamics.poser))
         if region[-1].any():
             try:  # held back towards the last frame's skin (free of crossings), or from rest the last step's start
                 solved = solve_creased(dynamics, before, plain, y - plain, rotations[k], region,
                                        None if from_rest[k] else previous)
             except ValueError:  # the last frame's skin crosses where this frame's free skin lies
                 before, from_rest[k] = _from_rest(dynamics, angles[k], root), True
-                region = contact_regions([*before[1:], y], dynamics.contact)
+                region = contact_regions([*before[1:], y], skin_contact(dynamics.poser))
                 solved = solve_creased(dynamics, before, plain, y - plain, rotations[k], region)
             previous, target = solved.skin, solved.target
             result = solved.barrier

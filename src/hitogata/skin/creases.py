@@ -20,7 +20,7 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.csgraph import connected_components
 
-from hitogata.dynamics.contact import FOLDING, crease_tether, fold_angles, hold_back_crossings
+from hitogata.skin.contact import FOLDING, crease_tether, fold_angles, hold_back_crossings, skin_contact
 from hitogata.geometry.barrier_contact import BarrierResult, barrier_resolve
 from hitogata.geometry.mesh_checks import enclosed_volume
 
@@ -47,7 +47,7 @@ def _tethers(dynamics: BodyDynamics, plain: np.ndarray, rotations: np.ndarray, f
     a posture skinned as `plain` (V, 3) by the parts' `rotations` (parts, 3, 3)), spread over the skin."""
     folded = np.zeros(len(free))  # the creases lie on the free skin: the joints' folds there only
     folded[free] = fold_angles(dynamics.poser.skin.weights[free], rotations)
-    test = dynamics.contact
+    test = skin_contact(dynamics.poser)
     tether = crease_tether(test.rest, plain, test.faces, folded, free)
     return dynamics.skin_limiter.spread(np.round(tether * LEVELS) / LEVELS)
 
@@ -60,7 +60,7 @@ def solve_creased(dynamics: BodyDynamics, before: Sequence[np.ndarray], plain: n
     unknowns, `barrier_contact.contact_regions`; the last row all of them); held back towards
     `hold_towards` (a skin free of crossings; None: the last step's start) where it crosses skin the barrier
     does not hold apart."""
-    test, limiter = dynamics.contact, dynamics.skin_limiter
+    test, limiter = skin_contact(dynamics.poser), dynamics.skin_limiter
     elastic = np.asarray(plain + offset, dtype=float)
     tether = _tethers(dynamics, plain, rotations, free[-1])
     path = list(before)
