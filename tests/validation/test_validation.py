@@ -329,3 +329,29 @@ def test_a_guessed_spread_bounds_no_posture_change():
     assert calf.high == pytest.approx(widest) and calf.low == pytest.approx(-widest)
     chest = allowed_change(data, "chest_girth", 1.0)
     assert chest.basis == "the skin's measured stretch" and chest.high > 0.12  # wider than the guessed +8 ± 2·2 cm
+
+
+@pytest.mark.slow
+def test_a_region_the_lattice_does_not_model_rings_undefined(female, male):
+    """A soft-tissue resonance is the model's answer only where its tissue mesh fills most of the region: the
+    40 mm lattice models both thighs and calves, the male's upper arm, neither forearm, nor the female's upper
+    arm (`elastic.resonance.MIN_COVERAGE`); the reason names the share filled."""
+    from hitogata.skin.single_pose import elastic_dynamics
+    from hitogata.validation.answers import unresolved_region
+    from hitogata.validation.dataset import Row
+
+    def ring(region: str) -> Row:
+        return Row(id=f"{region}-f", source="demo2001", kind="frequency", where="-", mean=10.0, sd=1.0, unit="Hz",
+                   quantity=region, definition="-")
+
+    trunk_and_legs = {"thigh", "calf", "abdomen", "breast"}
+    modelled = {"female": trunk_and_legs, "male": trunk_and_legs | {"upper_arm"}}
+    for sex, body in (("female", female), ("male", male)):
+        volume = elastic_dynamics(body).model.volume
+        for region in ("thigh", "calf", "upper_arm", "forearm", "abdomen", "breast"):
+            why = unresolved_region(ring(region), volume, body, 40.0)
+            if region in modelled[sex]:
+                assert why == "", (sex, region, why)
+            else:
+                assert "mm lattice fills" in why and region.replace("_", " ") in why and "50 % needed" in why, \
+                    (sex, region, why)

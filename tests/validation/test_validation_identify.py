@@ -22,10 +22,11 @@ method = "the elastic whole body at 60 mm"
 n = 1
 subjects = { sex = "female" }
 """
+# regions the 60 mm lattice models on the default female (`elastic.resonance.MIN_COVERAGE`: not her upper arm)
 ROWS = [("stiffness", "muscle.shear_modulus.thigh", "kPa"), ("stiffness", "fat.youngs_modulus.thigh", "kPa"),
         ("frequency", "thigh", "Hz"), ("frequency", "calf", "Hz"), ("frequency", "abdomen", "Hz"),
-        ("frequency", "upper_arm", "Hz"), ("damping", "thigh", "1"), ("damping", "calf", "1"),
-        ("damping", "upper_arm", "1")]
+        ("frequency", "breast", "Hz"), ("damping", "thigh", "1"), ("damping", "calf", "1"),
+        ("damping", "breast", "1")]
 
 
 def truth() -> np.ndarray:

@@ -22,6 +22,8 @@ breast) narrows them where the studies put their sensors.
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 from dataclasses import dataclass
 
 import numpy as np
@@ -29,8 +31,13 @@ import scipy.sparse as sp
 
 from hitogata.errors import HitogataError
 from hitogata.fem.damping import damping_ratios
+from hitogata.geometry.tets import signed_volumes
+from hitogata.volume.model import VolumeModel
 from hitogata.fem.modes import frequencies_hz
 from hitogata.volume.trunk import segment_distance
+
+if TYPE_CHECKING:
+    from hitogata.body.rig import Rig
 
 # region → (rig bones without side, which side of the bone: +1 in front (+z), -1 behind, 0 all round)
 REGIONS: dict[str, tuple[tuple[str, ...], int]] = {
@@ -75,6 +82,45 @@ def region_nodes(points: np.ndarray, bone_names: tuple[str, ...], heads: np.ndar
         offset = points - (heads[nearest] + t[:, None] * d)
         inside &= side * offset[:, 2] > 0.0
     return np.flatnonzero(inside)
+
+
+# The share of a region's volume its tissue elements must fill for the region's resonance to be the model's
+# answer (`region_coverage`). On the default female and male at the 40 mm lattice: the thigh 89 and 78 %, the
+# calf 77 and 70 %, the upper arm 45 and 78 %, the forearm 2 and 23 %, the shin's thin tissue over the tibia 21
+# and 19 %; the abdomen and breast over 100 % (their nodes reach the deep tissue in front of the spine, beyond
+# the skin's hull). Below half, the lattice does not model the region's tissue, and its ringing is not the
+# region's.
+MIN_COVERAGE = 0.5
+
+
+def region_coverage(points: np.ndarray, elements: np.ndarray, nodes: np.ndarray, skin: np.ndarray) -> float:
+    """The share of a region's volume that the tissue mesh fills: the volume of the elements (corner nodes
+    `elements` (E, 4) into `points`) with three or four corners in the region (`nodes`), over the convex hulls of
+    the region's skin vertices (`skin` (S, 3), found by `region_nodes` on the skin), one hull each side of the
+    body's midplane (x = 0)."""
+    from scipy.spatial import ConvexHull, QhullError
+
+    inside = np.isin(elements, nodes).sum(axis=1) >= 3
+    filled = float(np.abs(signed_volumes(points, elements[inside])).sum())
+    hull = 0.0
+    for side in (skin[:, 0] < 0.0, skin[:, 0] >= 0.0):
+        if side.sum() >= 4:
+            try:
+                hull += ConvexHull(skin[side]).volume
+            except QhullError:  # flat: no volume
+                pass
+    return filled / hull if hull > 0.0 else 0.0
+
+
+def body_region_coverage(volume: VolumeModel, rig: Rig, skin: np.ndarray, region: str) -> float:
+    """`region_coverage` of a body's tissue mesh (its volume model's corner mesh) round the rig's bones of
+    `region`, against the body's skin (V, 3) round the same bones."""
+    from hitogata.elastic.model import bone_segments
+
+    heads, tails = bone_segments(volume, rig)
+    nodes = region_nodes(volume.nodes, volume.bone_names, heads, tails, region)
+    own = region_nodes(skin, tuple(rig.names), np.asarray(rig.heads), np.asarray(rig.tails), region)
+    return region_coverage(volume.nodes, volume.tets, nodes, skin[own])
 
 
 def region_energy(M: sp.spmatrix, vectors: np.ndarray, nodes: np.ndarray) -> np.ndarray:

@@ -330,6 +330,19 @@ def _stiffness(row: Row, materials: Materials) -> Answer:
     return Answer(stiffness_value(row, m.E, m.nu))
 
 
+def unresolved_region(row: Row, volume, body: Body, element_size: float) -> str:
+    """Why a resonance row's region is not the model's ('' where it is): its tissue elements fill less than
+    `elastic.resonance.MIN_COVERAGE` of it on this body (`volume`: the body's tissue mesh)."""
+    from hitogata.elastic.resonance import MIN_COVERAGE, body_region_coverage
+
+    coverage = body_region_coverage(volume, body.rig, body.vertices, row.quantity)
+    if coverage >= MIN_COVERAGE:
+        return ""
+    return (f"the elastic model's {element_size:g} mm lattice fills {100 * coverage:.0f} % of this body's "
+            f"{row.quantity.replace('_', ' ')} ({100 * MIN_COVERAGE:.0f} % needed): its soft tissue is not modelled "
+            "there")
+
+
 def _resonance(row: Row, body: Body, cache: BodyCache) -> Answer:
     from hitogata.elastic.model import bone_segments
     from hitogata.elastic.resonance import region_nodes, resonance
@@ -337,6 +350,9 @@ def _resonance(row: Row, body: Body, cache: BodyCache) -> Answer:
     if row.probe:
         return Answer.undefined(PROBE_REASON.format(probe=row.probe))
     model = cache.dynamics(body).model
+    unresolved = unresolved_region(row, model.volume, body, cache.element_size)
+    if unresolved:
+        return Answer.undefined(unresolved)
     heads, tails = bone_segments(model.volume, body.rig)
     nodes = region_nodes(model.points, model.volume.bone_names, heads, tails, row.quantity)
     found = resonance(model.M, model.modes.eigenvalues, model.modes.vectors, nodes, model.alpha, model.beta,

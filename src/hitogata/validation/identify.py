@@ -45,6 +45,7 @@ from hitogata.validation.answers import (
     sexes,
     stiffness_region,
     stiffness_value,
+    unresolved_region,
 )
 from hitogata.validation.dataset import Dataset, Row
 
@@ -319,6 +320,12 @@ def identify(dataset: Dataset, materials: Materials, held_out: Dataset | None = 
             say(f"round {rounds}: solving the whole body of {key[0]} subjects at the current constants")
             reduced[key] = reduce_body(body, materials, theta, reduced[key].volume if key in reduced else None,
                                        element_size)
+        if rounds == 1:  # the tissue meshes are made: a region they do not model is neither fitted nor predicted
+            rows = tuple(r for r in rows if _resolved(r, [(reduced[k].volume, bodies[k]) for k in keys.get(r.id, [])],
+                                                      element_size, say))
+            if not rows:
+                raise HitogataError(f"{dataset.path}: no row left to fit: the elastic model does not resolve the "
+                                    "regions of its resonance rows")
         residual = _residuals(rows, keys, reduced)
         J = _jacobian(residual, _to_unit(theta))
         free = _pinned(J)
@@ -338,6 +345,15 @@ def identify(dataset: Dataset, materials: Materials, held_out: Dataset | None = 
     z_held = np.zeros(0)
     if held_out is not None and held_out.rows:
         extra = _bodies_for(held_out, cache, materials, theta, element_size)
+        kept = held_out
+
+        def meshes(r: Row) -> list:
+            subjects = kept.source_of(r).subjects
+            return [(reduced_body.volume, cache.body(sex, subjects))
+                    for sex, reduced_body in zip(sexes(subjects), extra.get(r.id, []))]
+
+        held_out = Dataset(held_out.path, held_out.sources,
+                           tuple(r for r in held_out.rows if _resolved(r, meshes(r), element_size, say)))
         z_held = np.array([(row_value(r, theta, extra.get(r.id, [])) - r.mean) / r.sd for r in held_out.rows])
     fitted = np.array([row_value(r, theta, [reduced[k] for k in keys.get(r.id, [])]) for r in rows])
     start_residual = np.array([(row_value(r, theta0, [reduced[k] for k in keys.get(r.id, [])]) - r.mean) / r.sd
@@ -345,6 +361,18 @@ def identify(dataset: Dataset, materials: Materials, held_out: Dataset | None = 
     return Identification(NAMES, theta0, theta, interval, tuple(bool(f) for f in free), rows, fitted, z,
                           start_residual, cv, _per_ten_percent(J), rounds,
                           () if held_out is None else held_out.rows, z_held)
+
+
+def _resolved(row: Row, meshes: Sequence[tuple], element_size: float, say: Callable[[str], None]) -> bool:
+    """Whether the row's region is modelled on each of its bodies (`meshes`: (volume model, body) pairs, none
+    for a stiffness row; `answers.unresolved_region`); a row that is not is said and left out, as the table
+    reports it undefined."""
+    for volume, body in meshes:
+        why = unresolved_region(row, volume, body, element_size)
+        if why:
+            say(f"row {row.id!r} left out: {why}")
+            return False
+    return True
 
 
 def _check_start(theta: np.ndarray) -> None:
