@@ -44,6 +44,14 @@ def shortest_arc(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     return np.eye(3) + k + k @ k / (1.0 + c)
 
 
+# Shepperd's method: where component a of (w, x, y, z) is the largest, component b is
+# (m[i, j] + sign m[k, n]) / s, the same for (a, b) and (b, a).
+SHEPPERD: dict[frozenset[int], tuple[int, int, int, int, float]] = {
+    frozenset((0, 1)): (2, 1, 1, 2, -1.0), frozenset((0, 2)): (0, 2, 2, 0, -1.0), frozenset((0, 3)): (1, 0, 0, 1, -1.0),
+    frozenset((1, 2)): (0, 1, 1, 0, 1.0), frozenset((1, 3)): (0, 2, 2, 0, 1.0), frozenset((2, 3)): (1, 2, 2, 1, 1.0),
+}
+
+
 def matrix_to_quaternion(r: np.ndarray) -> np.ndarray:
     """Unit quaternions (..., 4) as (w, x, y, z) of rotation matrices (..., 3, 3), by the stable branch of
     the four (Shepperd's method). Kept rather than scipy's `Rotation.from_matrix`, which agrees to 1e-16 but
@@ -56,46 +64,14 @@ def matrix_to_quaternion(r: np.ndarray) -> np.ndarray:
     q = np.empty((len(m), 4))
     x0 = 1.0 + 2.0 * diag[np.arange(len(m)), pick] - tr
     s = 2.0 * np.sqrt(np.maximum(x0, 1e-300))
-    c0 = pick == 0
-    q[c0] = np.stack(
-        [
-            s[c0] / 4,
-            (m[c0, 2, 1] - m[c0, 1, 2]) / s[c0],
-            (m[c0, 0, 2] - m[c0, 2, 0]) / s[c0],
-            (m[c0, 1, 0] - m[c0, 0, 1]) / s[c0],
-        ],
-        axis=1,
-    )
-    c1 = pick == 1
-    q[c1] = np.stack(
-        [
-            (m[c1, 2, 1] - m[c1, 1, 2]) / s[c1],
-            s[c1] / 4,
-            (m[c1, 0, 1] + m[c1, 1, 0]) / s[c1],
-            (m[c1, 0, 2] + m[c1, 2, 0]) / s[c1],
-        ],
-        axis=1,
-    )
-    c2 = pick == 2
-    q[c2] = np.stack(
-        [
-            (m[c2, 0, 2] - m[c2, 2, 0]) / s[c2],
-            (m[c2, 0, 1] + m[c2, 1, 0]) / s[c2],
-            s[c2] / 4,
-            (m[c2, 1, 2] + m[c2, 2, 1]) / s[c2],
-        ],
-        axis=1,
-    )
-    c3 = pick == 3
-    q[c3] = np.stack(
-        [
-            (m[c3, 1, 0] - m[c3, 0, 1]) / s[c3],
-            (m[c3, 0, 2] + m[c3, 2, 0]) / s[c3],
-            (m[c3, 1, 2] + m[c3, 2, 1]) / s[c3],
-            s[c3] / 4,
-        ],
-        axis=1,
-    )
+    for largest in range(4):
+        chosen = pick == largest
+        mc, sc = m[chosen], s[chosen]
+        q[chosen, largest] = sc / 4
+        for other in range(4):
+            if other != largest:
+                i, j, k, n, sign = SHEPPERD[frozenset((largest, other))]
+                q[chosen, other] = (mc[:, i, j] + sign * mc[:, k, n]) / sc
     q /= np.linalg.norm(q, axis=1, keepdims=True)
     return q.reshape(r.shape[:-2] + (4,))
 
