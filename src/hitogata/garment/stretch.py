@@ -3,7 +3,7 @@
 A straight-grain piece laid on the skin has its lengthwise grain (warp)
 along the body's long axis there and its crosswise grain (weft) round it.
 Per skin triangle: the lengthwise direction is the long axis (joint → tail)
-of the skeleton part the triangle mostly follows, laid into the triangle's
+of the skeleton part owning its first corner (`posing.body_split.vertex_parts`), laid into the triangle's
 plane; the crosswise direction is perpendicular to it in that plane. The
 skin's stretch along a rest direction d is |F d| (F: the triangle's
 deformation gradient, rest plane → posed), its engineering strain |F d| − 1;
@@ -33,13 +33,13 @@ from hitogata.measure.measurements import tape_skin
 from hitogata.measure.strain import skin_strain
 from hitogata.measure.zones import body_zones
 from hitogata.motion.clip import MotionClip
+from hitogata.posing.body_split import mainly_weighted, vertex_parts
 from hitogata.posing.pose import poser_for
 from hitogata.geometry.normals import triangle_normals
 
 BAND_BELOW_AXILLA = 0.08  # m
 WAIST_BAND = 0.04  # m each side of the waist level
 FACING = 0.5  # the rest normal's backward (forward) component, across back (front)
-MAIN = 0.5  # a vertex follows a bone group when its weight on it is at least this
 GARMENT_ZONES = ("across_back", "across_front", "shoulder", "upper_arm", "elbow", "seat", "waist", "thigh", "knee")
 PERCENTILE = 0.95
 MAP_RANGE = 50.0  # %: the stretch maps' colour scale (fit report, viewer), the same for every motion
@@ -83,8 +83,7 @@ def _zones(body: Body) -> dict[str, np.ndarray]:
     normal /= np.linalg.norm(normal, axis=1, keepdims=True)
 
     def follows(bones: tuple[str, ...]) -> np.ndarray:
-        w = np.asarray(body.skin_weights[:, [rig.index(b) for b in bones]].sum(axis=1)).ravel() >= MAIN
-        return w[faces].all(axis=1)
+        return mainly_weighted(body, [rig.index(b) for b in bones])[faces].all(axis=1)
 
     marks = body_landmarks(body)
     top = max(marks.acromion_left.at(v)[1], marks.acromion_right.at(v)[1])
@@ -119,10 +118,8 @@ def _lengthwise(body: Body) -> np.ndarray:
     sk = poser.skeleton
     axis = sk.tails - sk.joints
     axis /= np.linalg.norm(axis, axis=1, keepdims=True)
-    weights = poser.skin.weights
-    main = np.asarray(weights.argmax(axis=1)).ravel()
     faces = body.faces
-    part = main[faces[:, 0]]
+    part = vertex_parts(body)[faces[:, 0]]
     root = sk.parents < 0
     direction = np.where(root[part][:, None], np.array([0.0, 1.0, 0.0]), axis[part])
     tri = body.vertices[faces]

@@ -22,6 +22,7 @@ from hitogata.measure.landmarks import Landmarks, body_landmarks, girdle_point
 from hitogata.measure.sections import Tape, arc_tape, tape_girth
 from hitogata.measure.surface_points import SurfacePoint, face_of, insert_points
 from hitogata.geometry.topology import Topology, topology
+from hitogata.posing.body_split import mainly_weighted
 from hitogata.measure.values import GIRTHS, MEASUREMENT_NAMES, Measurements, check_names
 
 __all__ = ["GIRTHS", "MEASUREMENT_NAMES", "Measurements", "check_names", "measure", "measure_surface",
@@ -80,13 +81,12 @@ def checked_points(label: str, array: object, count: int) -> np.ndarray:
 
 Plane = tuple[np.ndarray, np.ndarray, np.ndarray]  # a point on the plane, its normal, a point inside the part
 
-# The skin each tape may rest on (vertices whose summed skin weight on the listed bones,
-# matched by name prefix, is at least MAIN_WEIGHT): the limb's own skin for a limb girth,
+# The skin each tape may rest on (vertices mainly weighted to the listed bones, matched by name
+# prefix: `hitogata.posing.body_split.mainly_weighted`): the limb's own skin for a limb girth,
 # all but the limbs' for a trunk girth. At rest this changes nothing (tested on bodies across
 # the supported range); where a posture joins the part's section to its neighbour's through
 # the mesh (a thigh raised to the belly: one loop through the groin) the tape still goes
 # round the part, not round both.
-MAIN_WEIGHT = 0.5
 ARM_BONES = ("upperarm", "lowerarm", "wrist", "metacarpal", "finger")
 LEG_BONES = ("upperleg02", "lowerleg", "foot", "toe")
 TAPE_SKIN: dict[str, tuple[str, tuple[str, ...]]] = {
@@ -109,8 +109,7 @@ def find_tape_skin(body: Body) -> dict[str, np.ndarray]:
     """Per girth, the (V,) mask of skin its tape may rest on (TAPE_SKIN)."""
     found = {}
     for name, (mode, prefixes) in TAPE_SKIN.items():
-        columns = [i for i, bone in enumerate(body.rig.names) if bone.startswith(prefixes)]
-        main = np.asarray(body.skin_weights[:, columns].sum(axis=1)).ravel() >= MAIN_WEIGHT
+        main = mainly_weighted(body, [i for i, bone in enumerate(body.rig.names) if bone.startswith(prefixes)])
         found[name] = main if mode == "only" else ~main
     return found
 

@@ -4,7 +4,9 @@ Zones are vertex sets of the rest body, chosen from the skinning weights and
 the rig (docs/measurements.md): round a joint, the skin within a radius of the
 joint centre that mainly follows the bones meeting there (elbow, knee,
 shoulder); on the trunk, the backward-facing skin that mainly follows given
-bones (the back: the thoracic spine; the seat: the pelvis and hip). A face
+bones (the back: the thoracic spine; the seat: the pelvis and hip); "mainly":
+`hitogata.posing.body_split.mainly_weighted`, where the parts each zone lies
+on are named with the body's other splits. A face
 belongs to a zone when its three corners do. On the fine skin
 (`hitogata.skin.fine_skin`) a face belongs to the zone of the coarse face
 it lies in, so the zones are the same skin measured finer.
@@ -20,9 +22,8 @@ from hitogata.body.model import Body
 from hitogata.errors import HitogataError
 from hitogata.measure.strain import SkinStrain
 from hitogata.geometry.normals import vertex_normals
+from hitogata.posing.body_split import mainly_weighted
 from hitogata.skin.fine_skin import body_fine_skin
-
-MAIN_WEIGHT = 0.5  # a vertex follows a bone group when its summed weight on it is at least this
 
 
 @dataclass(frozen=True)
@@ -78,9 +79,7 @@ def find_zones(body: Body) -> dict[str, np.ndarray]:
 
 def zone_faces(body: Body, zone: JointZone | BackZone) -> np.ndarray:
     rig, v = body.rig, body.vertices
-    columns = [rig.index(bone) for bone in zone.bones]
-    weight = np.asarray(body.skin_weights[:, columns].sum(axis=1)).ravel()
-    inside = weight >= MAIN_WEIGHT
+    inside = mainly_weighted(body, [rig.index(bone) for bone in zone.bones])
     if isinstance(zone, JointZone):
         centre = rig.heads[rig.index(zone.joint)]
         inside &= np.linalg.norm(v - centre, axis=1) <= zone.radius * body.stature

@@ -7,12 +7,14 @@ a garment's crease forms: elbow (upper arm | forearm), knee (thigh |
 shank), hip (pelvis, abdomen | thigh), armpit (upper arm | shoulder, chest),
 neck (head | neck | chest), the trunk folding (chest | abdomen | pelvis), and
 the two legs. A skin vertex belongs to the group holding most of its
-skinning weight.
+skinning weight. The groups' parts are named with every other split of the
+body in `hitogata.posing.body_split`.
 """
 
 from __future__ import annotations
 
 import weakref
+from collections.abc import Mapping
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -20,31 +22,17 @@ import scipy.sparse as sp
 
 from hitogata.geometry.contact import SelfContact
 from hitogata.geometry.strain import principal_stretches
+from hitogata.posing.body_split import SPLITS
+from hitogata.posing.body_split import part_groups as split_groups
 
 if TYPE_CHECKING:
     from hitogata.dynamics.motion import BodyDynamics
     from hitogata.options import Skinning
     from hitogata.posing.pose import Poser
 
-# Each group: the part-name prefixes it holds (a sided group takes parts of its own side only).
-GROUPS: dict[str, tuple[str, ...]] = {
-    "head": ("head", "jaw"),
-    "neck": ("cervical_",),
-    "chest": tuple(f"thoracic_{i}" for i in range(1, 9)),
-    "abdomen": tuple(f"thoracic_{i}" for i in range(9, 13)) + ("lumbar_1", "lumbar_2", "lumbar_3"),
-    "pelvis": ("lumbar_4", "lumbar_5", "pelvis"),
-    **{f"{limb}_{side}": parts
-       for side in "lr"
-       for limb, parts in {
-           "shoulder": (f"clavicle_{side}", f"scapula_{side}"),
-           "upper_arm": (f"upper_arm_{side}",),
-           "forearm": (f"forearm_{side}",),
-           "hand": (f"hand_{side}", "thumb_", "index_", "middle_", "ring_", "little_"),
-           "thigh": (f"thigh_{side}",),
-           "shank": (f"shank_{side}",),
-           "foot": (f"foot_{side}", f"toes_{side}"),
-       }.items()},
-}
+# the groups and their parts: `hitogata.posing.body_split.SPLITS["contact groups"]`
+CONTACT = "contact groups"
+GROUPS: Mapping[str, tuple[str, ...]] = SPLITS[CONTACT].groups
 # groups whose skin may fold onto itself (a crease: skin far apart at rest meets); a hand's, a foot's and
 # the head's small triangles lie close everywhere and stay held in shape by their bones
 FOLDING = tuple(g for g, name in enumerate(GROUPS) if not name.startswith(("hand", "foot", "head")))
@@ -63,19 +51,8 @@ CREASE_SHARE = 0.5
 
 
 def part_groups(names: tuple[str, ...]) -> np.ndarray:
-    """(parts,) the contact group of each skeleton part (index into GROUPS): the first group with a
-    prefix of its name, on its side (a part named …_l belongs to a group named …_l).
-
-    >>> part_groups(("pelvis", "forearm_l", "index_distal_r")).tolist()
-    [4, 7, 15]
-    """
-    out = np.full(len(names), -1)
-    for k, name in enumerate(names):
-        side = name[-2:] if name.endswith(("_l", "_r")) else ""
-        for g, (group, prefixes) in enumerate(GROUPS.items()):
-            if name.startswith(prefixes) and (not side or group.endswith(side)):
-                out[k] = g
-                break
+    """(parts,) the contact group of each skeleton part (index into GROUPS); every part must have one."""
+    out = split_groups(CONTACT, names)
     missing = [n for n, g in zip(names, out) if g < 0]
     if missing:
         raise ValueError(f"skeleton parts without a contact group: {', '.join(missing)}")

@@ -1,49 +1,30 @@
 """Muscles grouped by body region, for the slider folders: trunk, neck, then each side's limbs.
 
-A muscle belongs to the region of the first joint it moves (the part whose
-joint it turns); the side comes from that part's `_l`/`_r` suffix. A part no
-region names (an edited skeleton list) falls into "Other muscles".
+A muscle belongs to the folder of the first joint it moves (the part whose
+joint it turns): the folders' parts are `hitogata.posing.body_split`'s
+"muscle folders". A part no folder names (an edited skeleton list) falls
+into "Other muscles".
 """
 
 from __future__ import annotations
 
 from hitogata.muscles.geometry import MuscleSet
+from hitogata.posing.body_split import SPLITS, part_groups
 
-MIDLINE: tuple[tuple[str, tuple[str, ...]], ...] = (
-    ("Trunk", ("lumbar", "thoracic", "pelvis")),
-    ("Neck and jaw", ("cervical", "head", "jaw")),
-)
-LIMB: tuple[tuple[str, tuple[str, ...]], ...] = (
-    ("shoulder", ("clavicle", "scapula", "upper_arm")),
-    ("elbow and forearm", ("forearm",)),
-    ("wrist", ("hand",)),
-    ("thumb", ("thumb",)),
-    ("fingers", ("index", "middle", "ring", "little")),
-    ("hip", ("thigh",)),
-    ("knee", ("shank",)),
-    ("ankle and toes", ("foot", "toes")),
-)
+FOLDERS = tuple(SPLITS["muscle folders"].groups)
 SIDES = (("_l", "Left"), ("_r", "Right"))
 OTHER = "Other muscles"
 
 
 def region_of(part: str) -> str:
     """The folder title for a muscle that moves `part`'s joint."""
-    for title, prefixes in MIDLINE:
-        if part.startswith(prefixes):
-            return title
-    for suffix, side in SIDES:
-        if part.endswith(suffix):
-            for region, prefixes in LIMB:
-                if part.startswith(prefixes):
-                    return f"{side} {region}"
-    return OTHER
+    g = int(part_groups("muscle folders", (part,))[0])
+    return FOLDERS[g] if g >= 0 else OTHER
 
 
 def folder_order() -> tuple[str, ...]:
     """Folder titles in display order."""
-    limbs = tuple(f"{side} {region}" for _, side in SIDES for region, _ in LIMB)
-    return tuple(title for title, _ in MIDLINE) + limbs + (OTHER,)
+    return (*FOLDERS, OTHER)
 
 
 def muscle_groups(muscles: MuscleSet) -> dict[str, list[str]]:

@@ -22,7 +22,8 @@ from hitogata.errors import HitogataError
 from hitogata.garment.contact.tube import Stations
 from hitogata.measure.axes import JointSet, unit
 from hitogata.measure.landmarks import body_landmarks
-from hitogata.measure.measurements import MAIN_WEIGHT, girth_planes, tape_skin
+from hitogata.measure.measurements import girth_planes, tape_skin
+from hitogata.posing.body_split import mainly_weighted
 from hitogata.measure.sections import plane_basis, tape_girth
 from hitogata.geometry.topology import topology
 
@@ -54,8 +55,7 @@ def segment_levels(body: Body, vertices: np.ndarray, posed: JointSet, names: tup
         if name == "elbow":
             shoulder, elbow, wrist = posed["upperarm01.R"], posed["lowerarm01.R"], posed["wrist.R"]
             normal = unit(unit(elbow - shoulder) + unit(wrist - elbow))
-            columns = [i for i, bone in enumerate(body.rig.names) if bone.startswith(ELBOW_BONES)]
-            skin = np.asarray(body.skin_weights[:, columns].sum(axis=1)).ravel() >= MAIN_WEIGHT
+            skin = mainly_weighted(body, [i for i, bone in enumerate(body.rig.names) if bone.startswith(ELBOW_BONES)])
             out.append(Level(name, elbow, normal, skin))
             continue
         origin, normal, centre = planes[f"{name}_girth"]

@@ -22,6 +22,7 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from hitogata.made_to_measure.scan_fit.model import FINGERS, POSE_NAMES, BodyModel
+from hitogata.posing.body_split import owning_parts
 from hitogata.posing.pose import Poser
 
 SIDES = ("l", "r")
@@ -50,7 +51,7 @@ def search_hands(model: BodyModel, poser: Poser, pose: np.ndarray, points: np.nd
     scan points (P, 3) in the body frame."""
     q = model.angles(poser, pose)
     now = poser.pose_many(q[None])[0]
-    part = np.asarray(poser.skin.weights.argmax(axis=1)).ravel()
+    part = owning_parts(poser.skin.weights)
     names = poser.skeleton.names
 
     def skin(templates: tuple[str, ...], side: str) -> np.ndarray:

@@ -1,7 +1,8 @@
 """Body regions for the fit's residuals: which part of the body a scan point lies against.
 
-Each skin vertex belongs to the region of the bone with its largest skin
-weight; a scan point belongs to the region of its closest body point's nearest
+Each skin vertex belongs to the region of the part carrying the rig bone with
+its largest skin weight (the regions' parts: `hitogata.posing.body_split`,
+"fit regions"); a scan point belongs to the region of its closest body point's nearest
 corner. A region whose scan points stay far from the shape model's surface
 is where the scan leaves the model's space (`cannot_follow`).
 """
@@ -13,30 +14,21 @@ from dataclasses import dataclass
 import numpy as np
 
 from hitogata.body.model import Body
+from hitogata.posing.body_split import SPLITS, dominant_bone_parts, part_groups
+from hitogata.posing.pose import poser_for
 
-LIMB_PARTS = {"arm": ("upperarm", "lowerarm"), "hand": ("wrist", "metacarpal", "finger"),
-              "leg": ("upperleg", "lowerleg"), "foot": ("foot", "toe")}
-TRUNK_BONES = ("spine", "breast", "pelvis", "clavicle", "shoulder", "root")
-REGIONS = ("head and neck", "trunk", *(f"{side} {part}" for part in LIMB_PARTS for side in ("left", "right")))
+FIT_REGIONS = "fit regions"
+REGIONS = tuple(SPLITS[FIT_REGIONS].groups)
 # A region the model does not follow: its median distance at least FOLLOW_FACTOR times the whole
 # scan's and above FOLLOW_FLOOR (a few mm: scan noise alone stays below it).
 FOLLOW_FACTOR = 2.0
 FOLLOW_FLOOR = 0.003  # m
 
 
-def bone_region(bone: str) -> str:
-    """The region a rig bone's skin belongs to (MakeHuman's .L is the body's left)."""
-    for part, prefixes in LIMB_PARTS.items():
-        if bone.startswith(prefixes):
-            return f"{'left' if bone.endswith('.L') else 'right'} {part}"
-    return "trunk" if bone.startswith(TRUNK_BONES) else "head and neck"
-
-
 def vertex_regions(body: Body) -> np.ndarray:
     """(V,) region index (into REGIONS) of each skin vertex."""
-    dominant = np.asarray(body.skin_weights.argmax(axis=1)).ravel()
-    of_bone = np.array([REGIONS.index(bone_region(name)) for name in body.rig.names])
-    return of_bone[dominant]
+    poser = poser_for(body)
+    return part_groups(FIT_REGIONS, poser.skeleton.names)[dominant_bone_parts(poser)]
 
 
 @dataclass(frozen=True)
