@@ -127,6 +127,34 @@ def test_soft_cylinder_indentation_is_lames(nu):
     assert now == pytest.approx(tension / (outer - indentation.mean()), rel=0.01)
 
 
+def test_newton_steps_by_reused_factors_reach_the_exact_steps_equilibrium(monkeypatch):
+    """Steps by conjugate gradients preconditioned with an earlier step's factors: fewer factorizations, the
+    same equilibrium as every step factored (the soft cylinder: the tissue's stiffness with the barrier's)."""
+    from hitogata.fem import factor
+    from hitogata.garment.contact import equilibrium
+
+    inner, outer, length = 0.03, 0.05, 0.004
+    body = soft_annulus(inner, outer, length, 20e3, 0.49, 6, 96, 1)
+    stations = straight_stations(length, 5)
+    tube = build_tube(stations, 96, np.full(5, 0.85 * 2 * np.pi * outer), Fabric.linear(300.0), Fabric.linear(300.0),
+                      30.0)
+    start = elliptic_rings(stations, outer + 0.002, outer + 0.002, 96)
+    factored = []
+    counted = factor.factorize
+    monkeypatch.setattr(factor, "factorize", lambda *args, **kw: factored.append(1) or counted(*args, **kw))
+    reused = settle(tube, start, body)
+    reused_factors = len(factored)
+    monkeypatch.setattr(equilibrium, "REUSE_ITERATIONS", 0)
+    exact = settle(tube, start, body)
+    assert reused.converged and exact.converged
+    assert reused_factors < reused.iterations and len(factored) - reused_factors == exact.iterations
+    surface = np.unique(body.faces)
+    indentation = np.linalg.norm((exact.body - body.points)[surface], axis=1).mean()
+    # the same equilibrium to Newton's tolerance: the tissue's nodes within 1 % of its indentation
+    assert np.abs(reused.body - exact.body).max() < 0.01 * indentation
+    assert np.abs(reused.garment - exact.garment).max() < equilibrium.TOLERANCE
+
+
 def test_shipped_garments_load():
     shipped = shipped_garments()
     assert {"legging", "stocking", "sleeve", "top"} <= set(shipped)

@@ -23,6 +23,7 @@ thickness of the skin).
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 from functools import cache
 
@@ -44,6 +45,11 @@ TOLERANCE = 1e-5  # m: a Newton step whose largest vertex move is below this has
 DECREMENT = 1e-5
 DAMPING = 1e-7  # Levenberg–Marquardt: × the Hessian's mean diagonal, for the garment's free sliding round a limb
 FACTOR: FactorMethod | None = None  # the Newton step's factorization (None: the fastest installed, `factor_method`)
+# a Newton step by conjugate gradients preconditioned with the last factored step's factors, to this residual
+# relative to the gradient, while they take at most `REUSE_ITERATIONS` (0: every step factored; `_NewtonStep`)
+INEXACT = 1e-2
+REUSE_ITERATIONS = 12
+PROBE_ITERATIONS = 4  # the first iterations, whose pace decides whether the rest are tried
 
 
 @cache
@@ -189,6 +195,7 @@ def settle(tube: Tube, start: np.ndarray, body: ContactBody, dhat: float = DHAT,
     e0 = energy(z, contacts)
     n_g = 2 * problem.n_garment
     converged, taken = False, 0
+    newton_step = _NewtonStep()
     while taken < iterations:
         taken += 1
         garment, nodes = problem.positions(z)
@@ -205,7 +212,7 @@ def settle(tube: Tube, start: np.ndarray, body: ContactBody, dhat: float = DHAT,
             blocks.append(problem.stiffness)
         hessian = (hessian + sp.block_diag(blocks)).tocsc()
         hessian = hessian + DAMPING * float(np.mean(np.abs(hessian.diagonal()))) * sp.identity(len(z), format="csc")
-        step = -_solve(hessian, gradient)
+        step = newton_step(hessian, gradient)
         move = (problem.jacobian @ step).reshape(-1, 3)
         longest = float(np.linalg.norm(move, axis=1).max())
         if longest < tolerance or -float(gradient @ step) < DECREMENT * abs(e0):
@@ -249,10 +256,45 @@ def _collision_free(problem: _Problem, v0: np.ndarray, v1: np.ndarray) -> float:
     return float(c.compute_collision_free_stepsize(problem.mesh, v0, v1, CCD_GAP, problem.ccd))
 
 
-def _solve(a: sp.csc_matrix, b: np.ndarray) -> np.ndarray:
-    from hitogata.fem.factor import factorize
+class _NewtonStep:
+    """Newton's step −H⁻¹g, the Hessian's factors kept from step to step. The tissue's stiffness does not
+    change between steps, the garment's and the barrier's little once the contacts are set, so a step is
+    first sought by conjugate gradients preconditioned with the last factors, to `INEXACT` of the gradient
+    (the step's decrement then within ~1e-4 of the exact step's). Each iteration costs a solve with the
+    factors (~1/30 of a factorization): where the first `PROBE_ITERATIONS` do not reduce the residual at a
+    pace that reaches `INEXACT` within `REUSE_ITERATIONS`, or those do not reach it, the step's own matrix
+    is factored and kept."""
 
-    return np.asarray(factorize(a, factor_method())(b))
+    def __init__(self) -> None:
+        self.factors: Callable[[np.ndarray], np.ndarray] | None = None
+
+    def __call__(self, hessian: sp.csc_matrix, gradient: np.ndarray) -> np.ndarray:
+        from hitogata.fem.factor import factorize
+
+        if self.factors is not None and REUSE_ITERATIONS > 0:
+            step = self._reused(hessian, gradient, self.factors)
+            if step is not None:
+                return step
+        self.factors = factorize(hessian, factor_method())
+        return -np.asarray(self.factors(gradient))
+
+    @staticmethod
+    def _reused(hessian: sp.csc_matrix, gradient: np.ndarray, factors: Callable[[np.ndarray], np.ndarray]
+                ) -> np.ndarray | None:
+        """The step by conjugate gradients preconditioned with `factors`, or None where they no longer serve."""
+        from scipy.sparse.linalg import LinearOperator, cg
+
+        preconditioner = LinearOperator(hessian.shape, matvec=factors, dtype=float)
+        probe = min(PROBE_ITERATIONS, REUSE_ITERATIONS)
+        step, info = cg(hessian, -gradient, rtol=INEXACT, maxiter=probe, M=preconditioner)
+        if info == 0:
+            return np.asarray(step)
+        residual = float(np.linalg.norm(hessian @ step + gradient) / np.linalg.norm(gradient))
+        if residual ** (REUSE_ITERATIONS / probe) > INEXACT:  # too slow a pace to reach it within the budget
+            return None
+        step, info = cg(hessian, -gradient, x0=step, rtol=INEXACT, maxiter=REUSE_ITERATIONS - probe,
+                        M=preconditioner)
+        return np.asarray(step) if info == 0 else None
 
 
 def factor_method() -> FactorMethod:
