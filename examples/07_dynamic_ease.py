@@ -29,6 +29,9 @@ print(f"{'measurement':20s} standing   largest increase (motion)    largest decr
 for row in overall(results):
     if row["measurement"] in ("stature", "inside_leg"):  # heights, not what a garment wraps
         continue
+    if row["increase_cm"] is None:  # no meaning in any frame: the reason instead of a number
+        print(f"{row['measurement']:20s} undefined: {row['undefined']}")
+        continue
     if row["increase_cm"] > 0.5 or row["decrease_cm"] < -0.5:  # the measurements that move by 5 mm or more
         grows, shrinks = f"({row['increase_in']})", f"({row['decrease_in']})"
         print(f"{row['measurement']:20s} {row['standing_cm']:6.1f} cm  +{row['increase_cm']:4.1f} cm {grows:15s}  "

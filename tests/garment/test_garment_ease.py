@@ -10,7 +10,7 @@ from scipy.spatial.transform import Rotation
 
 from hitogata.cli import main
 from hitogata.motion.scenario import load_scenario, shipped_scenarios
-from hitogata.garment.ease import HEIGHTS, NAMES, ease_csv, ease_json, motion_ease, overall
+from hitogata.garment.ease import HEIGHTS, NAMES, MotionEase, ease_csv, ease_json, motion_ease, overall
 from hitogata.garment.ease_plot import ease_plot
 from hitogata.measure import measure
 from hitogata.motion.clip import MotionClip, scenario_clip
@@ -112,3 +112,30 @@ def test_heights_are_undefined_in_a_motion_never_a_number(female):
     doc = json.loads(ease_json([ease]))
     k = doc["measurements"].index("inside_leg")
     assert all(row[k] is None for row in doc["motions"]["toe_touch"]["values_cm"])
+
+
+def test_a_girth_undefined_in_some_frames_or_all_says_so(female):
+    """A girth undefined in some frames (the knee girth at a deep squat's bottom) gives the figure over the
+    others and says in how many it had none; undefined in every frame it is undefined, with the reason."""
+    knee = NAMES.index("knee_girth")
+    standing = np.full(len(NAMES), 0.4)
+    values = np.tile(standing, (4, 1))
+    values[:, knee] = [0.4, 0.43, np.nan, 0.41]
+    partly = MotionEase("squat", np.array([0.0, 0.5, 1.0, 1.5]), values, standing)
+    values = values.copy()
+    values[:, knee] = np.nan
+    wholly = MotionEase("kneel", np.array([0.0, 0.5, 1.0, 1.5]), values, standing)
+    rows = {(r["motion"], r["measurement"]): r for r in [*partly.largest(), *wholly.largest(), *overall([partly, wholly])]}
+    part, whole, both = rows["squat", "knee_girth"], rows["kneel", "knee_girth"], rows["all", "knee_girth"]
+    assert part["increase_cm"] == pytest.approx(3.0) and part["increase_at_s"] == 0.5
+    assert part["undefined"].startswith("in 1 of 4 frames (1 s") and "thigh and the calf" in part["undefined"]
+    assert whole["increase_cm"] is None and whole["undefined"].startswith("in every frame: the knee girth")
+    assert both["increase_cm"] == pytest.approx(3.0) and both["increase_in"] == "squat"
+    assert "squat: in 1 of 4" in both["undefined"] and "kneel: in every frame" in both["undefined"]
+    assert "undefined" not in rows["all", "calf_girth"]
+    table = ease_csv([partly, wholly]).splitlines()
+    assert table[0].endswith(",undefined_because")
+    kneel = next(line for line in table if line.startswith("kneel,knee_girth,"))
+    assert kneel.startswith("kneel,knee_girth,40,undefined,undefined,undefined,") and "nan" not in "".join(table)
+    doc = json.loads(ease_json([partly, wholly]))  # strict JSON: no NaN
+    assert doc["motions"]["squat"]["values_cm"][2][knee] is None and "knee_girth" in doc["undefined"]

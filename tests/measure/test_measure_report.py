@@ -13,6 +13,8 @@ from hitogata.measure.measurements import MEASUREMENT_NAMES, measure, measuremen
 from hitogata.measure.timeseries import measure_sequence
 from hitogata.report.series import series_csv, write_series
 from hitogata.measure.zones import ZONE_NAMES
+from hitogata.posing import poser_for
+from hitogata.posing.pose import PosedBody
 
 PNG = b"\x89PNG\r\n\x1a\n"
 
@@ -95,3 +97,30 @@ def test_sequence_checks_its_input(female):
         broken = v.copy()
         broken[3] = np.inf
         measure_sequence(female, [0.0], [broken], [j])
+
+
+@pytest.mark.parametrize("sex", ["female", "male"])
+def test_the_knee_girth_is_undefined_where_its_plane_runs_along_the_limbs(request, sex, tmp_path):
+    """Standing and at 90° the knee girth's plane cuts the knee; in a deep squat (knee 130°) it runs along the
+    thigh and the calf (docs/measurements.md): undefined, and the report says so, never NaN or a number."""
+    body = request.getfixturevalue(sex)
+    poser = poser_for(body)
+
+    def knee(hip: float, knee: float) -> PosedBody:
+        return poser.pose(clinical={f"{part}_{side}.flexion": np.radians(angle) for side in "lr"
+                                    for part, angle in (("thigh", hip), ("shank", knee))}, skinning="dqs")
+
+    assert np.isfinite(measure(body).knee_girth) and np.isfinite(measure(knee(90, 90)).knee_girth)
+    squat = knee(115, 130)
+    assert np.isnan(measure(squat).knee_girth)
+    report = measure_report(body, tmp_path, squat.vertices, squat.rig_joints)
+    assert "knee_girth,undefined" in report.files["csv"].read_text().splitlines()
+    document = json.loads(report.files["json"].read_text())
+    assert document["measurements"]["knee_girth"] is None and "thigh and the calf" in document["undefined"]["knee_girth"]
+    line = next(row for row in measurement_table(report.measurements, report.rest).splitlines() if "knee" in row)
+    assert line.split()[-3:] == ["undefined", f"{report.rest.knee_girth * 100:.1f}", "undefined"]
+    series = measure_sequence(body, np.array([0.0, 1.0]), [body.vertices, squat.vertices],
+                              [body.rig.heads, squat.rig_joints])
+    rows = [row.split(",") for row in series_csv(series).splitlines()]
+    column = rows[0].index("knee_girth_cm")
+    assert rows[1][column] == f"{measure(body).knee_girth * 100:.6g}" and rows[2][column] == "undefined"

@@ -13,6 +13,7 @@ from scipy.spatial import cKDTree
 
 from hitogata.skin.single_pose import elastic_dynamics, elastic_pose
 from hitogata.geometry import enclosed_volume, self_intersections
+from hitogata.measure import measure
 from hitogata.measure.body_lines import body_lines
 from hitogata.measure.strain import skin_strain
 from hitogata.skeleton.extreme_poses import extreme_poses
@@ -153,3 +154,13 @@ def test_the_flexor_side_of_elbow_and_knee_shortens(held):
     # to 1.5 points (5 mm of a 30-40 cm line): the line crosses the crease, where the barrier holds skin pairs
     # apart at its Newton tolerance (1 mm) and another machine's round-off holds others
     assert change == pytest.approx(FLEXOR[sex], abs=1.5)
+
+
+def test_the_knee_girth_is_defined_standing_and_sitting(held):
+    """The knee girth's plane bisects femur and tibia: at 90° it cuts the knee (`measure.knee_along_limbs`),
+    and the tape goes round it on the held skin (skinned and elastic both)."""
+    _, body, poses = held
+    seated = poses["seated 90/90"]
+    for vertices in (body.vertices, seated.skinned, seated.vertices):
+        assert np.isfinite(measure(body, vertices, seated.posed.rig_joints if vertices is not body.vertices
+                                   else body.rig.heads).knee_girth)

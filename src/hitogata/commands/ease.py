@@ -14,7 +14,8 @@ from hitogata.elastic.materials import load_materials
 from hitogata.motion.scenario import Scenario, load_scenario, shipped_scenarios
 from hitogata.errors import HitogataError
 from hitogata.export.atomic import write_bytes_atomically
-from hitogata.garment.ease import ease_csv, ease_json, elastic_surface, overall, sampled_frames, skinned_surface
+from hitogata.garment.ease import (HEIGHTS, ease_csv, ease_json, elastic_surface, overall, sampled_frames,
+                                  skinned_surface)
 from hitogata.garment.fabric import Fabric, read_fabric_csv
 from hitogata.garment.fit import FitAnswers, fit_answers
 from hitogata.garment.pressure import Garment
@@ -136,10 +137,12 @@ def run(args: argparse.Namespace) -> None:
     print(f"{out}/: {', '.join([*written, 'ease.png'])} ({len(answers.ease)} motions)")
     for row in overall(answers.ease):
         if row["increase_cm"] is None:
-            print(f"  {row['measurement']:20s} {row['standing_cm']:6.1f} cm  undefined in motion (a height)")
-        elif row["increase_cm"] > 0.05 or row["decrease_cm"] < -0.05:
+            print(f"  {row['measurement']:20s} {row['standing_cm']:6.1f} cm  undefined in motion "
+                  f"({'a height' if row['measurement'] in HEIGHTS else row['undefined']})")
+        elif row["increase_cm"] > 0.05 or row["decrease_cm"] < -0.05 or "undefined" in row:
             print(f"  {row['measurement']:20s} {row['standing_cm']:6.1f} cm  +{row['increase_cm']:5.1f} "
-                  f"({row['increase_in']})  {row['decrease_cm']:6.1f} ({row['decrease_in']})")
+                  f"({row['increase_in']})  {row['decrease_cm']:6.1f} ({row['decrease_in']})"
+                  + ("  over the frames where it is defined (ease.csv says which)" if "undefined" in row else ""))
 
 
 MOTION_DEFAULTS = {"motions": DEFAULT_MOTIONS, "surface": "skinned", "skinning": "dqs", "rate": 5.0}

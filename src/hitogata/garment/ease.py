@@ -25,6 +25,7 @@ from hitogata.errors import HitogataError
 from hitogata.measure.axes import JointSet
 from hitogata.measure.landmarks import body_landmarks
 from hitogata.measure.measurements import MEASUREMENT_NAMES, measure_surface, posture_arrays, tape_skin
+from hitogata.measure.values import undefined_because
 from hitogata.options import Skinning
 from hitogata.body.rig import posed_rig_heads
 from hitogata.motion.clip import MotionClip
@@ -59,25 +60,34 @@ class MotionEase:
         return self.values - self.standing
 
     def largest(self) -> list[dict]:
-        """Per measurement: standing, largest increase and decrease (cm, %) and when (s); None where the
-        measurement has no meaning in a motion (`HEIGHTS`), with the reason in 'undefined'."""
+        """Per measurement: standing, largest increase and decrease (cm, %) and when (s), over the frames where
+        it is defined; None where it has no meaning in a motion (`HEIGHTS`) or in none of its frames (the knee
+        girth in a deep squat), with the reason in 'undefined' (which also says so where some frames lacked it)."""
         rows = []
         for m, name in enumerate(NAMES):
             standing = self.standing[m]
-            if name in HEIGHTS:
+            change = self.change[:, m]
+            defined = np.isfinite(change)
+            if name in HEIGHTS or not defined.any():
                 rows.append({"motion": self.motion, "measurement": name, "standing_cm": 100 * standing,
                              **{k: None for k in ("increase_cm", "increase_pct", "increase_at_s", "decrease_cm",
-                                                  "decrease_pct", "decrease_at_s")}, "undefined": UNDEFINED})
+                                                  "decrease_pct", "decrease_at_s")},
+                             "undefined": UNDEFINED if name in HEIGHTS else f"in every frame: {undefined_because(name)}"})
                 continue
-            change = self.change[:, m]
             up, down = int(np.nanargmax(change)), int(np.nanargmin(change))
-            rows.append({"motion": self.motion, "measurement": name, "standing_cm": 100 * standing,
-                         "increase_cm": max(100 * change[up], 0.0),
-                         "increase_pct": max(100 * change[up] / standing, 0.0),
-                         "increase_at_s": float(self.times[up]),
-                         "decrease_cm": min(100 * change[down], 0.0),
-                         "decrease_pct": min(100 * change[down] / standing, 0.0),
-                         "decrease_at_s": float(self.times[down])})
+            row = {"motion": self.motion, "measurement": name, "standing_cm": 100 * standing,
+                   "increase_cm": max(100 * change[up], 0.0),
+                   "increase_pct": max(100 * change[up] / standing, 0.0),
+                   "increase_at_s": float(self.times[up]),
+                   "decrease_cm": min(100 * change[down], 0.0),
+                   "decrease_pct": min(100 * change[down] / standing, 0.0),
+                   "decrease_at_s": float(self.times[down])}
+            if not defined.all():
+                missing = self.times[~defined]
+                when = f"{missing.min():g}" + (f"-{missing.max():g}" if len(missing) > 1 else "")
+                row["undefined"] = (f"in {len(missing)} of {len(change)} frames ({when} s; the figures are of the "
+                                    f"others): {undefined_because(name)}")
+            rows.append(row)
         return rows
 
 
@@ -161,40 +171,54 @@ def overall(results: list[MotionEase]) -> list[dict]:
     out = []
     for name in NAMES:
         mine = [r for r in rows if r["measurement"] == name]
-        if name in HEIGHTS:
+        defined = [r for r in mine if r["increase_cm"] is not None]
+        why = "; ".join(f"{r['motion']}: {r['undefined']}" for r in mine if "undefined" in r)
+        if name in HEIGHTS or not defined:
             out.append({"motion": "all", "measurement": name, "standing_cm": mine[0]["standing_cm"],
                         **{k: None for k in ("increase_cm", "increase_pct", "increase_in", "decrease_cm",
-                                             "decrease_pct", "decrease_in")}, "undefined": UNDEFINED})
+                                             "decrease_pct", "decrease_in")},
+                        "undefined": UNDEFINED if name in HEIGHTS else why})
             continue
-        up = max(mine, key=lambda r: r["increase_cm"])
-        down = min(mine, key=lambda r: r["decrease_cm"])
-        out.append({"motion": "all", "measurement": name, "standing_cm": up["standing_cm"],
-                    "increase_cm": up["increase_cm"], "increase_pct": up["increase_pct"], "increase_in": up["motion"],
-                    "decrease_cm": down["decrease_cm"], "decrease_pct": down["decrease_pct"],
-                    "decrease_in": down["motion"]})
+        up = max(defined, key=lambda r: r["increase_cm"])
+        down = min(defined, key=lambda r: r["decrease_cm"])
+        row = {"motion": "all", "measurement": name, "standing_cm": up["standing_cm"],
+               "increase_cm": up["increase_cm"], "increase_pct": up["increase_pct"], "increase_in": up["motion"],
+               "decrease_cm": down["decrease_cm"], "decrease_pct": down["decrease_pct"], "decrease_in": down["motion"]}
+        if why:
+            row["undefined"] = why
+        out.append(row)
     return out
 
 
 COLUMNS = ("motion", "measurement", "standing_cm", "increase_cm", "increase_pct", "increase_at_s", "increase_in",
-           "decrease_cm", "decrease_pct", "decrease_at_s", "decrease_in")
+           "decrease_cm", "decrease_pct", "decrease_at_s", "decrease_in", "undefined_because")
 
 
 def ease_csv(results: list[MotionEase]) -> str:
-    """One row per motion and measurement, then the 'all' rows; cm, %, s."""
+    """One row per motion and measurement, then the 'all' rows; cm, %, s; 'undefined' in a cell that has no
+    figure, and why in the last column (also where some frames had none)."""
     rows = [r for e in results for r in e.largest()] + overall(results)
     lines = [",".join(COLUMNS)]
     for r in rows:
+        r = {**r, "undefined_because": _quoted(r.get("undefined", ""))}
         lines.append(",".join(_cell(r.get(c, "")) for c in COLUMNS))
     return "\n".join(lines) + "\n"
+
+
+def _quoted(text: str) -> str:
+    """A CSV field: quoted where it holds a comma or a quote."""
+    return f'"{text.replace(chr(34), 2 * chr(34))}"' if ("," in text or '"' in text) else text
 
 
 def ease_json(results: list[MotionEase]) -> str:
     """The same table as JSON, with the sampled series (cm) for plots."""
     heights = [NAMES.index(n) for n in HEIGHTS]
     doc = {"units": {"lengths": "cm", "times": "s"}, "measurements": list(NAMES),
-           "undefined": {n: UNDEFINED for n in HEIGHTS},
+           "undefined": {n: UNDEFINED if n in HEIGHTS else undefined_because(n) for n in NAMES
+                         if n in HEIGHTS or any(not np.isfinite(e.values[:, NAMES.index(n)]).all() for e in results)},
            "motions": {e.motion: {"times_s": e.times.round(4).tolist(),
-                                  "values_cm": [[None if k in heights else v for k, v in enumerate(row)]
+                                  "values_cm": [[None if k in heights or not np.isfinite(v) else v
+                                                 for k, v in enumerate(row)]
                                                 for row in (100 * e.values).round(3).tolist()],
                                   "standing_cm": (100 * e.standing).round(3).tolist(),
                                   "largest": e.largest()} for e in results},

@@ -97,9 +97,9 @@ def posture(answers: FitAnswers, motion: str, frame: int) -> tuple[np.ndarray, n
 
 def risks(answers: FitAnswers) -> dict[str, dict]:
     """The headline numbers (cm, %, s, mmHg): the largest ease need over the girths and lengths
-    (heights left out: they change with the posture by definition), the zone needing the most
+    (heights left out: they change with the posture by definition; so is a girth undefined throughout), the zone needing the most
     stretch along a grain (lengthwise or crosswise), and with a garment the highest pressure."""
-    rows = [r for r in overall(answers.ease) if r["measurement"] not in HEIGHTS]
+    rows = [r for r in overall(answers.ease) if r["measurement"] not in HEIGHTS and r["increase_cm"] is not None]
     ease = max(rows, key=lambda r: r["increase_cm"])
     at = next(r["increase_at_s"] for e in answers.ease if e.motion == ease["increase_in"] for r in e.largest()
               if r["measurement"] == ease["measurement"])

@@ -15,7 +15,7 @@ if TYPE_CHECKING:
     from hitogata.measure.measurements import measure, measurement_paths
     from hitogata.measure.strain import SkinStrain, skin_strain
     from hitogata.measure.timeseries import MeasurementSeries, measure_sequence
-    from hitogata.measure.values import MEASUREMENT_NAMES, Measurements
+    from hitogata.measure.values import MEASUREMENT_NAMES, Measurements, undefined_because
     from hitogata.measure.zones import ZONE_NAMES, ZoneStrain, body_zones, zone_strains
 
 __all__ = [
@@ -32,6 +32,7 @@ __all__ = [
     "measure_sequence",
     "measurement_paths",
     "skin_strain",
+    "undefined_because",
     "zone_strains",
 ]
 __getattr__, __dir__ = lazy_names(globals(), {
@@ -45,6 +46,7 @@ __getattr__, __dir__ = lazy_names(globals(), {
     "measure_sequence": "hitogata.measure.timeseries",
     "MEASUREMENT_NAMES": "hitogata.measure.values",
     "Measurements": "hitogata.measure.values",
+    "undefined_because": "hitogata.measure.values",
     "ZONE_NAMES": "hitogata.measure.zones",
     "ZoneStrain": "hitogata.measure.zones",
     "body_zones": "hitogata.measure.zones",

@@ -19,14 +19,14 @@ from hitogata.measure.armpits import FOLD_ABOVE
 from hitogata.measure.axes import JointSet, axis, trunk_normal, unit
 from hitogata.measure.geodesic import SurfaceGeodesics, polyline_length
 from hitogata.measure.landmarks import Landmarks, body_landmarks, girdle_point
-from hitogata.measure.sections import Tape, arc_tape, tape_girth
+from hitogata.measure.sections import Tape, arc_tape, loops_around, section, tape_girth
 from hitogata.measure.surface_points import SurfacePoint, face_of, insert_points
 from hitogata.geometry.topology import Topology, topology
 from hitogata.posing.body_split import mainly_weighted
-from hitogata.measure.values import GIRTHS, MEASUREMENT_NAMES, Measurements, check_names
+from hitogata.measure.values import GIRTHS, MEASUREMENT_NAMES, Measurements, check_names, undefined_because
 
 __all__ = ["GIRTHS", "MEASUREMENT_NAMES", "Measurements", "check_names", "measure", "measure_surface",
-           "measure_with_paths", "measurement_paths"]
+           "measure_with_paths", "measurement_paths", "undefined_because"]
 
 if TYPE_CHECKING:
     from hitogata.posing.pose import PosedBody
@@ -145,6 +145,43 @@ def girth_planes(vertices: np.ndarray, marks: Landmarks, rest: JointSet, posed: 
     }
 
 
+# The farthest the knee girth's plane may cut the leg along femur or tibia, in knee widths (`knee_along_limbs`):
+# between the default bodies' sitting (hips and knees 90°: at most 0.74, skinned and elastic) and 110° of knee
+# flexion (0.88-1.08), so a seated knee keeps its girth and past about 105° no surface gives one
+KNEE_REACH = 0.85
+
+
+def knee_along_limbs(vertices: np.ndarray, topo: Topology, plane: Plane, posed: JointSet,
+                     part: np.ndarray | None) -> bool:
+    """Whether the knee girth's plane runs along the thigh and the calf (`values.KNEE_ALONG_LIMBS`): the leg's
+    skin it cuts near the knee (`part`; every loop of it within one knee width of the knee's centre) reaches
+    along the femur or the tibia further from the knee than `KNEE_REACH` knee widths (the knee's own section's
+    extent along the flexion axis). The plane bisects femur and tibia, so it cuts a limb of width w, flexed
+    by θ, over about w/2 · tan(θ/2) along it: on the default bodies (skinned and elastic alike) 8-9 cm sitting
+    at 90°, 13 cm at 110°, 18-20 cm in a deep squat (130°) or kneeling (135°), against a knee 11-15 cm wide
+    (the elastic knee's sides swell beside the thigh-calf contact). Beyond, the section takes in the back of
+    the thigh and the calf, joined to the knee's or beside it (a tape round it, 40-62 cm, measures no knee);
+    a straight knee's plane is square to the leg."""
+    origin, normal, centre = plane
+    knee = posed["lowerleg01.R"]
+    up, down = unit(posed["upperleg01.R"] - knee), unit(posed["foot.R"] - knee)
+    flexion_axis = np.cross(up, down)
+    if np.linalg.norm(flexion_axis) < 1e-6:
+        return False
+    n = unit(normal)
+    centre = centre - ((centre - origin) @ n) * n
+    sec = section(vertices, topo, origin, n)
+    ends = topo.edges[sec.edges]
+    leg = np.ones(len(ends), dtype=bool) if part is None else part[ends[:, 0]] | part[ends[:, 1]]
+    own = leg & np.isin(sec.loop, loops_around(sec, centre, n))
+    if not own.any():
+        return False
+    width = float(np.ptp(sec.points[own] @ unit(flexion_axis)))
+    near = leg & np.isin(sec.loop, sec.loop[leg & (np.linalg.norm(sec.points - centre, axis=1) < width)])
+    along = np.maximum((sec.points[near] - knee) @ up, (sec.points[near] - knee) @ down)
+    return bool(along.max() > KNEE_REACH * width)
+
+
 def tapes(
     vertices: np.ndarray,
     faces: np.ndarray,
@@ -158,6 +195,8 @@ def tapes(
     topo, skin = topology(faces), skin or {}
     planes = girth_planes(vertices, marks, rest, posed)
     girths = {name: tape_girth(vertices, topo, *plane, part=skin.get(name)) for name, plane in planes.items()}
+    if knee_along_limbs(vertices, topo, planes["knee_girth"], posed, skin.get("knee_girth")):
+        girths["knee_girth"] = Tape(girth=float("nan"), path=np.empty((0, 3)))
     girths["armscye_girth"] = armscye_tape(vertices, topo, marks, rest, posed)
     thorax, trunk = trunk_normal(rest, posed, "thorax"), skin.get("chest_girth")
     widths = {name: arc_tape(vertices, topo, (left.at(vertices), middle.at(vertices), right.at(vertices)),

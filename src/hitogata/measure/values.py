@@ -58,6 +58,19 @@ GIRTHS = ("neck_girth", "chest_girth", "underbust_girth", "waist_girth", "omphal
           "thigh_girth", "upper_arm_girth", "armscye_girth", "knee_girth", "calf_girth", "ankle_girth", "wrist_girth")
 
 
+# Why a measurement is undefined (NaN) in a posture, where its definition says so; any other NaN is a tape that
+# found nothing of its part in its plane (`NOT_CUT`).
+KNEE_ALONG_LIMBS = ("the knee girth's plane (the bisector of femur and tibia) runs along the thigh and the calf in "
+                    "deep knee flexion, so a tape in it goes round them, not round the knee")
+UNDEFINED_BECAUSE = {"knee_girth": KNEE_ALONG_LIMBS}
+NOT_CUT = "its plane cuts nothing of the part it goes round in this posture"
+
+
+def undefined_because(name: str) -> str:
+    """Why the measurement `name` is undefined where it is (NaN): its definition's reason, or `NOT_CUT`."""
+    return UNDEFINED_BECAUSE.get(name, NOT_CUT)
+
+
 def check_names(names: Iterable[str]) -> None:
     """Raise a one-line error for any name that is not a measurement."""
     unknown = [n for n in names if n not in MEASUREMENT_NAMES]

@@ -177,9 +177,13 @@ def overall_section(answers: FitAnswers) -> str:
     note = h.paragraph(f"Heights ({', '.join(map(label, HEIGHTS))}) are undefined in a motion: ISO 8559-1 takes "
                        "them standing upright, and a height has no meaning once the body bends, sits or strides.",
                        "note")
+    others = [h.paragraph(f"{label(r['measurement'])}: undefined where it has no meaning"
+                          + ("" if r["increase_cm"] is None else ", the figures above are of its other frames")
+                          + f" — {r['undefined']}", "note")
+              for r in overall(answers.ease) if r["measurement"] not in HEIGHTS and "undefined" in r]
     return h.section("all-motions", "all motions", [
         h.table(columns, rows, id="ease-all", caption="dynamic ease over all motions"),
-        note, h.image(ease_plot(answers.ease), "largest change of each girth and length per motion")])
+        note, *others, h.image(ease_plot(answers.ease), "largest change of each girth and length per motion")])
 
 
 MEASURED_COLUMNS = ("figure in this report", "published measurement", "posture", "mean ± SD", "source")

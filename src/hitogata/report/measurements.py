@@ -26,7 +26,7 @@ from hitogata.body.model import Body
 from hitogata.errors import HitogataError
 from hitogata.export.atomic import write_bytes_atomically
 from hitogata.measure.landmarks import body_landmarks, landmark_positions
-from hitogata.measure.measurements import Measurements, measure, measure_with_paths, posture_arrays
+from hitogata.measure.measurements import Measurements, measure, measure_with_paths, posture_arrays, undefined_because
 from hitogata.measure.strain import skin_strain
 from hitogata.measure.zones import ZoneStrain, zone_strains
 from hitogata.report.heatmap import strain_heatmap
@@ -76,7 +76,7 @@ def measurement_table(measurements: Measurements, reference: Measurements | None
 
 def _cm(metres: float, signed: bool = False) -> str:
     if not np.isfinite(metres):
-        return "n/a"
+        return "undefined"
     return f"{metres * 100:+.1f}" if signed else f"{metres * 100:.1f}"
 
 
@@ -118,6 +118,7 @@ def measure_report(
         "units": "m",
         "measurements": _json_values(values),
         "measurements_cm": {k: None if x is None else round(x * 100, 2) for k, x in _json_values(values).items()},
+        "undefined": {k: undefined_because(k) for k, x in _json_values(values).items() if x is None},
         "landmarks_m": {k: p.tolist() for k, p in landmark_positions(body_landmarks(body), v).items()},
     }
     picture = render_png(v, body.faces, ("front", "right", "back"), title=title, overlays=paths)  # tapes on the right
@@ -146,7 +147,8 @@ def _json_values(values: Measurements) -> dict[str, float | None]:
 
 
 def _measurements_csv(values: Measurements) -> str:
-    rows = ["measurement,value_cm"] + [f"{name},{x * 100:.2f}" for name, x in values.as_dict().items()]
+    rows = ["measurement,value_cm"] + [f"{name},{x * 100:.2f}" if np.isfinite(x) else f"{name},undefined"
+                                       for name, x in values.as_dict().items()]
     return "\n".join(rows) + "\n"
 
 

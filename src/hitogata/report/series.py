@@ -16,7 +16,8 @@ from hitogata.measure.timeseries import MeasurementSeries
 
 
 def series_csv(series: MeasurementSeries) -> str:
-    """One row per frame: time (s), each measurement (cm), each zone's stretch and area change (%)."""
+    """One row per frame: time (s), each measurement (cm), each zone's stretch and area change (%); 'undefined'
+    where a frame has none (the knee girth in deep flexion)."""
     header = (
         ["time_s"]
         + [f"{name}_cm" for name in series.names]
@@ -24,7 +25,8 @@ def series_csv(series: MeasurementSeries) -> str:
         + [f"{zone}_area_change_pct" for zone in series.zones]
     )
     table = np.column_stack([series.times, series.values * 100.0, series.zone_stretch, series.zone_area])
-    lines = [",".join(header)] + [",".join(f"{x:.6g}" for x in row) for row in table]
+    lines = [",".join(header)] + [",".join(f"{x:.6g}" if np.isfinite(x) else "undefined" for x in row)
+                                  for row in table]
     return "\n".join(lines) + "\n"
 
 

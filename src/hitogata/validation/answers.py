@@ -244,11 +244,13 @@ def _posture_change(row: Row, body: Body, standing_posture: tuple[np.ndarray, np
                     posture: tuple[np.ndarray, np.ndarray]) -> Answer:
     """The change of the row's measurement from standing (`standing_row`) to the posture, each (skin, joints)."""
     from hitogata.measure.measurements import measure
+    from hitogata.measure.values import UNDEFINED_BECAUSE
 
     standing = measure(body, *standing_posture).get(row.quantity)
     posed = measure(body, *posture).get(row.quantity)
     if not (math.isfinite(standing) and math.isfinite(posed)):
-        return Answer.undefined(f"{row.quantity} has no meaning in this posture (ISO 8559-1 defines it standing)")
+        why = UNDEFINED_BECAUSE.get(row.quantity, "ISO 8559-1 defines it standing")
+        return Answer.undefined(f"{row.quantity} has no meaning in this posture ({why})")
     change = posed - standing
     return Answer(100.0 * change if row.unit == "cm" else 100.0 * change / standing)
 
