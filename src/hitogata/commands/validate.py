@@ -74,19 +74,17 @@ def run(args: argparse.Namespace) -> None:
 def added_surface(source: str) -> str:
     """The name of the elastic surface answered again with other materials: 'elastic_calibrated' for a shipped
     preset, 'elastic_<file stem>' for a file."""
-    from hitogata.elastic.materials import shipped_materials
+    from hitogata.elastic.materials import source_name
 
-    shipped = {str(path): name for name, path in shipped_materials().items()}
-    return "elastic_" + re.sub(r"\W+", "-", shipped.get(str(source), Path(source).stem))
+    return "elastic_" + re.sub(r"\W+", "-", Path(source_name(source)).stem)
 
 
 def _command(args: argparse.Namespace) -> str:
     """The command line that made the page (the options that were given; the output folder as DIR)."""
-    from hitogata.elastic.materials import shipped_materials
+    from hitogata.elastic.materials import source_name
 
-    shipped = {str(path): name for name, path in shipped_materials().items()}  # a preset by its name
     given = [(k, getattr(args, k)) for k in ("data", "rows", "kinds", "materials", "also_materials")]
-    parts = [f"--{k.replace('_', '-')} {shipped.get(str(v), v)}" for k, v in given if v is not None]
+    parts = [f"--{k.replace('_', '-')} {source_name(v) if 'materials' in k else v}" for k, v in given if v is not None]
     if args.surface != "both":
         parts.append(f"--surface {args.surface}")
     return " ".join(["hitogata validate", *parts, "--out DIR"])

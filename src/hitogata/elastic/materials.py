@@ -57,10 +57,13 @@ def shipped_materials() -> dict[str, Path]:
 
 def materials_name(materials: Materials | None) -> str:
     """How a file or the metadata names the materials used: a shipped preset's name, else the file's path."""
-    if materials is None:
-        return "literature"
+    return "literature" if materials is None else source_name(materials.source)
+
+
+def source_name(source: str | Path) -> str:
+    """A materials file by a shipped preset's name where it is one, else its path as given."""
     shipped = {str(path): name for name, path in shipped_materials().items()}
-    return shipped.get(str(materials.source), str(materials.source))
+    return shipped.get(str(source), str(source))
 
 
 def load_materials(path: str | Path | None = None) -> Materials:

@@ -22,22 +22,21 @@ breast) narrows them where the studies put their sensors.
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
-
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 import scipy.sparse as sp
 
 from hitogata.errors import HitogataError
 from hitogata.fem.damping import damping_ratios
-from hitogata.geometry.tets import signed_volumes
-from hitogata.volume.model import VolumeModel
 from hitogata.fem.modes import frequencies_hz
+from hitogata.geometry.tets import signed_volumes
 from hitogata.volume.trunk import segment_distance
 
 if TYPE_CHECKING:
     from hitogata.body.rig import Rig
+    from hitogata.volume.model import VolumeModel
 
 # region → (rig bones without side, which side of the bone: +1 in front (+z), -1 behind, 0 all round)
 REGIONS: dict[str, tuple[tuple[str, ...], int]] = {

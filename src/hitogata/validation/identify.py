@@ -326,6 +326,8 @@ def identify(dataset: Dataset, materials: Materials, held_out: Dataset | None = 
             if not rows:
                 raise HitogataError(f"{dataset.path}: no row left to fit: the elastic model does not resolve the "
                                     "regions of its resonance rows")
+            keys = {r.id: keys[r.id] for r in rows if r.id in keys}  # the later rounds solve the bodies still asked
+            bodies = {key: bodies[key] for ks in keys.values() for key in ks}
         residual = _residuals(rows, keys, reduced)
         J = _jacobian(residual, _to_unit(theta))
         free = _pinned(J)
