@@ -36,8 +36,10 @@ Element = Literal["P2", "P1"]
 BoneMode = Literal["rigid", "elastic"]
 CutMode = Literal["free", "attached"]
 Dilatation = Literal["full", "mean"]
-# the shipped tissue materials: the literature's values (the default), or those identified from measured people
+# the shipped tissue materials: the literature's values, or those identified from measured people; the default
+# (docs/decisions/0047-the-identified-materials-wait-for-the-skin.md)
 MaterialsPreset = Literal["literature", "calibrated"]
+DEFAULT_MATERIALS: MaterialsPreset = "literature"
 EigenSolver = Literal["auto", "dense", "scipy", "superlu-nd", "pardiso"]
 FactorMethod = Literal["auto", "superlu-nd", "pardiso", "superlu"]
 # scenarios and their files

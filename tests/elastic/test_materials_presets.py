@@ -12,7 +12,7 @@ from hitogata import cli
 from hitogata.motion.scenario import load_scenario
 from hitogata.elastic.materials import load_materials, materials_name, shipped_materials
 from hitogata.errors import HitogataError
-from hitogata.options import MATERIALS_PRESETS
+from hitogata.options import DEFAULT_MATERIALS, MATERIALS_PRESETS
 from hitogata.validation import load_dataset
 from hitogata.validation.identify import identify
 
@@ -21,8 +21,8 @@ def test_every_preset_loads_and_names_itself():
     assert set(shipped_materials()) == set(MATERIALS_PRESETS)
     for name in MATERIALS_PRESETS:
         assert materials_name(load_materials(name)) == name
-    assert materials_name(None) == "literature"
-    assert load_materials(None).regions == load_materials("literature").regions
+    assert materials_name(None) == DEFAULT_MATERIALS
+    assert load_materials(None).regions == load_materials(DEFAULT_MATERIALS).regions
 
 
 def test_the_calibrated_preset_is_what_identification_finds_from_the_stiffness_rows():

@@ -9,12 +9,13 @@ import numpy as np
 import pytest
 
 from hitogata.cli import main
-from hitogata.elastic.materials import load_materials
+from hitogata.elastic.materials import PRESET_FILES, load_materials
 from hitogata.measure.strain import directional_stretch
 from hitogata.validation import KINDS, load_dataset
 from hitogata.validation.answers import BodyCache, answer_dataset
 from hitogata.validation.dataset import UNITS, Dataset
 from hitogata.posing import poser_for
+from hitogata.options import DEFAULT_MATERIALS, MATERIALS_PRESETS
 
 SOURCE = """
 [[source]]
@@ -228,41 +229,47 @@ def test_validate_writes_one_table_three_ways(tmp_path, capsys):
     assert "within 2 SD" in capsys.readouterr().out
 
 
-def test_the_elastic_surface_answered_again_with_the_identified_constants(tmp_path, capsys):
-    """`--also-materials calibrated`: the elastic answers with the constants `hitogata identify` found, beside the
-    literature's, in every table, the summary and the headline; the skinned surface alone has no elastic to redo."""
+def test_the_elastic_surface_answered_again_with_the_other_preset(tmp_path, capsys):
+    """`--also-materials NAME`: the elastic answers again with the other shipped preset's constants, beside the
+    default's, in every table, the summary and the headline; the skinned surface alone has no elastic to redo,
+    and the default's own constants are nothing to compare."""
+    other = next(name for name in MATERIALS_PRESETS if name != DEFAULT_MATERIALS)
+    column = f"elastic_{other}"
     text = SOURCE + "".join([row("mu", "stiffness", 4.0, 0.5, "kPa", "muscle.shear_modulus.thigh", ""),
                              row("fat", "stiffness", 3.0, 0.2, "kPa", "fat.youngs_modulus.thigh", "")])
     data = tmp_path / "rows.toml"
     data.write_text(text)
     out = tmp_path / "out"
-    assert main(["validate", "--data", str(data), "--also-materials", "calibrated", "--quiet",
-                 "--out", str(out)]) == 0
-    literature, calibrated = load_materials(), load_materials("calibrated")
+    assert main(["validate", "--data", str(data), "--also-materials", other, "--quiet", "--out", str(out)]) == 0
     doc = json.loads((out / "validation.json").read_text())
     mu = {r["row"]: r for r in doc["rows"]}["mu"]
-    for materials, column in ((literature, "elastic"), (calibrated, "elastic_calibrated")):
+    for materials, name in ((load_materials(), "elastic"), (load_materials(other), column)):
         muscle = materials.regions["muscle"]
-        assert mu[column] == pytest.approx(muscle.E / (2 * (1 + muscle.nu)) / 1000, rel=1e-3)
-        assert mu[f"z_{column}"] == pytest.approx((mu[column] - 4.0) / 0.5, abs=0.01)
-    assert mu["elastic_calibrated"] < 0.6 * mu["elastic"]  # the elastography rows pull the muscle modulus down
-    assert doc["materials_of_added_surfaces"] == {"elastic_calibrated": "hitogata/data/materials_calibrated.toml"}
+        assert mu[name] == pytest.approx(muscle.E / (2 * (1 + muscle.nu)) / 1000, rel=1e-3)
+        assert mu[f"z_{name}"] == pytest.approx((mu[name] - 4.0) / 0.5, abs=0.01)
+    shear = {"literature": mu["elastic" if other == "calibrated" else column],
+             "calibrated": mu[column if other == "calibrated" else "elastic"]}
+    assert shear["calibrated"] < 0.6 * shear["literature"]  # the elastography rows pull the muscle modulus down
+    assert doc["materials_of_added_surfaces"] == {column: f"hitogata/data/{PRESET_FILES[other]}"}
     shares = {(s["kind"], s["surface"]): s for s in doc["summary"]}
-    assert shares[("all", "elastic_calibrated")]["answered"] == 2
-    within = sum(abs(r["z_elastic_calibrated"]) <= 2 for r in doc["rows"])
-    assert doc["headline_within_2sd"]["elastic_calibrated"] == pytest.approx(within / 2)
+    assert shares[("all", column)]["answered"] == 2
+    within = sum(abs(r[f"z_{column}"]) <= 2 for r in doc["rows"])
+    assert doc["headline_within_2sd"][column] == pytest.approx(within / 2)
     header = (out / "validation.csv").read_text().splitlines()[0].split(",")
-    assert header[-3:] == ["elastic_calibrated", "z_elastic_calibrated", "undefined_because"]
+    assert header[-3:] == [column, f"z_{column}", "undefined_because"]
     page = (out / "validation.md").read_text()
-    assert "--also-materials calibrated" in page and "| all | elastic (calibrated) | 2 |" in page
-    assert "elastic (calibrated): the elastic surface again with `hitogata/data/materials_calibrated.toml`" in page
-    assert "elastic (calibrated) " in next(line for line in page.splitlines() if line.startswith("**Share"))
+    assert f"--also-materials {other}" in page and f"| all | elastic ({other}) | 2 |" in page
+    assert f"elastic ({other}): the elastic surface again with `hitogata/data/{PRESET_FILES[other]}`" in page
+    assert f"elastic ({other}) " in next(line for line in page.splitlines() if line.startswith("**Share"))
     capsys.readouterr()
     bad = tmp_path / "bad"
-    assert main(["validate", "--data", str(data), "--surface", "skinned", "--also-materials", "calibrated",
+    assert main(["validate", "--data", str(data), "--surface", "skinned", "--also-materials", other,
                  "--out", str(bad)]) == 2
     err = capsys.readouterr().err.strip()
     assert len(err.splitlines()) == 1 and "--also-materials" in err and "not skinned" in err and not bad.exists()
+    assert main(["validate", "--data", str(data), "--also-materials", DEFAULT_MATERIALS, "--out", str(bad)]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and "same constants" in err and not bad.exists()
 
 
 def test_a_mixed_group_is_the_mean_of_a_female_and_a_male_body(tmp_path):

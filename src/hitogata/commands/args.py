@@ -62,11 +62,11 @@ def refuse_body_options(args: argparse.Namespace, why: str) -> None:
 
 
 def add_materials_argument(parser: argparse.ArgumentParser, help: str = "the tissue materials",
-                           option: str = "--materials", default_text: str = "literature") -> None:
+                           option: str = "--materials", default_text: str | None = None) -> None:
     """--materials (or `option`): a shipped preset by name or a materials TOML file (e.g. written by
     `hitogata identify`)."""
     from hitogata.commands.paths import input_path
-    from hitogata.options import MATERIALS_PRESETS
+    from hitogata.options import DEFAULT_MATERIALS, MATERIALS_PRESETS
 
     def presets() -> dict[str, Path]:  # imported when an argument is checked: the materials module is slow to load
         from hitogata.elastic.materials import shipped_materials
@@ -75,7 +75,7 @@ def add_materials_argument(parser: argparse.ArgumentParser, help: str = "the tis
 
     parser.add_argument(option, default=None, type=input_path("file", suffixes=(".toml",), names=presets),
                         help=f"{help}: a preset ({', '.join(MATERIALS_PRESETS)}) or a materials TOML file (e.g. "
-                             f"from hitogata identify); default {default_text}")
+                             f"from hitogata identify); default {default_text or DEFAULT_MATERIALS}")
 
 
 def add_cache_argument(parser: argparse.ArgumentParser) -> None:

@@ -21,7 +21,7 @@ def run(args: argparse.Namespace) -> None:
     everything = load_dataset(args.data)
     rows, kinds = names(args.rows, "--rows"), names(args.kinds, "--kinds")
     chosen = identifiable(everything.select(rows, kinds or (() if rows else IDENTIFIABLE)))
-    start_materials = load_materials(None if args.materials is None else str(args.materials))
+    start_materials = load_materials("literature" if args.materials is None else str(args.materials))
     kinds_fitted = {r.kind for r in chosen.rows}
     rest = tuple(r for r in everything.rows if r.kind in kinds_fitted and r not in chosen.rows)
     held_out = type(everything)(everything.path, everything.sources, rest) if rest else None
@@ -43,7 +43,8 @@ def register(sub: argparse._SubParsersAction) -> None:
                                                      "of the same kinds are held out and predicted")
     parser.add_argument("--kinds", default=None,
                         help="fit rows of these kinds only (comma-separated; default stiffness,frequency,damping)")
-    add_materials_argument(parser, "the starting materials")
+    add_materials_argument(parser, "the starting materials (the bounds are the literature's ranges)",
+                           default_text="literature")
     parser.add_argument("--quiet", action="store_true", help="no progress lines")
     add_output(parser, "file", "the materials file to write (.toml)", suffixes=(".toml",))
     add_cache_argument(parser)

@@ -36,6 +36,9 @@ def run(args: argparse.Namespace) -> None:
     if other is not None and args.surface == "skinned":
         raise HitogataError("--also-materials: answers the elastic surface again; allowed with --surface both or "
                             "elastic, not skinned")
+    if other is not None and other.regions == materials.regions and other.rayleigh == materials.rayleigh:
+        raise HitogataError(f"--also-materials {args.also_materials}: the same constants as --materials "
+                            f"({_shown(materials.source)}); allowed: other materials to answer the elastic surface again")
     reachable(dataset, default_body("female"))  # every posture checked before any long work
     surfaces = ("skinned", "elastic") if args.surface == "both" else (args.surface,)
     start = time.perf_counter()

@@ -1,7 +1,10 @@
 """Tissue materials from a TOML file: one table per tissue region, checked on load.
 
-`data/materials.toml` ships the defaults with their literature sources; a user
-file has the same form. Every mistake (a missing or unknown region or key, a
+Two presets ship: `data/materials.toml`, the literature's values with their
+sources, the default and where the identification starts, and
+`data/materials_calibrated.toml`, identified from the validation set's
+measurements of living people by `hitogata identify`. A user file has the
+same form. Every mistake (a missing or unknown region or key, a
 value out of range) is a one-line `HitogataError` naming the file, the entry
 and the value.
 """
@@ -19,14 +22,13 @@ from hitogata import units
 from hitogata.errors import HitogataError
 from hitogata.fem import Material
 from hitogata.config import Entry, read_toml
-from hitogata.options import MaterialsPreset
+from hitogata.options import DEFAULT_MATERIALS, MaterialsPreset
 from hitogata.volume import REGIONS
 
-DEFAULT_FILE = "materials.toml"
-# The shipped presets' files (`options.MATERIALS_PRESETS`): the literature's values (the default), and those
-# identified from the validation set's in-vivo stiffness rows by `hitogata identify`
-# (docs/decisions/0023-calibrated-materials.md).
-PRESET_FILES: dict[MaterialsPreset, str] = {"literature": DEFAULT_FILE, "calibrated": "materials_calibrated.toml"}
+# The shipped presets' files (`options.MATERIALS_PRESETS`): the literature's values, and those identified from
+# the validation set's in-vivo stiffness rows by `hitogata identify` (docs/decisions/0023-calibrated-materials.md);
+# which is the default: `options.DEFAULT_MATERIALS`.
+PRESET_FILES: dict[MaterialsPreset, str] = {"literature": "materials.toml", "calibrated": "materials_calibrated.toml"}
 KEYS = ("density", "youngs_modulus", "poissons_ratio")
 DAMPING_KEYS = ("alpha", "beta")
 PRESSURE_UNITS = {"pa": 1.0, "kpa": 1e3, "mpa": 1e6, "gpa": 1e9}  # parse_quantity lower-cases the unit
@@ -46,8 +48,8 @@ class Materials:
 
 
 def default_materials_path() -> Path:
-    """The materials file shipped with the package."""
-    return Path(str(resources.files("hitogata").joinpath("data", DEFAULT_FILE)))
+    """The shipped materials file every elastic body is built with unless told otherwise."""
+    return shipped_materials()[DEFAULT_MATERIALS]
 
 
 def shipped_materials() -> dict[str, Path]:
@@ -57,7 +59,7 @@ def shipped_materials() -> dict[str, Path]:
 
 def materials_name(materials: Materials | None) -> str:
     """How a file or the metadata names the materials used: a shipped preset's name, else the file's path."""
-    return "literature" if materials is None else source_name(materials.source)
+    return DEFAULT_MATERIALS if materials is None else source_name(materials.source)
 
 
 def source_name(source: str | Path) -> str:
@@ -67,10 +69,10 @@ def source_name(source: str | Path) -> str:
 
 
 def load_materials(path: str | Path | None = None) -> Materials:
-    """Read and check a materials file, or a shipped preset by name (`MATERIALS_PRESETS`; the literature's when
+    """Read and check a materials file, or a shipped preset by name (`MATERIALS_PRESETS`; `DEFAULT_MATERIALS` when
     None)."""
     if path is None or str(path) in PRESET_FILES:
-        path = shipped_materials()["literature" if path is None else str(path)]
+        path = shipped_materials()[DEFAULT_MATERIALS if path is None else str(path)]
     source, doc = read_toml(path)
     unknown = sorted(set(doc) - set(REGIONS) - {"damping"})
     if unknown:
