@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import pickle
 import re
 from dataclasses import replace
 from pathlib import Path
@@ -52,6 +53,7 @@ def test_the_defaults_are_the_ones_the_decision_documents():
     # the values derived from the barrier's reach, as its reasons say
     assert SKIN_DEFAULTS.barrier.apart == 4e-3 and SKIN_DEFAULTS.barrier.ccd_gap == pytest.approx(1e-5, rel=1e-15)
     assert SkinSettings() == SKIN_DEFAULTS and hash(SkinSettings()) == hash(SKIN_DEFAULTS)
+    assert pickle.loads(pickle.dumps(SKIN_DEFAULTS)) == SKIN_DEFAULTS  # as `HeldFrames` hands them to its workers
 
 
 @pytest.mark.parametrize(("make", "message"), [
