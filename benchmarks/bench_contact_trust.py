@@ -1,11 +1,11 @@
 """The skin's contact solve at the peaks of the mobility motions, with and without the trust region after a
-costly cut step (`geometry.barrier_contact.SWEEP_PAIRS`), in the same run.
+costly cut step (`geometry.barrier_contact.BarrierSettings.sweep_pairs`), in the same run.
 
 For each body and motion, the motion's peak posture (`motion.clip.peak_clip`) held elastic with contact
 (`elastic_pose(..., contact=True)`, as `hitogata ease --surface elastic` holds a frame): wall and CPU
 seconds (the process's, so the contact's threads count), the Newton iterations per path step, and the
 largest distance (mm) between the two skins. "before" offers every Newton step in full (the trust region
-off: `SWEEP_PAIRS` set past any sweep); the ratio is before / now. The model is built (or read from the
+off: `sweep_pairs` set past any sweep, through `elastic_pose(..., settings=)`); the ratio is before / now. The model is built (or read from the
 disk cache) first and not timed. Prints a Markdown table (docs/decisions).
 
     PYTHONPATH=src python benchmarks/bench_contact_trust.py [female|male ...] [--motions arms_crossed,sit]
@@ -16,28 +16,28 @@ from __future__ import annotations
 
 import argparse
 import time
+from dataclasses import replace
 
 import numpy as np
 
 from hitogata.body import default_body
 from hitogata.commands.ease import DEFAULT_MOTIONS
 from hitogata.skin.single_pose import elastic_dynamics, elastic_pose
-from hitogata.geometry import barrier_contact
 from hitogata.motion.clip import peak_clip, scenario_clip
 from hitogata.motion.scenario import load_scenario, shipped_scenarios
 from hitogata.posing import poser_for
+from hitogata.skin.settings import SKIN_DEFAULTS
+
+# the trust region off: no sweep is costly, every Newton step offered in full
+NO_TRUST = replace(SKIN_DEFAULTS, barrier=replace(SKIN_DEFAULTS.barrier, sweep_pairs=int(np.iinfo(np.int64).max)))
 
 
 def held(dynamics, angles: np.ndarray, trust: bool):
     """The held posture with contact, its wall and CPU seconds, with the trust region on or off."""
-    saved = barrier_contact.SWEEP_PAIRS
-    barrier_contact.SWEEP_PAIRS = saved if trust else np.iinfo(np.int64).max
-    try:
-        wall, cpu = time.perf_counter(), time.process_time()
-        pose = elastic_pose(dynamics, angles=angles, contact=True, on_limit="clamp")
-        return pose, time.perf_counter() - wall, time.process_time() - cpu
-    finally:
-        barrier_contact.SWEEP_PAIRS = saved
+    wall, cpu = time.perf_counter(), time.process_time()
+    pose = elastic_pose(dynamics, angles=angles, contact=True, on_limit="clamp",
+                        settings=SKIN_DEFAULTS if trust else NO_TRUST)
+    return pose, time.perf_counter() - wall, time.process_time() - cpu
 
 
 def main(sexes: list[str], motions: list[str], baseline: bool) -> None:

@@ -10,6 +10,7 @@ in full.
 
 from __future__ import annotations
 
+import math
 import sys
 import warnings
 from typing import TextIO
@@ -46,6 +47,25 @@ class HitogataError(ValueError):
 
     def __init__(self, message: object = "", *rest: object) -> None:
         super().__init__(one_line(str(message)), *rest)
+
+
+def require(ok: bool, where: str, value: object, allowed: str) -> None:
+    """Refuse a value that is not `ok` in one line naming where it was set, the value and what is allowed
+    (a settings dataclass's field checked in its `__post_init__`)."""
+    if not ok:
+        raise HitogataError(f"{where} = {excerpt(value)}: allowed {allowed}")
+
+
+def require_above(where: str, value: object, least: float = 0.0, what: str = "a number") -> None:
+    """Refuse anything but a finite real number above `least` (`what`: how the message names it)."""
+    ok = isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value) and value > least
+    require(ok, where, value, f"{what} above {least:g}")
+
+
+def require_whole(where: str, value: object, least: int) -> None:
+    """Refuse anything but a whole number (an int) of at least `least`."""
+    ok = isinstance(value, int) and not isinstance(value, bool) and value >= least
+    require(ok, where, value, f"a whole number at least {least}")
 
 
 def warnings_as_lines(stream: TextIO | None = None) -> None:

@@ -8,7 +8,7 @@ import pytest
 import trimesh
 
 from hitogata.geometry import enclosed_volume, self_intersections
-from hitogata.geometry.barrier_contact import DHAT, barrier_resolve, contact_regions
+from hitogata.geometry.barrier_contact import BARRIER_DEFAULTS, barrier_resolve, contact_regions
 from hitogata.geometry.contact import SelfContact
 
 RADIUS = 0.05
@@ -32,7 +32,7 @@ def test_spheres_driven_together_meet_flattened_and_keep_their_volume():
     x = result.vertices
     assert result.iterations == [0, 0, 2, 5]  # the two first steps meet nothing: the target as it is
     assert len(self_intersections(x, faces)) == 0 and len(test.penetrations(x)) == 0
-    assert 0.0 < result.min_distance < DHAT
+    assert 0.0 < result.min_distance < BARRIER_DEFAULTS.dhat
     assert result.min_distance == pytest.approx(1.840e-3, rel=1e-3)
     # flattened against each other: the poles that met (each 10 mm inside the other sphere in the
     # target) pushed back ~5 mm each, to either side of the mid-plane z = 45 mm

@@ -1,7 +1,7 @@
 """The skin's slides on a body at the supported range's extreme (male 195 cm, BMI 35, 133 kg): in the groin at
 hip flexion 120° the coarse skin's slide leaves fine skin beyond +100 % (its triangles may turn no further),
 which the fine skin's own slide takes out, its skin that would cross other skin tied harder to where it lay
-rather than held whole (`skin.skin_slide.FINE`; docs/elastic.md, "Beyond the default bodies")."""
+rather than held whole (`skin.settings.SlideSettings.fine`; docs/elastic.md, "Beyond the default bodies")."""
 
 from __future__ import annotations
 

@@ -64,7 +64,7 @@ def test_contact_holds_through_an_elbow_flexion(female, flexion):
     # no jump, no tear: the elastic displacement changes at most 10 mm a frame
     assert round(worst["largest_elastic_jump_speed_m_s"], 2) == 0.11 < JUMP_SPEED
     # left: the crease's forearm skin pressed against the upper arm folds 3 neighbouring triangle pairs over
-    # at 150° (skin of one group nearer than barrier_contact.SAME_APART at rest, which the barrier lets meet)
+    # at 150° (skin of one group nearer than BarrierSettings.same_apart at rest, which the barrier lets meet)
     assert (worst["folds_beyond_skinning"], worst["new_folds_time_s"]) == (3, 0.9)
 
 

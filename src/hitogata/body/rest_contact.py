@@ -38,7 +38,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from hitogata.body.rig import Rig
-from hitogata.geometry.barrier_contact import RINGS, _grow, barrier_resolve, contact_regions
+from hitogata.geometry.barrier_contact import BARRIER_DEFAULTS, _grow, barrier_resolve, contact_regions
 from hitogata.geometry.contact import SelfContact
 from hitogata.geometry.mesh_checks import self_intersections
 from hitogata.geometry.offset_limit import OffsetLimiter
@@ -47,7 +47,7 @@ from hitogata.geometry.offset_limit import OffsetLimiter
 LIMB_ROOTS = ("upperleg01", "lowerleg01", "foot", "upperarm01", "lowerarm01", "wrist", "clavicle", "neck01", "head")
 RIGID = ("foot", "wrist", "head")  # groups whose skin does not fold onto itself
 WEIGHT_STEP = 0.15  # the longest step of weight along the path: the barrier's CCD follows the skin
-CROSSING_RINGS = RINGS + 1  # rings round a crossing of the extrapolated body that are free to move
+CROSSING_RINGS = BARRIER_DEFAULTS.rings + 1  # rings round a crossing of the extrapolated body that are free to move
 
 
 def contact_groups(rig: Rig, skin_weights: sp.spmatrix) -> tuple[np.ndarray, tuple[int, ...]]:
@@ -74,7 +74,7 @@ def touching_skin(path: Sequence[np.ndarray], faces: np.ndarray, groups: np.ndar
     test = SelfContact(start, faces, groups)
     crossing_at_start, crossing = _crossing_vertices(start, faces), _crossing_vertices(target, faces)
     free = contact_regions(path[1:], test) | _grow(crossing & ~crossing_at_start, test, CROSSING_RINGS)[None]
-    free &= ~_grow(crossing_at_start, test, RINGS)[None]  # the base mesh's own crossings: no barrier starts there
+    free &= ~_grow(crossing_at_start, test, BARRIER_DEFAULTS.rings)[None]  # the base mesh's own crossings: no barrier starts there
     skin = barrier_resolve(path, test, folding=folding, free=free).vertices if free.any() else target
     limited, _ = OffsetLimiter(start, faces).hold_crossings(start, skin - start)
     return np.asarray(limited)

@@ -170,12 +170,13 @@ class BodyDynamics:
         return elastic, plain.astype(np.float32), offset.astype(np.float32)
 
     def frame(self, rotations: np.ndarray, translations: np.ndarray, node_rotations: np.ndarray,
-              delta_qs: np.ndarray, dynamic: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+              delta_qs: np.ndarray, dynamic: np.ndarray, limiter: OffsetLimiter | None = None
+              ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """One posture's elastic update (`skin_offset`): the nodes' elastic displacement (N, 3), the
         skin (V, 3), the skin by skinning alone (V, 3), float32, and how far (m) each skin vertex's
-        elastic displacement was held back to keep the skin whole (V,) (`geometry.offset_limit`)."""
+        elastic displacement was held back to keep the skin whole (V,) (by `limiter`, None: `skin_limiter`)."""
         elastic, plain, offset = self.skin_offset(rotations, translations, node_rotations, delta_qs, dynamic)
-        skin, kept = self.skin_limiter(plain, offset)
+        skin, kept = (self.skin_limiter if limiter is None else limiter)(plain, offset)
         return elastic, skin, plain, ((1.0 - kept) * np.linalg.norm(offset, axis=1)).astype(np.float32)
 
     def loads(self, node_rotations: np.ndarray, contractions: dict[str, float], gravity: bool) -> np.ndarray:
@@ -302,12 +303,13 @@ class Motion:
 def simulate(dynamics: BodyDynamics, timeline: Timeline, duration: float, rate: float, substeps: int = 1,
              gravity: bool = True, on_limit: OnLimit = "raise", iterations: int = ITERATIONS,
              progress: Callable[[int, int], None] | None = None, root: RootTrack | None = None,
-             frame_contact: FrameContact | None = None) -> Motion:
+             frame_contact: FrameContact | None = None, skin_limiter: OffsetLimiter | None = None) -> Motion:
     """Run a timeline for `duration` seconds; outputs at `rate` frames per second, `substeps` steps per frame;
     progress(done, total) is called after each step (and each frame's contact); root: the whole body's
     rigid motion (None: it stands where it is); frame_contact: resolves every frame's self-contact after the
     dynamics (`FrameContact`; `hitogata.simulate(..., contact=True)`, the skin layer's `simulate`, hands in
-    `hitogata.skin.motion_contact.resolve_frames`)."""
+    `hitogata.skin.motion_contact.resolve_frames`); skin_limiter: holds the frames' elastic offsets back
+    (None: the dynamics' own, `BodyDynamics.skin_limiter`)."""
     if not (np.isfinite(duration) and 0 < duration <= MAX_DURATION and np.isfinite(rate) and 0 < rate <= MAX_RATE):
         raise HitogataError(f"duration {duration!r} s and rate {rate!r}/s: allowed a duration up to "
                             f"{MAX_DURATION:g} s and a rate up to {MAX_RATE:g} frames/s")
@@ -379,7 +381,7 @@ def simulate(dynamics: BodyDynamics, timeline: Timeline, duration: float, rate: 
         q[n + 1], qd[n + 1] = advance(step, q[n], qd[n], p_all[n], p_all[n + 1])
 
     motion = _frames(dynamics, t[frames], angles[frames], pose.rotations[frames], pose.translations[frames],
-                     g_out, r_out, dqs_out, q[frames], s_all[frames], qd[frames])
+                     g_out, r_out, dqs_out, q[frames], s_all[frames], qd[frames], skin_limiter)
     if frame_contact is None:
         return motion
     skin, took = frame_contact(dynamics, motion.skin, motion.skinned_skin, motion.rotations, motion.angles,
@@ -399,7 +401,7 @@ def _angles(poser: Poser, channels: dict[str, dict[str, np.ndarray]], n: int, on
 
 
 def _frames(dynamics: BodyDynamics, times, angles, rotations, translations, skinned, node_rotations,
-            delta_qs, q, s, qd) -> Motion:
+            delta_qs, q, s, qd, limiter: OffsetLimiter | None = None) -> Motion:
     """Assemble the output frames: elastic displacement, nodes and skin surfaces.
 
     The skin's elastic offset is held back where it would fold or cross the skin (`skin_limiter`),
@@ -411,7 +413,7 @@ def _frames(dynamics: BodyDynamics, times, angles, rotations, translations, skin
     elastic = np.empty((n, dynamics.n_nodes, 3), dtype=np.float32)
     skin = np.empty((n, len(dynamics.poser.body.vertices), 3), dtype=np.float32)
     plain, offset = np.empty_like(skin), np.empty_like(skin)
-    limiter = dynamics.skin_limiter
+    limiter = dynamics.skin_limiter if limiter is None else limiter
     candidates, kept = [], np.empty(skin.shape[:2])
     for k in range(n):
         elastic[k], plain[k], offset[k] = dynamics.skin_offset(rotations[k], translations[k], node_rotations[k],

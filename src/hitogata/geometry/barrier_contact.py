@@ -8,16 +8,16 @@ the skin near contact is the unknown x of one smooth minimisation,
 y the posture's skin (elastic or skinned), L the skin's uniform graph Laplacian (a pushed region
 carries its neighbours with it, as a membrane would), V the enclosed volume (y's counts an overlap
 twice, so the tissue a contact presses aside comes back as a swelling of the free skin around it), b the
-IPC log barrier (reach `DHAT`) over the vertex–triangle and edge–edge distances of skin that may meet:
-vertices of different contact groups (`hitogata.skin.contact`) more than `APART` apart at rest, or
-of one group whose skin folds onto itself (`folding`: a crease) more than `SAME_APART` apart.
+IPC log barrier (reach `BarrierSettings.dhat`) over the vertex–triangle and edge–edge distances of skin that may meet:
+vertices of different contact groups (`hitogata.skin.contact`) more than `BarrierSettings.apart` apart at
+rest, or of one group whose skin folds onto itself (`folding`: a crease) more than `same_apart` apart.
 The barrier is infinite at contact, so a start free of crossings stays free when every Newton step is
 cut short by continuous collision detection (CCD): the pose is reached along a path of postures (the
 rest skin, skinned postures on the way, the target), each step started from the last one's minimum.
 
 Distances, barrier derivatives, broad phase and CCD are the IPC Toolkit's (`ipctk`, MIT licence). The
-unknowns are the skin near the contacts along the path (`REACH` of another group, grown by `RINGS`
-rings); the rest of the skin is the target's.
+unknowns are the skin near the contacts along the path (`BarrierSettings.reach` of another group, grown by
+`rings` rings); the rest of the skin is the target's.
 """
 
 from __future__ import annotations
@@ -31,34 +31,76 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 from scipy.spatial import cKDTree
 
+from hitogata.errors import require, require_above, require_whole
 from hitogata.geometry.contact import SelfContact
 
 if TYPE_CHECKING:
     import ipctk  # imported where used: half a second, paid only when contact is resolved
 
-DHAT = 2e-3  # m: the barrier's reach; skin in contact ends up within it
-SAME_APART = 0.03  # m: skin of one group meets itself only if this far apart at rest (a crease folding onto itself)
-APART = 2 * DHAT  # m: primitives nearer than this at rest never collide (they would start inside the barrier)
-STIFFNESS = 1e8  # barrier weight against the tracking energy (the toolkit's barrier is of squared distances, ~1e-8 at 1 mm)
-SMOOTHING = 10.0  # k: the Laplacian's weight; a push spreads over ~√k rings
-REACH = 0.02  # m: a vertex this close to another group's vertex in the target may meet it
-RINGS = 3  # rings of skin around those that are free to move
-NEWTON = 30  # most Newton iterations a step
-# m⁻⁴: weight of ½ (V − V_target)², the enclosed volume held to the target's (whose overlaps count twice:
-# the tissue a contact presses aside comes back as a swelling of the free skin around it)
-INCOMPRESSIBILITY = 1e9
-TOLERANCE = 1e-3  # m: a Newton step below this (largest vertex move) has converged
-# m: CCD keeps the skin this far apart along a step (its time-of-impact tolerance is relative to the
-# step, so a long step could otherwise end nanometres from contact, where the next CCD misses a crossing)
-CCD_GAP = 0.005 * DHAT
-MAX_STEP = 0.1  # m: the longest vertex move of one Newton step (a trust region: CCD then sees contact coming)
-# The trust region after a costly cut step: when CCD let through under half of a step whose sweep held more
-# than SWEEP_PAIRS candidate pairs, the next step is offered at most twice the move let through (never under
-# MIN_STEP, five times the tolerance), and the offer doubles again after each full step. A step offered
-# 100 mm and let through 3-5 mm sweeps millions of pairs (the female's crossed forearms: 21 M candidates, 9 s
-# of CCD a step) for the move a 10 mm offer makes; a cheap sweep keeps the full offer (and its answer)
-SWEEP_PAIRS = 200_000
-MIN_STEP = 0.005
+
+@dataclass(frozen=True)
+class BarrierSettings:
+    """The barrier problem's constants, SI (m, m⁻⁴): how near skin comes, how hard it is pushed apart, which
+    skin is free, and how the Newton steps are taken and stopped. Refused when out of range (`__post_init__`)."""
+
+    dhat: float = 2e-3
+    """m: the barrier's reach; skin in contact ends up within it."""
+    same_apart: float = 0.03
+    """m: skin of one group meets itself only if this far apart at rest (a crease folding onto itself)."""
+    stiffness: float = 1e8
+    """κ, the barrier's weight against the tracking energy (the toolkit's barrier is of squared distances,
+    ~1e-8 at 1 mm)."""
+    smoothing: float = 10.0
+    """k, the Laplacian's weight in the tracking energy; a push spreads over ~√k rings."""
+    reach: float = 0.02
+    """m: a vertex this close to another group's vertex in the target may meet it (is free)."""
+    rings: int = 3
+    """rings of skin around those that may meet that are free to move too."""
+    iterations: int = 30
+    """most Newton iterations a step of the path."""
+    incompressibility: float = 1e9
+    """λ, m⁻⁴: weight of ½ (V − V_target)², the enclosed volume held to the target's (whose overlaps count
+    twice: the tissue a contact presses aside comes back as a swelling of the free skin around it)."""
+    tolerance: float = 1e-3
+    """m: a Newton step whose largest vertex move is below this has converged."""
+    ccd_gap_share: float = 0.005
+    """share of `dhat` that continuous collision detection keeps the skin apart along a step (`ccd_gap`): its
+    time-of-impact tolerance is relative to the step, so a long step could otherwise end nanometres from
+    contact, where the next CCD misses a crossing."""
+    max_step: float = 0.1
+    """m: the longest vertex move of one Newton step (a trust region: CCD then sees contact coming)."""
+    sweep_pairs: int = 200_000
+    """candidate pairs above which a CCD sweep is costly: when CCD let through under half of such a step, the
+    next is offered at most twice the move let through (decision 0031: the female's crossed forearms swept
+    21 M candidates, 9 s a step, for the move a 10 mm offer makes); a cheap sweep keeps the full offer."""
+    min_step: float = 0.005
+    """m: the smallest step the trust region offers after a costly cut step (five times `tolerance`)."""
+
+    def __post_init__(self) -> None:
+        for name in ("dhat", "same_apart", "stiffness", "reach", "incompressibility", "tolerance", "ccd_gap_share",
+                     "max_step", "min_step"):
+            require_above(f"BarrierSettings.{name}", getattr(self, name))
+        require(bool(np.isfinite(self.smoothing) and self.smoothing >= 0), "BarrierSettings.smoothing", self.smoothing,
+                "a number at least 0")
+        require(self.ccd_gap_share < 1, "BarrierSettings.ccd_gap_share", self.ccd_gap_share, "a share of dhat below 1")
+        require(self.min_step <= self.max_step, "BarrierSettings.min_step", self.min_step,
+                f"at most max_step ({self.max_step!r} m)")
+        require_whole("BarrierSettings.rings", self.rings, 0)
+        require_whole("BarrierSettings.iterations", self.iterations, 1)
+        require_whole("BarrierSettings.sweep_pairs", self.sweep_pairs, 0)
+
+    @property
+    def apart(self) -> float:
+        """m: primitives nearer than this at rest never collide (they would start inside the barrier): 2 dhat."""
+        return 2 * self.dhat
+
+    @property
+    def ccd_gap(self) -> float:
+        """m: CCD keeps the skin this far apart along a step (`ccd_gap_share` of `dhat`)."""
+        return self.ccd_gap_share * self.dhat
+
+
+BARRIER_DEFAULTS = BarrierSettings()
 
 
 @dataclass(frozen=True)
@@ -82,8 +124,8 @@ def _grow(mask: np.ndarray, test: SelfContact, rings: int) -> np.ndarray:
     return out
 
 
-def contact_regions(path: Sequence[np.ndarray], test: SelfContact, reach: float = REACH, rings: int = RINGS
-                    ) -> np.ndarray:
+def contact_regions(path: Sequence[np.ndarray], test: SelfContact, reach: float = BARRIER_DEFAULTS.reach,
+                    rings: int = BARRIER_DEFAULTS.rings) -> np.ndarray:
     """(P, V) bool, a row for each of `path`'s P postures: the skin that may meet another group by that
     posture (at it or one before it, a vertex within `reach` of another group's vertex that lay at least
     `reach` further away at rest: contacts the posture brings, not the rest body's own; one of the two has
@@ -131,14 +173,15 @@ def _factor(a: sp.spmatrix) -> spla.SuperLU:
     return spla.splu(a.tocsc(), permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0, options={"SymmetricMode": True})
 
 
-def _trust_region(reach: float, offered: float, alpha: float, pairs: int) -> float:
+def _trust_region(reach: float, offered: float, alpha: float, pairs: int, settings: BarrierSettings) -> float:
     """The next step's longest vertex move (m) after one offered `offered` (m, the trust region `reach`) of which
     CCD let the share `alpha` through, its sweep `pairs` candidate pairs: twice the move let through when under
-    half was and the sweep was costly, double after a full step that the region capped, else as it was."""
-    if alpha < 0.5 and pairs > SWEEP_PAIRS:
-        return max(2.0 * alpha * offered, MIN_STEP)
+    half was and the sweep was costly (`settings.sweep_pairs`), double after a full step that the region capped,
+    else as it was."""
+    if alpha < 0.5 and pairs > settings.sweep_pairs:
+        return max(2.0 * alpha * offered, settings.min_step)
     if alpha >= 1.0 and offered >= reach:
-        return min(2.0 * reach, MAX_STEP)
+        return min(2.0 * reach, settings.max_step)
     return reach
 
 
@@ -146,11 +189,10 @@ class _Problem:
     """The barrier problem on the free skin: its collision mesh, which of its primitive pairs may
     meet, the tracking energy's matrix."""
 
-    def __init__(self, test: SelfContact, free: np.ndarray, stiffness: float,
-                 smoothing: float, dhat: float, incompressibility: float, folding: Sequence[int]) -> None:
+    def __init__(self, test: SelfContact, free: np.ndarray, settings: BarrierSettings, folding: Sequence[int]) -> None:
         import ipctk
 
-        self.incompressibility = incompressibility
+        self.settings = settings
         # the collision mesh: the free skin's triangles, every vertex of them an unknown (a fixed
         # vertex would jump with its target, unchecked by CCD)
         faces = test.faces[free[test.faces[:, 0]] & free[test.faces[:, 1]] & free[test.faces[:, 2]]]
@@ -175,25 +217,25 @@ class _Problem:
         self.groups = test.groups[self.vertices].astype(np.int32)
         # which vertex pairs may meet: a folding group's vertices are each a patch of their own, the
         # others one patch per group; never a pair near at rest. The toolkit lets two primitives meet
-        # when any of their vertex pairs may: a triangle reaching past APART (SAME_APART) from a vertex
+        # when any of their vertex pairs may: a triangle reaching past `apart` (`same_apart`) from a vertex
         # meets it, which the rest skin's own spacing allows (nothing lies within the barrier at rest). The
         # pair map holds only the pairs the patches let through (the broad phase looks every overlapping
         # pair up in it: a hand's thousands of near pairs, one patch, made it slower by a third)
         n = len(self.vertices)
         folds = np.isin(self.groups, np.asarray(folding, dtype=np.int32))
         patch = np.where(folds, test.n_groups + np.arange(n), self.groups).astype(np.int32)
-        close = cKDTree(self.rest).query_pairs(SAME_APART, output_type="ndarray")
+        close = cKDTree(self.rest).query_pairs(settings.same_apart, output_type="ndarray")
         close = close[patch[close[:, 0]] != patch[close[:, 1]]]
         same = self.groups[close[:, 0]] == self.groups[close[:, 1]]
-        close = close[same | (np.linalg.norm(self.rest[close[:, 0]] - self.rest[close[:, 1]], axis=1) <= APART)]
+        close = close[same | (np.linalg.norm(self.rest[close[:, 0]] - self.rest[close[:, 1]], axis=1) <= settings.apart)]
         self.mesh.can_collide = ipctk.make_vertex_patches_filter(patch) & ipctk.make_sparse_filter(
             dict.fromkeys(zip(close[:, 0].tolist(), close[:, 1].tolist()), False), True)
-        self.dhat = dhat
-        self.barrier = ipctk.BarrierPotential(dhat, stiffness)
+        self.dhat = settings.dhat
+        self.barrier = ipctk.BarrierPotential(settings.dhat, settings.stiffness)
         self.ccd = ipctk.AdditiveCCD()  # Li et al. 2021: a third of the tight-inclusion CCD's cost here
         sub = (test.neighbour_average[self.vertices][:, self.vertices] > 0).astype(float)
         laplacian = sp.diags(np.asarray(sub.sum(axis=1)).ravel()) - sub
-        a = (sp.identity(n) + smoothing * laplacian).tocsr()
+        a = (sp.identity(n) + settings.smoothing * laplacian).tocsr()
         self.tracking = sp.kron(a, sp.identity(3)).tocsr()  # dofs vertex-major (x0, y0, z0, x1, …), as ipctk's
 
     def candidates(self, x0: np.ndarray, x1: np.ndarray, within: float | None = None) -> ipctk.Candidates:
@@ -206,9 +248,9 @@ class _Problem:
         return c
 
     def stepsize(self, candidates: ipctk.Candidates, x0: np.ndarray, x1: np.ndarray) -> float:
-        """The share (0…1) of the way x0 → x1 free of crossings, the skin kept CCD_GAP apart (`candidates`: the
+        """The share (0…1) of the way x0 → x1 free of crossings, the skin kept `ccd_gap` apart (`candidates`: the
         way's pairs; the additive CCD)."""
-        return min(1.0, candidates.compute_collision_free_stepsize(self.mesh, x0, x1, CCD_GAP, self.ccd))
+        return min(1.0, candidates.compute_collision_free_stepsize(self.mesh, x0, x1, self.settings.ccd_gap, self.ccd))
 
     def collisions(self, candidates: ipctk.Candidates, x: np.ndarray) -> ipctk.NormalCollisions:
         import ipctk
@@ -249,7 +291,7 @@ class _Problem:
                 return y.copy(), 0, meeting
         full = target[self.touching]
         at_target = np.einsum("ij,ij->i", full[:, 0], np.cross(full[:, 1], full[:, 2]))
-        lam = self.incompressibility
+        lam = self.settings.incompressibility
 
         def energy(x: np.ndarray, contacts: ipctk.NormalCollisions) -> tuple[float, np.ndarray, float, np.ndarray]:
             """E at x, with its tracking term's gradient, the volume's change and the volume's gradient."""
@@ -265,7 +307,7 @@ class _Problem:
             contacts = self.collisions(self.candidates(x, x), x)
         e0, tracked, change, w = energy(x, contacts)
         taken = 0
-        reach = MAX_STEP  # the trust region: the longest vertex move offered to CCD
+        reach = self.settings.max_step  # the trust region: the longest vertex move offered to CCD
         while taken < iterations:
             taken += 1
             others = tracked + self.barrier.gradient(contacts, self.mesh, x)  # the gradient but the volume's
@@ -283,9 +325,9 @@ class _Problem:
             # the sweep's pairs within the CCD's gap only (within dhat, the crease's skin lying a few mm apart
             # over wide areas, they were 2-3x as many on a short step, half again on a long one); the
             # contacts of a trial then from a static query of its own
-            swept = self.candidates(x, x + step, CCD_GAP)
+            swept = self.candidates(x, x + step, self.settings.ccd_gap)
             alpha = self.stepsize(swept, x, x + step)
-            reach = _trust_region(reach, min(longest, reach), alpha, len(swept))
+            reach = _trust_region(reach, min(longest, reach), alpha, len(swept), self.settings)
             slope = float(gradient @ step.ravel())
             while True:  # backtracking (Armijo) within the collision-free part of the step
                 trial = x + alpha * step
@@ -304,14 +346,12 @@ class _Problem:
         return float(np.sqrt(contacts.compute_minimum_distance(self.mesh, x))) if len(contacts) else self.dhat
 
 
-def barrier_resolve(path: Sequence[np.ndarray], test: SelfContact, stiffness: float = STIFFNESS,
-                    smoothing: float = SMOOTHING, dhat: float = DHAT, reach: float = REACH, rings: int = RINGS,
-                    iterations: int = NEWTON, tolerance: float = TOLERANCE,
-                    incompressibility: float = INCOMPRESSIBILITY, folding: Sequence[int] = (), swell: float = 0.0,
-                    free: np.ndarray | None = None, resumed: bool = False) -> BarrierResult:
+def barrier_resolve(path: Sequence[np.ndarray], test: SelfContact, settings: BarrierSettings = BARRIER_DEFAULTS,
+                    folding: Sequence[int] = (), swell: float = 0.0, free: np.ndarray | None = None,
+                    resumed: bool = False) -> BarrierResult:
     """The skin at the last of `path`'s postures (each (V, 3); the first should be free of crossings,
     e.g. the rest skin), with no skin of one contact group passing into another's: each posture in
-    turn is the target y of the barrier problem, started from the previous solution. swell (m³): the
+    turn is the target y of the barrier problem, started from the previous solution, with the constants of `settings`. swell (m³): the
     last step holds the enclosed volume at V(y) + swell (the volume a crease gives up, back round it);
     free (steps, V) bool: each step's unknowns, if already found (default: `contact_regions` of the path:
     the skin that may meet other skin by that step; the rest takes the step's posture, as skin that may
@@ -320,7 +360,7 @@ def barrier_resolve(path: Sequence[np.ndarray], test: SelfContact, stiffness: fl
     barrier does not hold apart, one group's skin near at rest, crosses: the female hip flexion 120°)."""
     import ipctk
 
-    free = contact_regions(path[1:], test, reach, rings) if free is None else free
+    free = contact_regions(path[1:], test, settings.reach, settings.rings) if free is None else free
     steps = len(path) - 1
     skin = np.array(path[0], dtype=float)  # the whole skin where the path has taken it
     before, taken, problem, unknowns = skin, [], None, np.zeros(len(skin), dtype=bool)
@@ -328,24 +368,22 @@ def barrier_resolve(path: Sequence[np.ndarray], test: SelfContact, stiffness: fl
     for k, (y, step_free) in enumerate(zip(path[1:], free), 1):
         before = skin
         if (step_free & ~unknowns).any():  # skin comes near other skin: a problem for all that may meet by now
-            problem, unknowns, contacts = _Problem(test, step_free, stiffness, smoothing, dhat, incompressibility,
-                                                   folding), step_free, None
+            problem, unknowns, contacts = _Problem(test, step_free, settings, folding), step_free, None
             if not (resumed and k == 1) and ipctk.has_intersections(problem.mesh, skin[problem.vertices]):
                 if k == 1:
                     raise ValueError("the path's first skin passes through itself where skin may meet: "
                                      "no barrier can start there")
                 # skin that took its postures unchecked crosses where it joins the unknowns: every step with
                 # all of them, as from the path's start
-                return barrier_resolve(path, test, stiffness, smoothing, dhat, reach, rings, iterations, tolerance,
-                                       incompressibility, folding, swell, np.broadcast_to(free[-1], free.shape),
+                return barrier_resolve(path, test, settings, folding, swell, np.broadcast_to(free[-1], free.shape),
                                        resumed)
         skin = np.array(y, dtype=float)
         if problem is None:  # nothing comes near other skin yet: the posture as it is
             taken.append(0)
             continue
-        x, n, contacts = problem.minimise(before[problem.vertices], skin, iterations, tolerance, contacts,
+        x, n, contacts = problem.minimise(before[problem.vertices], skin, settings.iterations, settings.tolerance, contacts,
                                           swell if k == steps else 0.0)
         skin[problem.vertices] = x
         taken.append(n)
-    gap = dhat if problem is None or contacts is None else problem.min_distance(skin[problem.vertices], contacts)
+    gap = settings.dhat if problem is None or contacts is None else problem.min_distance(skin[problem.vertices], contacts)
     return BarrierResult(skin, free[-1], taken, gap, before)

@@ -14,12 +14,12 @@ penetration only if
 
 - its closest point is not on that surface's rim (the seam with the next
   group, where the sign says nothing), and
-- at rest it lay further than `REST_APART` from that triangle: skin
+- at rest it lay further than `PenetrationSettings.rest_apart` from that triangle: skin
   across a seam (the two sides of a joint's own crease line) is one sheet,
   not two bodies meeting, and
 - it lies in the body's tissue: the generalized winding number of the whole
   skin at the vertex (Jacobson, Kavan & Sorkine-Hornung 2013; libigl's fast
-  winding number, Barill et al. 2018) is above `COVERED`. The skin is closed
+  winding number, Barill et al. 2018) is above `PenetrationSettings.covered`. The skin is closed
   (the body's is), so the winding number counts how often the body covers a
   point; at a vertex its own triangles add nothing (it lies on their planes)
   and the rest of its sheet adds the share of a small sphere round it on the
@@ -48,17 +48,33 @@ from dataclasses import dataclass, fields
 import numpy as np
 import scipy.sparse as sp
 
+from hitogata.errors import require_above
 from hitogata.geometry.mesh_checks import winding_number
 from hitogata.geometry.closest import barycentric_on_triangles, closest_points_on_triangles
 
-# m: deepest penetration looked for; deeper, the closest surface is often the wrong one (a calf 6 cm
-# into the thigh at a 135° knee is closer to the thigh's side than to its back)
-DETECT = 0.025
-REST_APART = 0.02  # m: a vertex and a triangle this close at rest are one sheet of skin, never in contact
-_RIM = 1e-6  # barycentric weight under which a closest point lies on a triangle's edge
-# winding number above which a skin vertex lies inside another part (module note): 1, plus a margin
-# over the fast evaluation's error (at most 0.004 against the exact winding number, measured)
-COVERED = 1.01
+_RIM = 1e-6  # barycentric weight under which a closest point lies on a triangle's edge (round-off, not a choice)
+
+
+@dataclass(frozen=True)
+class PenetrationSettings:
+    """What the test counts as skin inside another part, SI (m). Refused when out of range (`__post_init__`)."""
+
+    detect: float = 0.025
+    """m: the deepest penetration looked for; deeper, the closest surface is often the wrong one (a calf 6 cm
+    into the thigh at a 135° knee is closer to the thigh's side than to its back)."""
+    rest_apart: float = 0.02
+    """m: a vertex and a triangle this close at rest are one sheet of skin, never in contact."""
+    covered: float = 1.01
+    """winding number above which a skin vertex lies inside another part (module note): 1, plus a margin over
+    the fast evaluation's error (at most 0.004 against the exact winding number, measured)."""
+
+    def __post_init__(self) -> None:
+        require_above("PenetrationSettings.detect", self.detect, what="a distance (m)")
+        require_above("PenetrationSettings.rest_apart", self.rest_apart, what="a distance (m)")
+        require_above("PenetrationSettings.covered", self.covered, 0.5, "a winding number")  # ½: a smooth sheet's own
+
+
+PENETRATION_DEFAULTS = PenetrationSettings()
 
 
 @dataclass(frozen=True)
@@ -87,9 +103,12 @@ class Penetrations:
 
 
 class SelfContact:
-    """The contact test of one skin (rest vertices, faces, a group per vertex), for any posture of it."""
+    """The contact test of one skin (rest vertices, faces, a group per vertex), for any posture of it, counting
+    penetrations as `settings` say."""
 
-    def __init__(self, rest: np.ndarray, faces: np.ndarray, groups: np.ndarray) -> None:
+    def __init__(self, rest: np.ndarray, faces: np.ndarray, groups: np.ndarray,
+                 settings: PenetrationSettings = PENETRATION_DEFAULTS) -> None:
+        self.settings = settings
         self.rest = np.asarray(rest, dtype=float)
         self.faces = np.asarray(faces, dtype=np.int64)
         self.groups = np.asarray(groups)
@@ -127,16 +146,17 @@ class SelfContact:
     def _query(self, x: np.ndarray, group: int, points: np.ndarray
                ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """Signed distance (> 0 outside) of skin vertices `points` to group's surface at x, within
-        ±DETECT: the closest triangle, its barycentric weights, the outward unit normal there, and
+        ±`settings.detect`: the closest triangle, its barycentric weights, the outward unit normal there, and
         whether the closest point is off the surface's rim."""
         import igl
 
+        detect = self.settings.detect
         faces = self._group_faces[group]
         signed, which, closest, normal = igl.signed_distance(
-            x[points], x, self.faces[faces], igl.SIGNED_DISTANCE_TYPE_PSEUDONORMAL, -DETECT, DETECT)
+            x[points], x, self.faces[faces], igl.SIGNED_DISTANCE_TYPE_PSEUDONORMAL, -detect, detect)
         found = (which >= 0) & (which < len(faces))  # points beyond the bound get no triangle
         which = np.where(found, which, 0)
-        signed = np.where(found, signed, DETECT)
+        signed = np.where(found, signed, detect)
         normal = np.where(found[:, None], normal, 0.0)  # libigl leaves those unset
         face = faces[which]
         corners = self.faces[face]
@@ -151,11 +171,12 @@ class SelfContact:
     def _search(self, x: np.ndarray, rest_check: bool) -> Penetrations:
         lo_all, hi_all = x.min(axis=0), x.max(axis=0)
         out: list[tuple[np.ndarray, ...]] = []
+        detect = self.settings.detect
         for g, faces in enumerate(self._group_faces):
             if not len(faces):
                 continue
             tri = x[self.faces[faces]]
-            lo, hi = tri.min(axis=(0, 1)) - DETECT, tri.max(axis=(0, 1)) + DETECT
+            lo, hi = tri.min(axis=(0, 1)) - detect, tri.max(axis=(0, 1)) + detect
             if np.any(hi < lo_all) or np.any(lo > hi_all):
                 continue
             near = np.flatnonzero((self.groups != g) & np.all((x >= lo) & (x <= hi), axis=1))
@@ -165,7 +186,7 @@ class SelfContact:
             keep = (signed < 0.0) & off_rim
             if rest_check:
                 keep[keep] = _point_triangle_distance(self.rest[near[keep]], self.rest[self.faces[face[keep]]]) \
-                    > REST_APART
+                    > self.settings.rest_apart
             out.append((near[keep], face[keep], bary[keep], normal[keep], -signed[keep]))
         if not out:
             out.append((np.zeros(0, int), np.zeros(0, int), np.zeros((0, 3)), np.zeros((0, 3)), np.zeros(0)))
@@ -180,10 +201,10 @@ class SelfContact:
 
     def _in_tissue(self, x: np.ndarray, vertices: np.ndarray) -> np.ndarray:
         """(K,) bool: the skin at x covers each vertex more than its own sheet does (winding number
-        above `COVERED`): inside another part, not tucked into a gap between two sheets of skin."""
+        above `settings.covered`): inside another part, not tucked into a gap between two sheets of skin."""
         if not len(vertices):
             return np.zeros(0, dtype=bool)
-        return np.abs(winding_number(x, self.faces, x[vertices], fast=True)) > COVERED
+        return np.abs(winding_number(x, self.faces, x[vertices], fast=True)) > self.settings.covered
 
 
 def _point_triangle_distance(points: np.ndarray, tri: np.ndarray) -> np.ndarray:

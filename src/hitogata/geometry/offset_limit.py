@@ -18,9 +18,9 @@ triangle pair that the reference (and the rest surface) has not:
    (less those crossing in the reference or at rest, which are not this
    offset's doing); the broad phase's cost goes with the faces that move;
 2. in rounds: the vertices of every offending pair have their hold raised
-   by `STEP` (to 1 at most: offset gone), and the hold spreads over the
-   skin around them, fading smoothly to nothing over `WIDTH` along the
-   surface, so the held-back region has no edge of its own.
+   by `OffsetLimitSettings.step` (to 1 at most: offset gone), and the hold
+   spreads over the skin around them, fading smoothly to nothing over
+   `OffsetLimitSettings.width` along the surface, so the held-back region has no edge of its own.
 
 At hold 1 on all its corners a triangle is where the reference puts it, so
 every offending pair has a corner whose hold can still rise: the rounds end.
@@ -35,31 +35,64 @@ they move with.
 
 from __future__ import annotations
 
+import copy
 from collections.abc import Callable
+from dataclasses import dataclass
 
 import numpy as np
 from scipy.sparse.csgraph import dijkstra
 
+from hitogata.errors import require, require_above, require_whole
 from hitogata.geometry.broad_phase import box_pairs
 from hitogata.geometry.integrity import MOVED, _crossing_pairs, _folded, _intersect, _neighbour_pairs, _pair_keys
 from hitogata.geometry.mesh_checks import _apart, _faces, edge_graph, self_intersections
 
-ROUNDING = 1e-6  # m: boxes widened by this cover a float32 surface's rounding
-HELD = 1e-4  # m: a vertex whose offset is held back by more is reported as held back
-STEP = 0.5  # hold added per round to the corners of an offending pair
-WIDTH = 0.04  # m along the surface: a hold fades to nothing over one 40 mm element of the tissue mesh
-MAX_ROUNDS = 64  # far beyond need (each round lifts a corner; 2-6 rounds are typical): a guard
+ROUNDING = 1e-6  # m: boxes widened by this cover a float32 surface's rounding (float32's, not a choice)
+HELD = 1e-4  # m: a vertex whose offset is held back by more is reported as held back (the reports' threshold)
+
+
+@dataclass(frozen=True)
+class OffsetLimitSettings:
+    """How the limiter holds an offset back, SI (m). Refused when out of range (`__post_init__`)."""
+
+    step: float = 0.5
+    """hold added per round to the corners of an offending pair (0 < step ≤ 1; 1: the offset gone at once)."""
+    width: float = 0.04
+    """m along the surface: a hold fades to nothing over this (one 40 mm element of the tissue mesh)."""
+    max_rounds: int = 64
+    """a guard on the rounds, far beyond need (each round lifts a corner; 2-6 rounds are typical)."""
+
+    def __post_init__(self) -> None:
+        require_above("OffsetLimitSettings.step", self.step, what="a share")
+        require(self.step <= 1, "OffsetLimitSettings.step", self.step, "a share above 0 and at most 1")
+        require_above("OffsetLimitSettings.width", self.width, what="a distance (m)")
+        require_whole("OffsetLimitSettings.max_rounds", self.max_rounds, 1)
+
+
+OFFSET_LIMIT_DEFAULTS = OffsetLimitSettings()
 
 
 class OffsetLimiter:
-    """For one surface (rest vertices (V, 3), faces (T, 3)): weights that keep reference + w·offset whole."""
+    """For one surface (rest vertices (V, 3), faces (T, 3)): weights that keep reference + w·offset whole,
+    held back as `settings` say."""
 
-    def __init__(self, rest: np.ndarray, faces: np.ndarray) -> None:
+    def __init__(self, rest: np.ndarray, faces: np.ndarray, settings: OffsetLimitSettings = OFFSET_LIMIT_DEFAULTS
+                 ) -> None:
+        self.settings = settings
         self.faces = _faces(faces)
         rest = np.asarray(rest, dtype=np.float64)
         self.pairs = _neighbour_pairs(self.faces)
         self.crossing_at_rest = _pair_keys(_crossing_pairs(rest, self.faces), len(self.faces))
         self.graph = edge_graph(rest, self.faces)
+
+    def with_settings(self, settings: OffsetLimitSettings) -> OffsetLimiter:
+        """This limiter holding back as `settings` say (itself when they are its own): the surface's
+        neighbour pairs, rest crossings and edge graph shared, not found again."""
+        if settings == self.settings:
+            return self
+        other = copy.copy(self)
+        other.settings = settings
+        return other
 
     def __call__(self, reference: np.ndarray, offset: np.ndarray, ceiling: np.ndarray | None = None,
                  candidates: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
@@ -111,13 +144,13 @@ class OffsetLimiter:
         top = np.ones(len(reference)) if ceiling is None else np.clip(ceiling, 0.0, 1.0)
         w = top
         changed = np.ones(len(self.faces), dtype=bool)
-        for _ in range(MAX_ROUNDS):
+        for _ in range(self.settings.max_rounds):
             surface = (reference + w[:, None] * offset).astype(dtype)
             corners = np.unique(self.faces[offending(surface.astype(np.float64), changed)])
             corners = corners[hold[corners] < 1.0]
             if not len(corners):
                 break
-            hold[corners] = np.minimum(hold[corners] + STEP, 1.0)
+            hold[corners] = np.minimum(hold[corners] + self.settings.step, 1.0)
             previous, w = w, np.minimum(top, 1.0 - self.spread(hold))
             changed = (w != previous)[self.faces].any(axis=1)
         return surface, w
@@ -145,11 +178,11 @@ class OffsetLimiter:
         return pairs[~np.isin(_pair_keys(pairs, len(self.faces)), self.crossing_at_rest)]
 
     def spread(self, hold: np.ndarray) -> np.ndarray:
-        """(V,) the holds spread over the surface: each held vertex's hold times a smooth fall to 0 at WIDTH."""
-        out = np.zeros_like(hold)
+        """(V,) the holds spread over the surface: each held vertex's hold times a smooth fall to 0 at `settings.width`."""
+        out, width = np.zeros_like(hold), self.settings.width
         for level in np.unique(hold[hold > 0]):
             sources = np.flatnonzero(hold == level)
-            distance = dijkstra(self.graph, directed=False, indices=sources, limit=WIDTH, min_only=True)
-            u = np.clip(np.asarray(distance) / WIDTH, 0.0, 1.0)
+            distance = dijkstra(self.graph, directed=False, indices=sources, limit=width, min_only=True)
+            u = np.clip(np.asarray(distance) / width, 0.0, 1.0)
             out = np.maximum(out, level * (1.0 - u * u * (3.0 - 2.0 * u)))
         return out

@@ -12,7 +12,9 @@ skin it is measured on, for a held posture and through a motion.
   dynamics' motion with it handed in (the front door's `hitogata.simulate`);
 - `held_frames`: held postures of one body on the free cores (`HeldFrames`, for a garment's ease);
 - `skin_slide`: the skin sliding over the fascia where its fine skin is stretched beyond what skin takes;
-- `fine_skin`: the skin Loop-subdivided, carried like the skin itself, to measure strain on.
+- `fine_skin`: the skin Loop-subdivided, carried like the skin itself, to measure strain on;
+- `settings`: every tuning constant of the above in one frozen dataclass (`SkinSettings`, the defaults
+  `SKIN_DEFAULTS`), with its unit and reason; the entry points take `settings=`.
 
 The mesh algorithms they use know nothing of a body and stay in `hitogata.geometry`, below the body that
 uses them too: the penetration test (`geometry.contact.SelfContact`), the IPC barrier
@@ -30,15 +32,21 @@ if TYPE_CHECKING:
     from hitogata.skin.fine_skin import FineSkin, FineSkinning, body_fine_skin, body_fine_skinning
     from hitogata.skin.held_frames import HeldFrames
     from hitogata.skin.motion_contact import resolve_frames, simulate
+    from hitogata.skin.settings import SKIN_DEFAULTS, CreaseSettings, SkinSettings, SlideLevel, SlideSettings
     from hitogata.skin.single_pose import ElasticPose, elastic_dynamics, elastic_pose, held_dynamics
     from hitogata.skin.skin_slide import SkinSlide, slide_posed_skin
 
 __all__ = [
+    "SKIN_DEFAULTS",
+    "CreaseSettings",
     "ElasticPose",
     "FineSkin",
     "FineSkinning",
     "HeldFrames",
+    "SkinSettings",
     "SkinSlide",
+    "SlideLevel",
+    "SlideSettings",
     "body_fine_skin",
     "body_fine_skinning",
     "elastic_dynamics",
@@ -63,5 +71,10 @@ __getattr__, __dir__ = lazy_names(globals(), {
     "elastic_pose": "hitogata.skin.single_pose",
     "held_dynamics": "hitogata.skin.single_pose",
     "SkinSlide": "hitogata.skin.skin_slide",
+    "SKIN_DEFAULTS": "hitogata.skin.settings",
+    "CreaseSettings": "hitogata.skin.settings",
+    "SkinSettings": "hitogata.skin.settings",
+    "SlideLevel": "hitogata.skin.settings",
+    "SlideSettings": "hitogata.skin.settings",
     "slide_posed_skin": "hitogata.skin.skin_slide",
 })

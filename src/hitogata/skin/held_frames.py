@@ -28,6 +28,7 @@ from hitogata.body.model import Body
 from hitogata.dynamics.motion import BodyDynamics
 from hitogata.skin import single_pose
 from hitogata.skin.single_pose import elastic_dynamics
+from hitogata.skin.settings import SKIN_DEFAULTS, SkinSettings
 from hitogata.elastic.materials import Materials, load_materials
 
 MIN_FRAMES = 10  # fewer frames than this are held here: starting the workers would cost more than they save
@@ -56,12 +57,12 @@ def free_cores() -> int:
 
 class HeldFrames:
     """Held skins (V, 3) of joint-angle postures (rest-relative radians, clamped onto the range of motion),
-    with the skin's self-contact resolved when `contact` (`elastic_pose`), on `workers` processes
-    (None: the cores free of other work, `free_cores`)."""
+    with the skin's self-contact resolved when `contact` (`elastic_pose`, with the constants of `settings`),
+    on `workers` processes (None: the cores free of other work, `free_cores`)."""
 
     def __init__(self, body: Body, contact: bool = True, workers: int | None = None,
-                 materials: Materials | None = None) -> None:
-        self.body, self.contact, self.materials = body, contact, materials
+                 materials: Materials | None = None, settings: SkinSettings = SKIN_DEFAULTS) -> None:
+        self.body, self.contact, self.materials, self.settings = body, contact, materials, settings
         # built and stored before any worker reads it
         self.dynamics: BodyDynamics = elastic_dynamics(body, materials=materials)
         self.workers = free_cores() if workers is None else max(int(workers), 1)
@@ -83,14 +84,16 @@ class HeldFrames:
                 and not multiprocessing.current_process().daemon)
 
     def _hold(self, q: np.ndarray) -> np.ndarray:
-        return single_pose.elastic_pose(self.dynamics, angles=q, contact=self.contact, on_limit="clamp").vertices
+        return single_pose.elastic_pose(self.dynamics, angles=q, contact=self.contact, on_limit="clamp",
+                                        settings=self.settings).vertices
 
     def _workers(self) -> ProcessPoolExecutor:
         if self._pool is None:
             body = self.body
             self._pool = ProcessPoolExecutor(self.workers, multiprocessing.get_context("spawn"), _start,
                                              (body.params, body.all_vertices, body.density, self.contact,
-                                              None if self.materials is None else self.materials.source))
+                                              None if self.materials is None else self.materials.source,
+                                              self.settings))
             weakref.finalize(self, self._pool.shutdown, wait=False, cancel_futures=True)
         return self._pool
 
@@ -101,9 +104,11 @@ class HeldFrames:
             self._pool = None
 
 
-def _start(params, all_vertices: np.ndarray, density: float, contact: bool, materials: str | None) -> None:
+def _start(params, all_vertices: np.ndarray, density: float, contact: bool, materials: str | None,
+           settings: SkinSettings) -> None:
     """A worker's start: BLAS and the contact's TBB on one thread (the workers are the parallelism), the
-    body's model read from the disk cache (`materials`: the file the parent's were read from)."""
+    body's model read from the disk cache (`materials`: the file the parent's were read from), the parent's
+    contact settings."""
     import ipctk
     from threadpoolctl import threadpool_limits
 
@@ -112,9 +117,11 @@ def _start(params, all_vertices: np.ndarray, density: float, contact: bool, mate
     _WORKER["dynamics"] = elastic_dynamics(Body(params, all_vertices, density),
                                            materials=None if materials is None else load_materials(materials))
     _WORKER["contact"] = contact
+    _WORKER["settings"] = settings
 
 
 def _held(q: np.ndarray) -> np.ndarray:
-    dynamics = _WORKER["dynamics"]
-    assert isinstance(dynamics, BodyDynamics)
-    return single_pose.elastic_pose(dynamics, angles=q, contact=bool(_WORKER["contact"]), on_limit="clamp").vertices
+    dynamics, settings = _WORKER["dynamics"], _WORKER["settings"]
+    assert isinstance(dynamics, BodyDynamics) and isinstance(settings, SkinSettings)
+    return single_pose.elastic_pose(dynamics, angles=q, contact=bool(_WORKER["contact"]), on_limit="clamp",
+                                    settings=settings).vertices

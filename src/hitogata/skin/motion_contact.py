@@ -31,62 +31,66 @@ from __future__ import annotations
 
 import time
 from collections.abc import Callable
+from functools import partial
 
 import numpy as np
 
 from hitogata.dynamics import motion
 from hitogata.dynamics.motion import ITERATIONS, BodyDynamics, Motion, MotionContact
 from hitogata.dynamics.timeline import RootTrack, Timeline
-from hitogata.geometry.barrier_contact import DHAT, contact_regions
+from hitogata.geometry.barrier_contact import contact_regions
 from hitogata.options import OnLimit
-from hitogata.skin.contact import approach, skin_contact
+from hitogata.skin.contact import approach, skin_contact, skin_limiter
 from hitogata.skin.creases import solve_creased
+from hitogata.skin.settings import SKIN_DEFAULTS, SkinSettings
 
 
 def simulate(dynamics: BodyDynamics, timeline: Timeline, duration: float, rate: float, substeps: int = 1,
              gravity: bool = True, on_limit: OnLimit = "raise", iterations: int = ITERATIONS,
              progress: Callable[[int, int], None] | None = None, root: RootTrack | None = None,
-             contact: bool = False) -> Motion:
+             contact: bool = False, settings: SkinSettings = SKIN_DEFAULTS) -> Motion:
     """Run a timeline for `duration` seconds (`hitogata.dynamics.simulate`: outputs at `rate` frames per second,
     `substeps` steps per frame; progress(done, total) after each step and each frame's contact; root: the whole
     body's rigid motion, None: it stands where it is); contact: every frame's skin with no part of it passing
     into another and its creases folded as a held pose's (`resolve_frames`, 0.1-0.4 s a frame where skin
-    meets)."""
+    meets); settings: the skin's contact constants (`skin.settings`), for the frames' offset limit and contact."""
+    frame_contact = partial(resolve_frames, settings=settings) if contact else None
     return motion.simulate(dynamics, timeline, duration, rate, substeps, gravity, on_limit, iterations, progress,
-                           root, resolve_frames if contact else None)
+                           root, frame_contact, skin_limiter(dynamics, settings))
 
 
 def resolve_frames(dynamics: BodyDynamics, skins: np.ndarray, skinned: np.ndarray, rotations: np.ndarray,
-                   angles: np.ndarray, roots: np.ndarray | None = None, progress: Callable[[int], None] | None = None
-                   ) -> tuple[np.ndarray, MotionContact]:
+                   angles: np.ndarray, roots: np.ndarray | None = None, progress: Callable[[int], None] | None = None,
+                   settings: SkinSettings = SKIN_DEFAULTS) -> tuple[np.ndarray, MotionContact]:
     """The frames' skins (F, V, 3) with their self-contact resolved and their creases folded (float32), and
     what it took.
 
     skinned: (F, V, 3) the frames' skins by skinning alone; rotations: (F, parts, 3, 3) the parts' rotations;
     angles: (F, D) the frames' joint angles; roots: (F, 4, 4) the whole body's transform per frame (None: it
-    stands where it is); progress(frames done) after each frame."""
+    stands where it is); progress(frames done) after each frame; settings: the contact's constants."""
     n = len(skins)
     out = np.empty_like(skins, dtype=np.float32)
     free, iterations, from_rest = np.zeros(n, dtype=int), np.zeros(n, dtype=int), np.zeros(n, dtype=bool)
-    seconds, gap = np.zeros(n), np.full(n, DHAT)
+    test, barrier = skin_contact(dynamics.poser, settings.penetration), settings.barrier
+    seconds, gap = np.zeros(n), np.full(n, barrier.dhat)
     previous = target = np.zeros(0)
     for k in range(n):
         start = time.perf_counter()
         y, plain = skins[k].astype(float), skinned[k].astype(float)
         root = None if roots is None else roots[k]
         if k == 0:
-            before, from_rest[k] = _from_rest(dynamics, angles[k], root), True
+            before, from_rest[k] = _from_rest(dynamics, angles[k], root, settings), True
         else:
             before = [previous, target]  # the last frame's skin and the target it was given
-        region = contact_regions([*before[1:], y], skin_contact(dynamics.poser))
+        region = contact_regions([*before[1:], y], test, barrier.reach, barrier.rings)
         if region[-1].any():
             try:  # held back towards the last frame's skin (free of crossings), or from rest the last step's start
                 solved = solve_creased(dynamics, before, plain, y - plain, rotations[k], region,
-                                       None if from_rest[k] else previous)
+                                       None if from_rest[k] else previous, settings)
             except ValueError:  # the last frame's skin crosses where this frame's free skin lies
-                before, from_rest[k] = _from_rest(dynamics, angles[k], root), True
-                region = contact_regions([*before[1:], y], skin_contact(dynamics.poser))
-                solved = solve_creased(dynamics, before, plain, y - plain, rotations[k], region)
+                before, from_rest[k] = _from_rest(dynamics, angles[k], root, settings), True
+                region = contact_regions([*before[1:], y], test, barrier.reach, barrier.rings)
+                solved = solve_creased(dynamics, before, plain, y - plain, rotations[k], region, settings=settings)
             previous, target = solved.skin, solved.target
             result = solved.barrier
             free[k], iterations[k], gap[k] = result.free.sum(), sum(result.iterations), result.min_distance
@@ -99,9 +103,10 @@ def resolve_frames(dynamics: BodyDynamics, skins: np.ndarray, skinned: np.ndarra
     return out, MotionContact(free, iterations, seconds, from_rest, gap)
 
 
-def _from_rest(dynamics: BodyDynamics, angles: np.ndarray, root: np.ndarray | None) -> list[np.ndarray]:
+def _from_rest(dynamics: BodyDynamics, angles: np.ndarray, root: np.ndarray | None, settings: SkinSettings
+               ) -> list[np.ndarray]:
     """The barrier's path from the rest skin to a frame's posture, but the frame's own skin: the rest skin, and
     unless the frame stands at rest the frame's posture skinned on the way."""
     if not angles.any() and root is None:
         return [dynamics.poser.body.vertices]
-    return approach(dynamics.poser, angles, dynamics.rig.method, root)
+    return approach(dynamics.poser, angles, dynamics.rig.method, root, settings)

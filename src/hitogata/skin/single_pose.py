@@ -26,7 +26,7 @@ from functools import cached_property
 import numpy as np
 
 from hitogata.body.model import Body
-from hitogata.skin.contact import approach, skin_contact
+from hitogata.skin.contact import approach, skin_contact, skin_limiter
 from hitogata.skin.creases import solve_creased
 from hitogata.dynamics.motion import BodyDynamics
 from hitogata.elastic.materials import Materials
@@ -40,6 +40,7 @@ from hitogata.skin.skin_slide import SkinSlide, slide_posed_skin
 from hitogata.options import OnLimit
 from hitogata.posing.pose import PosedBody
 from hitogata.skin.fine_skin import body_fine_skinning
+from hitogata.skin.settings import SKIN_DEFAULTS, SkinSettings
 
 ELEMENT_SIZE = 40.0  # mm: the whole body's lattice for a held posture (as the large-motion tests)
 
@@ -87,6 +88,7 @@ class ElasticPose:
     held_back: np.ndarray  # (V,) m: elastic displacement held back to keep the skin whole (`geometry.offset_limit`)
     barrier: BarrierResult | None = None  # the barrier's figures (free skin, Newton steps) when contact was resolved
     slide: SkinSlide | None = None  # the skin's slide over the fascia (coarse, then fine), when it slid
+    settings: SkinSettings = SKIN_DEFAULTS  # the contact's constants it was held with (and its penetrations counted)
 
     @property
     def faces(self) -> np.ndarray:
@@ -100,7 +102,7 @@ class ElasticPose:
     @property
     def penetrations(self) -> Penetrations:
         """The skin's vertices inside another part (`hitogata.geometry.contact`), beyond the rest body's."""
-        return skin_contact(self.dynamics.poser).penetrations(self.vertices)
+        return skin_contact(self.dynamics.poser, self.settings.penetration).penetrations(self.vertices)
 
     @property
     def skinned(self) -> np.ndarray:
@@ -126,13 +128,15 @@ def elastic_pose(
     iterations: int = STATIC_ITERATIONS,
     contact: bool = False,
     slide: bool = False,
+    settings: SkinSettings = SKIN_DEFAULTS,
 ) -> ElasticPose:
     """The elastic skin of one posture (names and units as `Poser.pose`), solved from rest;
     contact: no part of the skin passing into another (the barrier along the path of skinned
     postures, see the module's text and docs/elastic.md); without it, the elastic displacement is
     held back where it would fold or cross the skin beyond skinning's (`BodyDynamics.frame`); slide: the
     skin then slides within the posed surface until no fine triangle is stretched beyond +95 % (or no
-    further without crossing other skin: `skin.skin_slide`, docs/elastic.md)."""
+    further without crossing other skin: `skin.skin_slide`, docs/elastic.md); settings: the constants of the
+    offset limit, the contact, the creases and the slide (`skin.settings.SkinSettings`)."""
     poser = dynamics.poser
     posed = poser.pose(contractions, lengths, angles, clinical, dynamics.rig.method, on_limit)
     g, r = dynamics.rig.pose(posed.pose.rotations, posed.pose.translations)
@@ -142,24 +146,27 @@ def elastic_pose(
     if contact:  # the barrier takes the whole elastic skin: nothing need be held back
         _, plain, offset = dynamics.skin_offset(posed.pose.rotations[0], posed.pose.translations[0], r[0], delta,
                                                 at_rest)
-        resolved, skin, held = _resolve(dynamics, posed, plain, offset)
+        resolved, skin, held = _resolve(dynamics, posed, plain, offset, settings)
     else:
-        _, skin, _, held = dynamics.frame(posed.pose.rotations[0], posed.pose.translations[0], r[0], delta, at_rest)
+        _, skin, _, held = dynamics.frame(posed.pose.rotations[0], posed.pose.translations[0], r[0], delta, at_rest,
+                                          skin_limiter(dynamics, settings))
     nodes = g[0] + rotate(r[0], delta)
     slid = slide_posed_skin(body_fine_skinning(poser.body), posed.pose, dynamics.rig.method, poser.body.vertices, skin,
-                            posed.faces) if slide else None
+                            posed.faces, settings) if slide else None
     skin = skin if slid is None else slid.coarse.vertices
-    return ElasticPose(posed, skin.astype(float), nodes, dynamics, held.astype(float), resolved, slid)
+    return ElasticPose(posed, skin.astype(float), nodes, dynamics, held.astype(float), resolved, slid, settings)
 
 
-def _resolve(dynamics: BodyDynamics, posed: PosedBody, plain: np.ndarray, offset: np.ndarray
+def _resolve(dynamics: BodyDynamics, posed: PosedBody, plain: np.ndarray, offset: np.ndarray, settings: SkinSettings
              ) -> tuple[BarrierResult, np.ndarray, np.ndarray]:
     """The elastic skin of `posed` (`plain` skinned + the elastic `offset`, (V, 3)) with its self-contact
     resolved, reached from the rest skin through skinned postures on the way (`skin.contact.approach`),
     its creases tied back towards skinning (`skin.creases`). Returns the barrier's result, the skin
     (V, 3) and how far each vertex was held back (V,)."""
-    path = approach(dynamics.poser, posed.angles, dynamics.rig.method)
-    free = contact_regions([*path[1:], np.asarray(plain + offset, dtype=float)], skin_contact(dynamics.poser))
+    path = approach(dynamics.poser, posed.angles, dynamics.rig.method, settings=settings)
+    free = contact_regions([*path[1:], np.asarray(plain + offset, dtype=float)],
+                           skin_contact(dynamics.poser, settings.penetration), settings.barrier.reach,
+                           settings.barrier.rings)
     free[-2] = free[-1]  # the posture skinned and its elastic skin: one set of unknowns (not built twice)
-    solved = solve_creased(dynamics, path, plain, offset, posed.pose.rotations[0], free)
+    solved = solve_creased(dynamics, path, plain, offset, posed.pose.rotations[0], free, settings=settings)
     return solved.barrier, solved.skin, solved.held

@@ -6,7 +6,7 @@ where real skin slides over the fascia and spreads the stretch over a wide area,
 by its fibrous septa (so the slide dies away from the opening joint). Here the posed coarse skin's
 vertices near such bands slide within the posed surface, the shape unchanged, until the fine skin
 (`hitogata.skin.fine_skin`, carried by the coarse skin through its Loop stencils) is stretched no
-more than `DONE` along any direction nor in area.
+more than `SlideSettings.done` along any direction nor in area (the constants: `skin.settings.SlideSettings`).
 
 The slid skin x minimises, over the free coarse vertices and on the posed surface,
 
@@ -15,26 +15,26 @@ The slid skin x minimises, over the free coarse vertices and on the posed surfac
 F_f a triangle's deformation gradient from rest (rest area A_f; the fine triangles the free vertices
 carry and the coarse triangles themselves), T_f its nearest gradient with no principal stretch above 1
 (a tension-field membrane: skin resists stretch, not compression, which it takes in wrinkles; weight
-`TENSION`), L_f its nearest gradient with principal stretches and area ratio at most `LIMIT` (weight
+`tension`), L_f its nearest gradient with principal stretches and area ratio at most `limit` (weight
 h_f = 1 once the triangle has been beyond it, else 0); both keep the smaller principal stretch at least
-`FLOOR` (or what it was, if less: a crease's skin stays as short) and the triangle's side up. The
+`floor` (or what it was, if less: a crease's skin stays as short) and the triangle's side up. The
 tether (the fascia) holds each vertex (rest area a_i) to where the contact left it, x⁰, with a stiffness
-τ = s / `FALLOFF`²: a slide dies away over about `FALLOFF` from where the skin is pulled. It is solved by
+τ = s / `falloff`²: a slide dies away over about `falloff` from where the skin is pulled. It is solved by
 local/global steps (the projections as in projective dynamics, Bouaziz et al. 2014, *Projective
 Dynamics*, ACM TOG 33(4)): the local step projects every triangle (an SVD each, in closed form), the
 global one solves the energy's quadratic model for the free vertices' moves along their tangent planes
 (two unknowns a vertex, a sparse solve), then the vertices go back to the posed surface near where they
-lay (never across a crease) and a move that would turn a coarse triangle over (`TILTS`) or shrink it
-away (`SHRINK`) is left out there.
+lay (never across a crease) and a move that would turn a coarse triangle over (`SlideLevel.tilts`) or
+shrink it away (`SlideLevel.shrink`) is left out there.
 
-Free: the coarse skin within `REACH` (along the skin's edges) of the fine skin beyond `DONE`. If the
+Free: the coarse skin within `reach` (along the skin's edges) of the fine skin beyond `done`. If the
 slid skin crosses itself where it did not (a slide across the bottom of a tight crease carries the
 skin's chords through its other side), it slides again with less turning allowed, then with the skin
 there held (the fine skin's tied harder to where it lay), and what still crosses has its slide undone.
 
 Where the coarse triangles may turn no further (over the armpit's hollow overhead, the groin's sharp
-folds), fine skin stays beyond `DONE`. The fine skin then slides on its own (`slide_fine_skin`): the same
-energy and steps with its own vertices free on its own posed surface (`FINE`: a fine triangle turns at
+folds), fine skin stays beyond `done`. The fine skin then slides on its own (`slide_fine_skin`): the same
+energy and steps with its own vertices free on its own posed surface (`SlideSettings.fine`: a fine triangle turns at
 most 90° from the surface's smooth normal under it, and the slide dies away within 2 cm). The slid fine
 skin is what is measured; it no longer follows the coarse skin through the Loop stencils
 (`ElasticPose.fine_vertices`, and its own file beside `hitogata pose`'s).
@@ -56,44 +56,9 @@ from hitogata.skin.fine_skin import FineSkinning
 from hitogata.geometry.strain import principal_stretches
 from hitogata.options import Skinning
 from hitogata.skeleton.kinematics import Pose
+from hitogata.skin.settings import SKIN_DEFAULTS, SkinSettings, SlideLevel, SlideSettings
 from hitogata.geometry.closest import barycentric_on_triangles, closest_points_on_triangles
 
-DONE = 1.95  # fine skin stretched beyond this (or its area) slides; the sliding ends when none is
-LIMIT = 1.6  # principal stretch and area ratio an overstretched triangle is drawn back to
-TENSION = 0.01  # weight of the tension-field membrane against the limit's (spreads stretch beyond the limit's band)
-FALLOFF = 0.04  # m: the tether's reach: a slide dies away over about this distance
-REACH = 0.15  # m: skin this far (along the edges) from skin beyond DONE is free to slide
-FLOOR = 0.8  # smallest principal stretch the sliding may bring a triangle to
-ITERATIONS = 80  # local/global steps at most
-MAX_MOVE = 0.005  # m: the longest slide of a step (the surface's curvature and the flips stay in view)
-STALLED = 2e-5  # m: the sliding ends when no vertex moves further in a step
-NEAR = 2  # rings of faces around a vertex's face it may slide onto in one step
-HOLD_ROUNDS = 3  # times skin that would cross is held and the rest slid again
-# cosines: a slid coarse triangle turns at most this far from how it lay (154°: the armpit's hollow
-# overhead needs it), or, if that slide crosses other skin, this far (90°: the groin's tight creases)
-TILTS = (-0.9, 0.0)
-STALL = 10  # steps without less fine skin beyond DONE: the sliding is held up (by the flips it may not make)
-SHRINK = 0.2  # nor shrinks below this share of its area as it lay or at rest, whichever is less
-
-
-@dataclass(frozen=True)
-class _Level:
-    """How a skin slides: the cosines of the turning allowed its triangles (the first, then, where that
-    crosses other skin, the next), the share of its area a triangle may shrink to, the tether's reach (m)."""
-
-    tilts: tuple[float, ...]
-    shrink: float
-    falloff: float
-    stiffening: float | None  # skin that crosses: its tether this many times stiffer each round (None: held whole)
-
-
-COARSE = _Level(TILTS, SHRINK, FALLOFF, None)
-# the fine skin, after the coarse: its triangles turn at most 90° from the surface under them (more is skin
-# folded over itself), may shrink to 2 % of their area (skin takes compression in wrinkles), and its slide
-# dies away within 2 cm (it spreads what the coarse slide left over a few of its triangles); skin whose slide
-# crosses other skin is tied 30 times as hard to where it lay, not held whole (the numbers behind each:
-# docs/decisions/0007-the-fine-skin-slides-on-its-own.md)
-FINE = _Level((0.0,), 0.02, 0.02, 30.0)
 
 
 @dataclass(frozen=True)
@@ -172,19 +137,21 @@ def _svd(f: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
 
 
 def _targets(f: np.ndarray, u: np.ndarray, s: np.ndarray, vt: np.ndarray, floor: np.ndarray, up: np.ndarray,
-             over: np.ndarray) -> np.ndarray:
-    """(F, 3, 2) each gradient's (f, its SVD u, s, vt) weighted target (s T + h L) / (s + h): T with
-    principal stretches in [floor, 1], L in [floor, LIMIT] with area ratio ≤ LIMIT (h = 1 where `over`);
+             over: np.ndarray, slide: SlideSettings) -> np.ndarray:
+    """(F, 3, 2) each gradient's (f, its SVD u, s, vt) weighted target (s T + h L) / (s + h), s the slide's
+    tension: T with principal stretches in [floor, 1], L in [floor, limit] with area ratio ≤ limit (h = 1
+    where `over`);
     a triangle slid over onto its back is turned back (its second direction reversed, at the floor)."""
     u, s = u.copy(), s.copy()
     flipped = np.einsum("fi,fi->f", np.cross(f[:, :, 0], f[:, :, 1]), up) < 0
     u[flipped, :, 1] *= -1.0
     s[flipped, 1] = floor[flipped]
-    limited = np.clip(s, floor[:, None], LIMIT)
-    limited *= np.minimum(1.0, np.sqrt(LIMIT / np.maximum(limited[:, :1] * limited[:, 1:], 1e-300)))
+    limit, tension = slide.limit, slide.tension
+    limited = np.clip(s, floor[:, None], limit)
+    limited *= np.minimum(1.0, np.sqrt(limit / np.maximum(limited[:, :1] * limited[:, 1:], 1e-300)))
     hard = over.astype(float)
-    weight = TENSION + hard
-    target = (TENSION * np.clip(s, floor[:, None], 1.0) + hard[:, None] * limited) / weight[:, None]
+    weight = tension + hard
+    target = (tension * np.clip(s, floor[:, None], 1.0) + hard[:, None] * limited) / weight[:, None]
     return np.einsum("fij,fj,fjk->fik", u, target, vt)
 
 
@@ -197,38 +164,43 @@ def _tangents(normals: np.ndarray) -> np.ndarray:
 
 
 def slide_skin(rest: np.ndarray, coarse: np.ndarray, faces: np.ndarray, fine_rest: np.ndarray, fine_faces: np.ndarray,
-               interpolation: sp.csr_matrix, fine_base: np.ndarray) -> SlideResult:
+               interpolation: sp.csr_matrix, fine_base: np.ndarray, settings: SkinSettings = SKIN_DEFAULTS
+               ) -> SlideResult:
     """The coarse skin `coarse` (V, 3; `rest` at rest) slid within its surface until its fine skin
-    (`fine_base + interpolation @ coarse`, rest `fine_rest`, `fine_faces`) is stretched at most `DONE`
-    (principal stretch and area ratio); unchanged where none is beyond (crossings: `_slide`)."""
+    (`fine_base + interpolation @ coarse`, rest `fine_rest`, `fine_faces`) is stretched at most
+    `settings.slide.done` (principal stretch and area ratio); unchanged where none is beyond (crossings: `_slide`)."""
+    slide = settings.slide
     coarse = np.asarray(coarse, dtype=float)
     carried = _Carried(fine_base + interpolation @ coarse, fine_rest, fine_faces, interpolation)
-    over = _over(fine_rest, carried.vertices, fine_faces, DONE)
+    over = _over(fine_rest, carried.vertices, fine_faces, slide.done)
     seeds = np.unique(np.asarray(interpolation[np.unique(fine_faces[over])].indices))
-    return _slide(rest, coarse, faces, seeds, carried, COARSE)
+    return _slide(rest, coarse, faces, seeds, carried, slide.coarse, slide)
 
 
-def slide_fine_skin(rest: np.ndarray, fine: np.ndarray, faces: np.ndarray) -> SlideResult:
+def slide_fine_skin(rest: np.ndarray, fine: np.ndarray, faces: np.ndarray, settings: SkinSettings = SKIN_DEFAULTS
+                    ) -> SlideResult:
     """The fine skin `fine` (Vf, 3; `rest` at rest) slid within its own surface, its vertices free, until
-    none of its triangles is stretched beyond `DONE`: the stretch the coarse skin's slide left where its
-    own triangles may turn no further (the armpit's hollow overhead) spread over the fine triangles."""
+    none of its triangles is stretched beyond `settings.slide.done`: the stretch the coarse skin's slide left
+    where its own triangles may turn no further (the armpit's hollow overhead) spread over the fine triangles."""
+    slide = settings.slide
     fine = np.asarray(fine, dtype=float)
-    over = _over(rest, fine, faces, DONE)
-    return _slide(rest, fine, faces, np.unique(faces[over]), None, FINE)
+    over = _over(rest, fine, faces, slide.done)
+    return _slide(rest, fine, faces, np.unique(faces[over]), None, slide.fine, slide)
 
 
 def _slide(rest: np.ndarray, start: np.ndarray, faces: np.ndarray, seeds: np.ndarray, carried: _Carried | None,
-           level: _Level) -> SlideResult:
-    """The skin `start` slid (`_relax`) as `level` says, its vertices within `REACH` of `seeds` free. Skin whose
+           level: SlideLevel, slide: SlideSettings) -> SlideResult:
+    """The skin `start` slid (`_relax`) as `level` and `slide` say, its vertices within `slide.reach` of `seeds`
+    free. Skin whose
     sliding would cross other skin (new self-crossing pairs, `self_intersections`; where the input crossed
     itself already, more pairs than it had) is held where it is, a ring around it too, or its tether made
-    `level.stiffening` times as stiff, and the rest slides again (`HOLD_ROUNDS` times at most; then the slide is
+    `level.stiffening` times as stiff, and the rest slides again (`slide.hold_rounds` times at most; then the slide is
     undone around what still crosses)."""
     n = len(start)
     if not len(seeds):
         return SlideResult(start, np.zeros(n), np.zeros(n, dtype=bool), 0)
     graph = edge_graph(rest, faces)
-    free = np.isfinite(dijkstra(graph, directed=False, indices=seeds, limit=REACH, min_only=True))
+    free = np.isfinite(dijkstra(graph, directed=False, indices=seeds, limit=slide.reach, min_only=True))
     ring = graph + graph.T
 
     def crossing(x: np.ndarray) -> np.ndarray:
@@ -243,8 +215,8 @@ def _slide(rest: np.ndarray, start: np.ndarray, faces: np.ndarray, seeds: np.nda
         return near
 
     tied = np.ones(n)  # each vertex's tether, times the tether's
-    for rounds, tilt in enumerate((*level.tilts, *[level.tilts[-1]] * HOLD_ROUNDS)):
-        x, steps = _relax(rest, start, faces, free, tilt, level, carried, tied)
+    for rounds, tilt in enumerate((*level.tilts, *[level.tilts[-1]] * slide.hold_rounds)):
+        x, steps = _relax(rest, start, faces, free, tilt, level, carried, tied, slide)
         held = crossing(x)
         if not held.any():
             return SlideResult(x, np.linalg.norm(x - start, axis=1), free, steps)
@@ -289,10 +261,10 @@ def _crossings_near(start: np.ndarray, x: np.ndarray, faces: np.ndarray
 
 class _Surface:
     """The posed surface the skin slides on: a moved point goes back to the closest point of the
-    triangles near the one it lay on (`NEAR` rings of faces), never across a crease to the other side."""
+    triangles near the one it lay on (`near` rings of faces), never across a crease to the other side."""
 
-    def __init__(self, vertices: np.ndarray, faces: np.ndarray) -> None:
-        self.vertices, self.faces = vertices, faces
+    def __init__(self, vertices: np.ndarray, faces: np.ndarray, near: int) -> None:
+        self.vertices, self.faces, self.near = vertices, faces, near
         by_vertex = sp.csr_matrix((np.ones(faces.size), (faces.ravel(), np.repeat(np.arange(len(faces)), 3))),
                                   shape=(len(vertices), len(faces)))
         self.by_vertex = by_vertex
@@ -305,7 +277,7 @@ class _Surface:
     def project(self, points: np.ndarray, on: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """The closest points of the surface near faces `on` to `points` (n, 3), and the faces they lie on."""
         rows = self.touching[on]
-        for _ in range(NEAR - 1):
+        for _ in range(self.near - 1):
             rows = rows @ self.touching
         rows = rows.tocsr()
         owner = np.repeat(np.arange(len(on)), np.diff(rows.indptr))
@@ -317,8 +289,8 @@ class _Surface:
         return closest[first], rows.indices[first]
 
 
-def _relax(rest: np.ndarray, start: np.ndarray, faces: np.ndarray, free: np.ndarray, tilt: float, level: _Level,
-           carried: _Carried | None, tied: np.ndarray) -> tuple[np.ndarray, int]:
+def _relax(rest: np.ndarray, start: np.ndarray, faces: np.ndarray, free: np.ndarray, tilt: float, level: SlideLevel,
+           carried: _Carried | None, tied: np.ndarray, slide: SlideSettings) -> tuple[np.ndarray, int]:
     """The local/global iteration with the `free` vertices of the skin `start` sliding, each tethered to where
     it lay `tied` (V,) times as hard as the level's tether: the slid skin and the steps taken. Its own
     triangles are limited, and so are the fine ones it carries, if any, which are the ones measured (the
@@ -339,31 +311,32 @@ def _relax(rest: np.ndarray, start: np.ndarray, faces: np.ndarray, free: np.ndar
         b = sp.vstack([g_fine @ w_free, own_free]).tocsr()
         fixed_part = np.concatenate([g_fine @ (carried.vertices - w_free @ start[idx]), own_fixed])
         area, measured = np.concatenate([area_fine, area_own]), len(area_fine)  # the first rows: the measured skin's
-    tether = TENSION / level.falloff**2 * vertex_areas(rest, faces)[idx] * tied[idx]
+    tension, limit, done = slide.tension, slide.limit, slide.done
+    tether = tension / level.falloff**2 * vertex_areas(rest, faces)[idx] * tied[idx]
     first = (fixed_part + b @ start[idx]).reshape(-1, 2, 3).transpose(0, 2, 1)
-    # no triangle compressed below FLOOR by the sliding, nor more than it is (a crease's skin stays as short)
-    floor = np.minimum(_svd(first)[1][:, 1], FLOOR)
+    # no triangle compressed below the floor by the sliding, nor more than it is (a crease's skin stays as short)
+    floor = np.minimum(_svd(first)[1][:, 1], slide.floor)
     up = np.cross(first[:, :, 0], first[:, :, 1])  # each triangle's outward side as it lay
     sheet = triangle_normals(start[moving])  # as they lay (length: twice the area)
     smallest = level.shrink * np.minimum(np.linalg.norm(sheet, axis=1), np.linalg.norm(triangle_normals(rest[moving]), axis=1))
-    surface = _Surface(start, faces)
+    surface = _Surface(start, faces, slide.near)
     on = surface.start(idx)
     facing = (lambda *_: sheet) if carried is not None else _surface_facing(surface, moving, idx)
     x = start.copy()
     over = np.zeros(len(area), dtype=bool)
     step, least, since = 0, np.inf, 0
-    while step < ITERATIONS and since < STALL:
+    while step < slide.iterations and since < slide.stall:
         step += 1
         cols = fixed_part + b @ x[idx]
         f = cols.reshape(-1, 2, 3).transpose(0, 2, 1)  # (Fa, 3, 2)
         u, stretch, vt = _svd(f)
-        over |= (stretch[:, 0] > LIMIT) | (stretch.prod(axis=1) > LIMIT)  # the limit's active set only grows
-        beyond = float(area[:measured][(stretch[:measured, 0] > DONE) | (stretch[:measured].prod(axis=1) > DONE)].sum())
+        over |= (stretch[:, 0] > limit) | (stretch.prod(axis=1) > limit)  # the limit's active set only grows
+        beyond = float(area[:measured][(stretch[:measured, 0] > done) | (stretch[:measured].prod(axis=1) > done)].sum())
         if beyond == 0.0:
             break
         least, since = (beyond, 0) if beyond < least else (least, since + 1)
-        target = _targets(f, u, stretch, vt, floor, up, over)
-        weight = sp.diags(np.repeat(area * (TENSION + over), 2))
+        target = _targets(f, u, stretch, vt, floor, up, over, slide)
+        weight = sp.diags(np.repeat(area * (tension + over), 2))
         force = b.T @ (weight @ (target.transpose(0, 2, 1).reshape(-1, 3) - cols)) \
             - tether[:, None] * (x[idx] - start[idx])  # (nfree, 3): −∂E/∂x
         stiffness = (b.T @ weight @ b + sp.diags(tether)).tocsr()  # (nfree, nfree): E's Hessian per coordinate
@@ -374,10 +347,10 @@ def _relax(rest: np.ndarray, start: np.ndarray, faces: np.ndarray, free: np.ndar
         rhs = np.concatenate([np.einsum("ic,ic->i", tangents[:, :, k], force) for k in range(2)])
         t = spla.spsolve(normal, rhs).reshape(2, -1).T  # (nfree, 2)
         move = np.einsum("ick,ik->ic", tangents, t)
-        move *= np.minimum(1.0, MAX_MOVE / max(float(np.linalg.norm(move, axis=1).max()), 1e-300))
+        move *= np.minimum(1.0, slide.max_move / max(float(np.linalg.norm(move, axis=1).max()), 1e-300))
         trial, trial_on = surface.project(x[idx] + move, on)
-        x[idx], on = _unfolded(x, idx, trial, on, trial_on, moving, facing, smallest, tilt)
-        if np.linalg.norm(move, axis=1).max() < STALLED:
+        x[idx], on = _unfolded(x, idx, trial, on, trial_on, moving, facing, smallest, tilt, slide.hold_rounds)
+        if np.linalg.norm(move, axis=1).max() < slide.stalled:
             break
     return x, step
 
@@ -403,15 +376,14 @@ def _surface_facing(surface: _Surface, moving: np.ndarray, idx: np.ndarray
 
 def _unfolded(x: np.ndarray, idx: np.ndarray, trial: np.ndarray, on: np.ndarray, trial_on: np.ndarray,
               faces: np.ndarray, facing: Callable[[np.ndarray, np.ndarray], np.ndarray], smallest: np.ndarray,
-              tilt: float
-              ) -> tuple[np.ndarray, np.ndarray]:
+              tilt: float, rounds: int) -> tuple[np.ndarray, np.ndarray]:
     """The step to `trial` (the vertices `idx` of x, on the surface's faces `trial_on`), less the vertices
     of triangles (`faces`) it would turn beyond the cosine `tilt` from the way they should face (`facing`
-    of where the vertices lie: (F, 3), any length) or shrink below `smallest` (twice the area): those stay."""
+    of where the vertices lie: (F, 3), any length) or shrink below `smallest` (twice the area): those stay (`rounds` times at most)."""
     out, out_on = trial.copy(), trial_on.copy()
     where = np.full(len(x), -1)
     where[idx] = np.arange(len(idx))
-    for _ in range(HOLD_ROUNDS):
+    for _ in range(rounds):
         y = x.copy()
         y[idx] = out
         normals = triangle_normals(y[faces])
@@ -428,12 +400,12 @@ def _unfolded(x: np.ndarray, idx: np.ndarray, trial: np.ndarray, on: np.ndarray,
 
 
 def slide_posed_skin(fine: FineSkinning, pose: Pose, method: Skinning, rest: np.ndarray, coarse: np.ndarray,
-                     faces: np.ndarray) -> SkinSlide:
+                     faces: np.ndarray, settings: SkinSettings = SKIN_DEFAULTS) -> SkinSlide:
     """The coarse skin `coarse` of `pose` (posed by `method` plus an elastic displacement; `rest` at rest)
     slid (`slide_skin`; its fine skin is `fine`'s, carried as `FineSkinning.surface` carries it), then the
-    fine skin it carries slid on its own (`slide_fine_skin`)."""
+    fine skin it carries slid on its own (`slide_fine_skin`), as `settings.slide` says."""
     base = fine.surface(pose, method, np.zeros_like(coarse))  # the fine skin less the carried coarse skin
     layout = fine.fine
-    slid = slide_skin(rest, coarse, faces, layout.vertices, layout.faces, layout.interpolation, base)
+    slid = slide_skin(rest, coarse, faces, layout.vertices, layout.faces, layout.interpolation, base, settings)
     carried = fine.surface(pose, method, slid.vertices)  # as `ElasticPose.fine_vertices` carries it unslid
-    return SkinSlide(slid, slide_fine_skin(layout.vertices, carried, layout.faces))
+    return SkinSlide(slid, slide_fine_skin(layout.vertices, carried, layout.faces, settings))
