@@ -41,6 +41,7 @@ from hitogata.errors import HitogataError
 from hitogata.fem.elements import P2_EDGES
 from hitogata.options import Skinning
 from hitogata.posing.pose import Poser
+from hitogata.posing.body_split import owning_parts
 from hitogata.skeleton.weights import part_weights
 from hitogata.posing.skinning import Skin, dual_quaternions, prepare_skin, skin_vertices
 
@@ -153,7 +154,7 @@ def joint_nodes(weights: sp.csr_matrix, elements: np.ndarray, fixed_nodes: np.nd
     inverting, so the quasi-statics lets these nodes settle between the bones.
     """
     top = np.asarray(weights.max(axis=1).todense()).ravel()
-    part = np.asarray(weights.argmax(axis=1)).ravel()
+    part = owning_parts(weights)
     rigid = np.zeros(weights.shape[0], dtype=bool)
     rigid[fixed_nodes] = True
     rigid &= top >= RIGID

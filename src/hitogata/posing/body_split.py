@@ -164,9 +164,30 @@ def part_groups(split: str, names: Sequence[str]) -> np.ndarray:
     return np.array([group_of.get(name, -1) for name in names], dtype=np.intp)
 
 
-def owning_parts(weights: sp.spmatrix) -> np.ndarray:
-    """(V,) each skin vertex's owning part: the part holding most of its (V, parts) skinning weight."""
-    return np.asarray(sp.csr_matrix(weights).argmax(axis=1)).ravel()
+def owning_parts(weights: sp.spmatrix | np.ndarray) -> np.ndarray:
+    """(V,) each row's owning column: the part holding most of a skin vertex's (V, parts) skinning weight (or
+    of any non-negative weights by row), the first stored of equal largest ones, as scipy's `argmax(axis=1)`
+    answers, in one pass over the stored weights (scipy's loops row by row: 0.1 s on a body's FE nodes)."""
+    matrix = sp.csr_matrix(weights)
+    if not matrix.has_canonical_format:
+        matrix = matrix.copy()
+        matrix.sum_duplicates()
+    counts = np.diff(matrix.indptr)
+    rows = np.flatnonzero(counts)
+    out = np.zeros(matrix.shape[0], dtype=np.intp)
+    if not len(rows):
+        return out
+    top = np.maximum.reduceat(matrix.data, matrix.indptr[rows])
+    row_of = np.repeat(np.arange(matrix.shape[0]), counts)
+    largest = np.full(matrix.shape[0], np.nan)
+    largest[rows] = top
+    hit = np.flatnonzero(matrix.data == largest[row_of])
+    first_rows, first = np.unique(row_of[hit], return_index=True)
+    out[first_rows] = matrix.indices[hit[first]]
+    implicit = rows[(top <= 0) & (counts[rows] < matrix.shape[1])]  # an unstored zero may be the largest
+    if len(implicit):
+        out[implicit] = np.asarray(matrix[implicit].argmax(axis=1)).ravel()
+    return out
 
 
 def vertex_parts(body: Body) -> np.ndarray:
@@ -189,7 +210,7 @@ def bone_carriers(poser: Poser) -> np.ndarray:
 
 def dominant_bone_parts(poser: Poser) -> np.ndarray:
     """(V,) per skin vertex, the part carrying its dominant rig bone (the bone of largest skinning weight)."""
-    return bone_carriers(poser)[np.asarray(poser.body.skin_weights.argmax(axis=1)).ravel()]
+    return bone_carriers(poser)[owning_parts(poser.body.skin_weights)]
 
 
 def mainly_weighted(body: Body, bones: Sequence[int]) -> np.ndarray:

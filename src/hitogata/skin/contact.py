@@ -22,7 +22,7 @@ import scipy.sparse as sp
 
 from hitogata.geometry.contact import PENETRATION_DEFAULTS, PenetrationSettings, SelfContact
 from hitogata.geometry.strain import principal_stretches
-from hitogata.posing.body_split import SPLITS
+from hitogata.posing.body_split import SPLITS, owning_parts
 from hitogata.posing.body_split import part_groups as split_groups
 from hitogata.skin.settings import SKIN_DEFAULTS, CreaseSettings, SkinSettings
 
@@ -53,7 +53,7 @@ def vertex_groups(weights: sp.csr_matrix, names: tuple[str, ...]) -> np.ndarray:
     """(V,) each skin vertex's contact group: the group holding most of its skinning weight."""
     groups = part_groups(names)
     onto = sp.csr_matrix((np.ones(len(names)), (np.arange(len(names)), groups)), shape=(len(names), len(GROUPS)))
-    return np.asarray((weights @ onto).argmax(axis=1)).ravel()
+    return owning_parts(weights @ onto)
 
 
 # each poser's self-contact tests by their settings, made on first use and kept while the poser lives
