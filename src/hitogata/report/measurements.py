@@ -40,7 +40,7 @@ LABELS = {
     "underbust_girth": "underbust girth",
     "waist_girth": "waist girth",
     "omphalion_waist_girth": "waist girth at the navel",
-    "iliac_crest_waist_girth": "waist girth at the iliac crest",
+    "iliac_crest_waist_girth": "iliac crest waist girth",
     "hip_girth": "hip girth",
     "thigh_girth": "thigh girth",
     "upper_arm_girth": "upper-arm girth",
