@@ -21,6 +21,7 @@ from hitogata.measure.measurements import (
     tape_skin,
 )
 from hitogata.body.rig import posed_rig_heads
+from hitogata.measure.values import HEIGHTS
 
 # ANSUR II (Gordon et al. 2014, "2012 Anthropometric Survey of U.S. Army Personnel",
 # NATICK/TR-15/007): (mean, SD) in mm, women then men, rounded. Comparable protocols:
@@ -42,6 +43,15 @@ ANSUR_II = {
     "arm_length": ((538, 27), (596, 29)),
     "inside_leg": ((776, 43), (847, 45)),
 }
+# Iliocristale height (floor to the iliac crest on the midaxillary line, standing), from the public ANSUR II
+# data (4,082 men, 1,986 women; the report's own summary table was not at hand): men mean 1062 mm, median
+# 1061, 95th percentile 1148, so SD ≈ (1148 − 1061) / 1.645 = 53 mm; women median 993 mm (the mean of a
+# near-symmetric height lies within ~1 mm of it, as the men's does) and SD 50 mm at the men's coefficient
+# of variation (5.0 %: women's and men's statures vary alike, 3.9 %). As a share of stature: 0.611 (women),
+# 0.604 (men). The body's (`iliocristale_height`): 98.9 cm, 0.599 (female, 165 cm), 109.3 cm, 0.614 (male,
+# 178 cm). Within 2 SD.
+ILIOCRISTALE = ((993, 50), (1062, 53))
+
 # Shoulder width is a surface length over the back through the cervicale; ANSUR II's
 # biacromial breadth (women 366 ± 18 mm, men 416 ± 19 mm) is the straight line between
 # the same points, a lower bound; the path rises over the trapezius to the neck.
@@ -71,6 +81,8 @@ def test_default_bodies_are_plausible_adults(sex, request):
     # Underbust: no ANSUR II figure; bra band sizes (EN 13402-3) span 60–110 cm, below the bust.
     assert 0.60 <= m.underbust_girth <= 1.10 and m.underbust_girth < m.chest_girth
     assert m.stature == pytest.approx(body.stature, abs=1e-12)
+    mean, sd = ILIOCRISTALE[k]
+    assert abs(m.iliocristale_height * 1000 - mean) <= 2 * sd, (m.iliocristale_height, mean, sd)
 
 
 @pytest.mark.parametrize(
@@ -86,6 +98,10 @@ def test_landmarks_hold_across_shapes(sex, stature, mass):
     assert m.thigh_girth > m.knee_girth > m.ankle_girth and m.calf_girth > m.ankle_girth
     assert m.upper_arm_girth > m.wrist_girth and 0.10 < m.wrist_girth < m.ankle_girth
     assert 0.42 < m.inside_leg / m.stature < 0.52
+    # the iliac crest above the crotch, at ANSUR II's share of stature (0.604 men, 0.611 women) within
+    # 0.03 (the height's SD over the mean stature, more than the share's own scatter)
+    assert 0.57 < m.iliocristale_height / m.stature < 0.64 and m.inside_leg < m.iliocristale_height
+    assert m.hip_girth > m.iliac_crest_waist_girth > m.waist_girth
     marks, v, rig = body_landmarks(body), body.vertices, body.rig
     joints = JointSet(rig.names, rig.heads)
     assert measure_surface(v, body.faces, marks, joints, joints) == m  # tape skin masks change nothing at rest
@@ -134,7 +150,7 @@ def test_rigid_motion_keeps_girths_and_surface_lengths(female):
     moved = measure(female, female.vertices @ turn.T + shift, female.rig.heads @ turn.T + shift)
     rest = measure(female)
     for name in MEASUREMENT_NAMES:
-        if name not in ("stature", "inside_leg"):  # vertical heights change with the body's tilt
+        if name not in HEIGHTS:  # vertical heights change with the body's tilt
             # girths exactly; surface lengths to 1 µm: their ends are points inserted into the
             # surface, whose barycentric weights the rotation changes by round-off
             assert moved.get(name) == pytest.approx(rest.get(name), abs=1e-9 if name in GIRTHS else 1e-6), name

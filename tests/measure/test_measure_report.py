@@ -11,6 +11,7 @@ from hitogata.errors import HitogataError
 from hitogata.report.measurements import measure_report, measurement_table
 from hitogata.measure.measurements import MEASUREMENT_NAMES, measure, measurement_paths
 from hitogata.measure.timeseries import measure_sequence
+from hitogata.measure.values import HEIGHTS
 from hitogata.report.series import series_csv, write_series
 from hitogata.measure.zones import ZONE_NAMES
 from hitogata.posing import poser_for
@@ -43,8 +44,8 @@ def test_rest_report_writes_measurements_and_picture(female, tmp_path):
     assert rows[0] == "measurement,value_cm" and len(rows) == 1 + len(MEASUREMENT_NAMES)
     assert written["picture"].read_bytes().startswith(PNG)
     assert sorted(p.name for p in tmp_path.iterdir()) == sorted(p.name for p in written.values())  # no temporaries
-    # every tape is drawn: all but the two heights, which have no path on the skin
-    assert set(measurement_paths(female)) == set(MEASUREMENT_NAMES) - {"stature", "inside_leg"}
+    # every tape is drawn: all but the heights, which have no path on the skin
+    assert set(measurement_paths(female)) == set(MEASUREMENT_NAMES) - set(HEIGHTS)
 
 
 def test_posed_report_adds_zone_strain_and_heat_map(female, tmp_path):

@@ -25,7 +25,7 @@ from hitogata.errors import HitogataError
 from hitogata.measure.axes import JointSet
 from hitogata.measure.landmarks import body_landmarks
 from hitogata.measure.measurements import MEASUREMENT_NAMES, measure_surface, posture_arrays, tape_skin
-from hitogata.measure.values import undefined_because
+from hitogata.measure.values import HEIGHTS, undefined_because
 from hitogata.options import Skinning
 from hitogata.body.rig import posed_rig_heads
 from hitogata.motion.clip import MotionClip
@@ -38,9 +38,8 @@ if TYPE_CHECKING:
 # raised the tape loops round the shoulder (+33 cm reaching forward), which is no armhole's need.
 STANDING_ONLY = ("armscye_girth",)
 NAMES = tuple(n for n in MEASUREMENT_NAMES if n not in STANDING_ONLY)
-# Heights above the floor (ISO 8559-1 takes them standing upright): they have no meaning once the body bends,
-# sits or strides (an inside leg while touching the toes), so dynamic ease reports them as undefined.
-HEIGHTS = ("stature", "inside_leg")
+# Heights above the floor (`HEIGHTS`; ISO 8559-1 takes them standing upright) have no meaning once the body
+# bends, sits or strides (an inside leg while touching the toes), so dynamic ease reports them as undefined.
 UNDEFINED = "a height above the floor: ISO 8559-1 takes it standing upright, it has no meaning in a motion"
 Surface = Callable[[np.ndarray, np.ndarray], np.ndarray]  # (F, D) angles, (F, 4, 4) root → (F, V, 3) vertices
 

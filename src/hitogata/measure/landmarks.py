@@ -38,7 +38,14 @@ its vertex on the rest surface from the rig's joint centres
   minima of sampled girths (`soft_least`), so that they move continuously;
   and the points a tape passes there (waist front, back and side; the neck's
   base: jugular notch and side neck point), on each body;
-- the armpit fold points and the axilla level (`armpits`), on each body.
+- the armpit fold points and the axilla level (`armpits`), on each body;
+- the iliac crest (iliocristale), on each body: the crest's height from the
+  rig's hip joints and base neck joint (`LEVEL_ILIAC_CREST` of that span,
+  Drillis & Contini's proportions), where the midaxillary line (midway
+  between the right armpit's front and back folds) meets the right flank.
+  No surface shows the crest (a heavy flank hides it), and the rig's
+  joints move continuously with the shape; its height is checked against
+  ANSUR II's iliocristale height (docs/measurements.md).
 
 The navel (omphalion) keeps the girth ANSUR II calls its waist
 circumference (`omphalion_waist_girth`) and the end of the back waist length.
@@ -65,6 +72,7 @@ from hitogata.measure.surface_points import FaceSearch, SurfacePoint
 from hitogata.geometry.topology import Topology, topology
 from hitogata.body.shape import ShapeParameters
 from hitogata.geometry.rotations import shortest_arc
+from hitogata.volume.anatomy import LEVEL_ILIAC_CREST
 
 MIDLINE_TOLERANCE = 1e-3  # m: vertices this close to x = 0 lie on the body's midline
 ACROMION_TILT = 0.35  # lateral run per unit rise of the ray from the shoulder joint (≈ 19°)
@@ -115,6 +123,7 @@ class Landmarks:
     waist_side: SurfacePoint
     omphalion: int  # the navel
     omphalion_back: SurfacePoint  # the back midline at the navel's height
+    iliac_crest: SurfacePoint  # right iliocristale: the crest's level on the midaxillary line
     buttock: int  # right buttock, most backward point
     hip_side: SurfacePoint  # right side at the buttock's height
     crotch: int
@@ -239,6 +248,7 @@ def _own(v: np.ndarray, faces: np.ndarray, joints: JointSet, fixed: FixedVertice
         "waist_back": waist_back,
         "waist_side": _ray_point(v, faces, waist_middle, -LATERAL),
         "omphalion_back": _back_waist(v, faces, joints, fixed.omphalion),
+        "iliac_crest": _iliac_crest(v, faces, joints, armpits),
         "hip_side": _ray_point(v, faces, at_height(joints["spine05"], float(v[fixed.buttock, 1])), -LATERAL),
         "acromion_offsets": _acromion_offsets(v, joints, right, left),
         "calf_level": extreme_girth_level(v, topo, knee, ankle, CALF_SPAN, largest=True),
@@ -407,6 +417,22 @@ def _back_waist(v: np.ndarray, faces: np.ndarray, joints: JointSet, navel: int) 
     """The back at the navel's height: where a ray backwards from the spine there leaves the skin."""
     spine = joints["spine03"]
     return _ray_point(v, faces, np.array([spine[0], v[navel, 1], spine[2]]) + OFF_MIDLINE, -FORWARD)
+
+
+def iliac_crest_height(joints: JointSet) -> float:
+    """The iliac crest's height (m, the rest frame's y): `LEVEL_ILIAC_CREST` of the way from the hip
+    joints' centre up to the base neck joint (C7/T1)."""
+    hips = 0.5 * (joints["upperleg01.R"][1] + joints["upperleg01.L"][1])
+    return float(hips + LEVEL_ILIAC_CREST * (joints["neck01"][1] - hips))
+
+
+def _iliac_crest(v: np.ndarray, faces: np.ndarray, joints: JointSet, armpits: dict[str, Any]) -> SurfacePoint:
+    """The right iliocristale: at the iliac crest's height (`iliac_crest_height`), where a ray from the
+    midline sideways along the midaxillary line (midway between the right armpit's front and back folds,
+    in depth) meets the flank: ANSUR II's iliocristale and NHANES's waist are taken there."""
+    folds = (armpits["fold_front_right"].at(v)[2] + armpits["fold_back_right"].at(v)[2]) / 2.0
+    origin = np.array([joints["spine04"][0], iliac_crest_height(joints), folds])
+    return _ray_point(v, faces, origin, -LATERAL)
 
 
 def _inframammary_fold(v: np.ndarray, faces: np.ndarray, bust: int, waist_y: float) -> int:

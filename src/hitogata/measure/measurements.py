@@ -91,7 +91,8 @@ ARM_BONES = ("upperarm", "lowerarm", "wrist", "metacarpal", "finger")
 LEG_BONES = ("upperleg02", "lowerleg", "foot", "toe")
 TAPE_SKIN: dict[str, tuple[str, tuple[str, ...]]] = {
     **{name: ("not", ARM_BONES + LEG_BONES)
-       for name in ("chest_girth", "underbust_girth", "waist_girth", "omphalion_waist_girth", "hip_girth")},
+       for name in ("chest_girth", "underbust_girth", "waist_girth", "omphalion_waist_girth", "iliac_crest_waist_girth",
+                    "hip_girth")},
     "thigh_girth": ("only", ("upperleg01.R", "upperleg02.R", "pelvis.R", "spine05")),  # + the groin's skin
     "upper_arm_girth": ("only", ("upperarm01.R", "upperarm02.R")),
     "knee_girth": ("only", ("upperleg02.R", "lowerleg01.R")),
@@ -135,6 +136,7 @@ def girth_planes(vertices: np.ndarray, marks: Landmarks, rest: JointSet, posed: 
         "underbust_girth": (v[marks.underbust], thorax, posed["spine01"]),
         "waist_girth": (0.5 * (marks.waist_front.at(v) + marks.waist_back.at(v)), waist, posed["spine03"]),
         "omphalion_waist_girth": (0.5 * (v[marks.omphalion] + marks.omphalion_back.at(v)), waist, posed["spine03"]),
+        "iliac_crest_waist_girth": (marks.iliac_crest.at(v), trunk_normal(rest, posed, "pelvis"), posed["spine04"]),
         "hip_girth": (v[marks.buttock], trunk_normal(rest, posed, "pelvis"), posed["spine05"]),
         "thigh_girth": (thigh_point, unit(knee - hip_joint), thigh_point),
         "upper_arm_girth": (arm_point, humerus, arm_point),
@@ -262,10 +264,12 @@ def surface_paths(vertices: np.ndarray, faces: np.ndarray, marks: Landmarks, res
 
 
 def heights(vertices: np.ndarray, marks: Landmarks) -> dict[str, float]:
-    """Stature and crotch height: vertical distances above the lowest skin point (the floor)."""
+    """Stature, the iliac crest's height and crotch height: vertical distances above the lowest skin
+    point (the floor)."""
     floor = float(vertices[:, 1].min())
     return {
         "stature": float(vertices[marks.head_top, 1]) - floor,
+        "iliocristale_height": float(marks.iliac_crest.at(vertices)[1]) - floor,
         "inside_leg": float(vertices[marks.crotch, 1]) - floor,
     }
 

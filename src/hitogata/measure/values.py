@@ -19,6 +19,7 @@ class Measurements:
     underbust_girth: float
     waist_girth: float  # at ISO 8559-1's waist level
     omphalion_waist_girth: float  # at the navel
+    iliac_crest_waist_girth: float  # at the iliac crest (NHANES's waist)
     hip_girth: float
     thigh_girth: float
     upper_arm_girth: float
@@ -35,6 +36,7 @@ class Measurements:
     arm_length: float
     waist_to_hip_length: float
     crotch_length: float
+    iliocristale_height: float  # the iliac crest's height at the side
     inside_leg: float  # crotch height
 
     @staticmethod
@@ -54,8 +56,12 @@ class Measurements:
 
 MEASUREMENT_NAMES = Measurements.names()
 
-GIRTHS = ("neck_girth", "chest_girth", "underbust_girth", "waist_girth", "omphalion_waist_girth", "hip_girth",
-          "thigh_girth", "upper_arm_girth", "armscye_girth", "knee_girth", "calf_girth", "ankle_girth", "wrist_girth")
+GIRTHS = ("neck_girth", "chest_girth", "underbust_girth", "waist_girth", "omphalion_waist_girth",
+          "iliac_crest_waist_girth", "hip_girth", "thigh_girth", "upper_arm_girth", "armscye_girth", "knee_girth",
+          "calf_girth", "ankle_girth", "wrist_girth")
+
+# Vertical distances above the lowest skin point (the floor): in a posture, heights in that posture
+HEIGHTS = ("stature", "iliocristale_height", "inside_leg")
 
 
 # Why a measurement is undefined (NaN) in a posture, where its definition says so; any other NaN is a tape that

@@ -143,7 +143,8 @@ SPLITS: dict[str, Split] = {
     }, "hitogata.garment.stretch"),
     "tape skin": Split("within", {
         **{girth: tuple(p for p in ALL_PARTS if not p.startswith(("forearm", "hand", *DIGITS, "shank", "foot", "toes")))
-           for girth in ("chest_girth", "underbust_girth", "waist_girth", "omphalion_waist_girth", "hip_girth")},
+           for girth in ("chest_girth", "underbust_girth", "waist_girth", "omphalion_waist_girth",
+                         "iliac_crest_waist_girth", "hip_girth")},
         "thigh_girth": ("pelvis", "lumbar_5", "thigh_r"),
         "upper_arm_girth": ("upper_arm_r",),
         "knee_girth": ("thigh_r", "shank_r"),

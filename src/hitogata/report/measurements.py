@@ -40,6 +40,7 @@ LABELS = {
     "underbust_girth": "underbust girth",
     "waist_girth": "waist girth",
     "omphalion_waist_girth": "waist girth at the navel",
+    "iliac_crest_waist_girth": "iliac crest waist girth",
     "hip_girth": "hip girth",
     "thigh_girth": "thigh girth",
     "upper_arm_girth": "upper-arm girth",
@@ -56,6 +57,7 @@ LABELS = {
     "arm_length": "arm length",
     "waist_to_hip_length": "waist to hip length",
     "crotch_length": "crotch length",
+    "iliocristale_height": "iliac crest height",
     "inside_leg": "inside leg (crotch height)",
 }
 
