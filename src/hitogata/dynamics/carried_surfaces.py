@@ -31,7 +31,7 @@ from hitogata.volume.region_surfaces import body_region_surfaces
 from hitogata.volume.surface import SurfaceIndex
 
 if TYPE_CHECKING:
-    from hitogata.dynamics.motion import BodyDynamics
+    from hitogata.dynamics.motion import BodyDynamics, Motion
 
 BLEND_STEPS = 8  # averaging steps over the surface's edges (module note)
 DEEP = 2.0  # a point this many times the skin's reach (`elastic.mapping.skin_reach`) under the skin is deep
@@ -53,9 +53,13 @@ class CarriedSurface:
 
     def posed(self, rotations: np.ndarray, translations: np.ndarray, elastic: np.ndarray) -> np.ndarray:
         """(V, 3) the vertices for one frame: the parts' rotations (parts, 3, 3) and translations
-        (parts, 3), the nodes' elastic displacement (N, 3) (a `Motion`'s frame)."""
+        (parts, 3), the nodes' elastic displacement (N, 3)."""
         plain = skin_vertices(self.skin, rotations[None], translations[None], self.method)[0]
         return plain + self.elastic_map @ np.asarray(elastic, dtype=np.float64)
+
+    def frame(self, motion: Motion, k: int) -> np.ndarray:
+        """(V, 3) the vertices at a motion's frame k."""
+        return self.posed(motion.rotations[k], motion.translations[k], motion.elastic[k])
 
 
 def carry_surface(dynamics: BodyDynamics, name: str, vertices: np.ndarray, faces: np.ndarray) -> CarriedSurface:
@@ -123,8 +127,8 @@ def _rows(n: int, rows: np.ndarray, matrix: sp.spmatrix) -> sp.csr_matrix:
     return sp.csr_matrix(spread @ matrix)
 
 
-def carried_region_surfaces(dynamics: BodyDynamics) -> tuple[CarriedSurface, ...]:
-    """The whole body's tissue regions (`volume.region_surfaces.body_region_surfaces`), each carried by
-    the dynamics' model and skeleton; the empty ones left out."""
+def carried_region_surfaces(dynamics: BodyDynamics, light: bool = False) -> tuple[CarriedSurface, ...]:
+    """The whole body's tissue regions (`volume.region_surfaces.body_region_surfaces`, light or not), each
+    carried by the dynamics' model and skeleton; the empty ones left out."""
     return tuple(carry_surface(dynamics, s.name, s.vertices, s.faces)
-                 for s in body_region_surfaces(dynamics.poser.body) if len(s.faces))
+                 for s in body_region_surfaces(dynamics.poser.body, light) if len(s.faces))
