@@ -1,15 +1,26 @@
-"""Surfaces inside the body carried through a motion as the skin is: the tissue regions' boundaries.
+"""Surfaces inside the body carried through a motion as its tissue moves: the tissue regions' boundaries.
 
-A point inside the body moves as a skin vertex does (`BodyDynamics.skin_offset`):
-skinned by part weights, plus the elastic model's displacement interpolated
-at it (`elastic.mapping.skin_vertex_map`: the shape functions of the tet
-holding it, or of the nearest tet that moves with it, faded out beyond the
-mesh). Its part weights are blended the same way: inside the mesh, the nodes'
-weights interpolated there, so the point moves as the tissue around it (on a
-held bone capsule, rigidly with its bone); beyond the mesh (hands, feet, the
-limbs' skin a coarse lattice leaves out, a trunk model's limbs), the weights
-of the nearest skin vertices, as the skin there moves. The share of each is
-the map's own fade, so the two carriers meet without a seam.
+A vertex moves as a skin vertex does (`BodyDynamics.skin_offset`): skinned
+by part weights, plus the nodes' elastic displacement interpolated at it.
+What it is bound to depends on where it lies at rest (`CARRIERS`):
+
+- in a tet of the elastic mesh's body piece: that tet's shape functions, and
+  the nodes' part weights interpolated there, so it moves as the tissue
+  around it does (on a held bone's capsule, rigidly with its bone);
+- outside the mesh deep in the body (in a held bone capsule's hole, a gap the
+  mesh's repair left): the nearest tet's, faded out with the distance
+  (`elastic.mapping.skin_vertex_map`), whatever the nearest skin moves with
+  (deep in the chest that may be the armpit's skin, weighted to the arm);
+- outside the mesh near the skin (the layer a lattice leaves under the skin,
+  the hands, feet and thin limbs a 40 mm lattice hardly holds, a trunk
+  model's limbs): the binding of its nearest skin vertices
+  (`NodeRig.skin_map`: only tissue that moves with them, faded out beyond
+  the mesh), blended by inverse distance.
+
+Where the mesh's share fades, the nearest skin's part weights take the rest.
+Then each vertex's weights and elastic binding are averaged with its
+neighbours' over a few millimetres (`BLEND_STEPS`), so where two carriers
+meet (or a joint's bones part) the surface stretches instead of tearing.
 """
 
 from __future__ import annotations
@@ -33,6 +44,9 @@ from hitogata.volume.surface import SurfaceIndex
 if TYPE_CHECKING:
     from hitogata.dynamics.motion import BodyDynamics, Motion
 
+# How a vertex is bound: in a tet of the mesh; deep in the body outside it (the nearest tissue); near the
+# skin outside it (the nearest skin vertices' binding)
+CARRIERS = ("mesh", "deep", "skin")
 BLEND_STEPS = 8  # averaging steps over the surface's edges (module note)
 DEEP = 2.0  # a point this many times the skin's reach (`elastic.mapping.skin_reach`) under the skin is deep
 
@@ -46,6 +60,7 @@ class CarriedSurface:
     skin: Skin  # rest = the surface's vertices, weights = the blended part weights (module note)
     method: Skinning
     elastic_map: sp.csr_matrix  # (V, N): the nodes' elastic displacement at the vertices
+    carried_by: np.ndarray  # (V,) index into CARRIERS: how each vertex was bound, before the blend
 
     @property
     def rest(self) -> np.ndarray:
@@ -99,8 +114,10 @@ def carry_surface(dynamics: BodyDynamics, name: str, vertices: np.ndarray, faces
     blend = sp.identity(len(vertices), format="csr") + 0.5 * smoothing_operator(len(vertices), faces)
     for _ in range(BLEND_STEPS):
         weights, elastic_map = blend @ weights, blend @ elastic_map
+    carried_by = np.zeros(len(vertices), dtype=np.int8)
+    carried_by[deep], carried_by[skin_side] = CARRIERS.index("deep"), CARRIERS.index("skin")
     return CarriedSurface(name, np.asarray(faces), prepare_skin(vertices, weights, poser.skeleton.parents),
-                          dynamics.rig.method, elastic_map)
+                          dynamics.rig.method, elastic_map, carried_by)
 
 
 def _inside_map(points: np.ndarray, nodes: np.ndarray, elements: np.ndarray) -> sp.csr_matrix:
