@@ -37,10 +37,10 @@ from hitogata.volume.trunk import RigLike, TrunkLandmarks, arm_separator
 
 GRID_SPACING = 0.008  # m: 2.5 grid cells across the thinnest layer drawn (the 20 mm muscle wall)
 INSET = 0.001  # m: each surface this far inside its region (module note)
-# Fewer triangles, where they are drawn (libigl's quadric edge collapse, `simplified`): a picture of 360 x 540
-# pixels a view shows no difference at 4 times fewer, and software OpenGL draws it twice as fast; a motion's GLB,
-# one morph target per frame, keeps about the skin's vertex count at 3 times fewer again.
-PICTURE_REDUCTION = 2
+# Fewer triangles where they are drawn (libigl's quadric edge collapse, `simplified`): a picture of 360 x 540
+# pixels a view shows no difference at 3 times fewer; a motion's GLB (a morph target per vertex and frame)
+# stays within twice its size with the tissue of the 40 mm lattice at 3 times fewer again.
+PICTURE_REDUCTION = 3
 LIGHT_REDUCTION = 3
 BONE_REACH = 4  # grid cells: the bone capsules are measured this far from their surface
 
