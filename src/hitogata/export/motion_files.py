@@ -50,7 +50,7 @@ REGION_STYLE = {  # colour, opacity: translucent nested surfaces as in the paper
     "skin": ("#e3b899", 0.22),
     "muscle": ("#b5473a", 0.30),
     "viscera": ("#d9a52b", 0.45),
-    "bone": ("#efe9dc", 0.95),
+    "bone": ("#efe9dc", 0.55),  # the bones fill the limbs' capsules: the skeleton's lines show through them
 }
 
 
