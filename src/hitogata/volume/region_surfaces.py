@@ -106,13 +106,14 @@ def build_region_surfaces(vertices: np.ndarray, faces: np.ndarray, rig: RigLike,
     for k, name in enumerate(A.REGIONS):
         found, triangles, _ = igl.marching_cubes(np.ascontiguousarray(fields[:, k]), grid, *shape, INSET)
         # libigl orients the triangles towards the field's larger values: turned to face out of the region
-        surfaces.append(RegionSurface(name, found, triangles[:, ::-1].astype(np.int64)))
+        surfaces.append(RegionSurface(name, found.reshape(-1, 3), triangles.reshape(-1, 3)[:, ::-1].astype(np.int64)))
     return tuple(surfaces)
 
 
 def simplified(surface: RegionSurface, reduction: int) -> RegionSurface:
-    """The surface with `reduction` times fewer triangles (libigl's quadric edge collapse: volumes kept
-    within 0.5 % at 10 times fewer on the default bodies)."""
+    """The surface with `reduction` times fewer triangles: libigl's quadric edge collapse, refusing a
+    collapse that would make the surface cross itself (volumes kept within 1 % at 9 times fewer on the
+    default bodies)."""
     if len(surface.faces) < 4 * reduction:
         return surface
     found = igl.qslim(np.asfortranarray(surface.vertices), np.asfortranarray(surface.faces, dtype=np.int32),
