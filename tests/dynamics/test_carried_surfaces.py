@@ -49,9 +49,9 @@ def test_the_forearm_is_carried_by_the_skin_beyond_the_mesh(motion, female):
 
 
 def test_where_the_carriers_meet_the_surfaces_stretch_no_more_than_elsewhere(motion):
-    """No seam: before the carriers' bindings were blended, an edge there lengthened by 54-64 mm with the arms
-    overhead (a vertex in the mesh next to one bound as the armpit's skin); now no more than the surfaces'
-    own largest stretch, which is skinning's at the joints."""
+    """No seam: unblended, an edge between a vertex in the mesh and one bound as the skin lengthens by 33-59 mm
+    with the arms overhead (decision 0048); blended, no more than the surfaces do elsewhere, which is
+    skinning's own stretch at the joints."""
     last = len(motion.times) - 1
     for surface in motion.dynamics.region_surfaces:
         e = edges(surface.faces)

@@ -42,7 +42,7 @@ def counts(male, surfaces):
 
 
 def test_every_region_is_drawn_where_the_body_has_it(counts):
-    """The 40 mm lattice held 0 % of a hand and 2-23 % of a forearm, so no region was drawn there."""
+    """From the regions' definitions, not the 40 mm lattice (which holds none of a hand, 2-23 % of a forearm)."""
     print(counts)
     for part in PARTS:
         assert counts["skin"][part] >= 50 and counts["bone"][part] >= 50, part
