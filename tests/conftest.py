@@ -40,6 +40,8 @@ NEEDS: dict[str, tuple[str, ...]] = {
     "test_elastic_ease": ("slow",),  # the whole-body elastic model through a deep squat
     "test_elastic_pose": ("slow",),  # the whole-body elastic model, held
     "test_skin_follows_tissue": ("slow",),  # the demo's and the mobility scenarios' elastic bodies
+    "test_carried_surfaces": ("slow",),  # the whole-body elastic model in a short motion
+    "test_region_surfaces": ("slow",),  # the whole body's tissue regions on an 8 mm grid
     # a workflow end to end: left out of `make test-fast`, run by `make test`
     "test_readme_examples": ("integration",),
     "test_readme_python": ("integration",),
@@ -116,7 +118,7 @@ def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:
 # elastic model (`elastic_dynamics`, 15-20 s per body, kept on the session's body), so they run on one worker
 # together, where it is built once for the female and once for the male.
 SHARED_MODEL = ("test_elastic_pose", "test_extreme_poses", "test_self_contact", "test_skin_slide",
-                "test_motion_contact", "test_dynamics_large_motion", "test_elastic_ease")
+                "test_motion_contact", "test_dynamics_large_motion", "test_elastic_ease", "test_carried_surfaces")
 # The longest scopes start first, so that no worker is left alone with one at the end (seconds in one process,
 # measured: each case of the validation envelope 170-330 s, the identification 110 s, the shared model's modules 220 s, test_body_mesh_grid 190 s, test_skin_follows_tissue 160 s,
 # test_fit_scan 80 s, test_extreme_bodies 65 s, test_made_to_measure 50 s, then 40 s or less each); the others

@@ -63,7 +63,6 @@ def test_glb_animation_is_valid_and_plays_the_frames(tmp_path, motion):
     moved = np.abs(motion.skin[-1] - motion.dynamics.poser.body.vertices).max(axis=0)
     assert np.allclose(np.maximum(np.abs(last.min), np.abs(last.max)), moved, atol=1e-6)
     # the tissue regions' surfaces, translucent, morph with the same keys
-    model = motion.dynamics.model
     regions = [m for m in doc.meshes if m.name.startswith("region_")]
     assert sorted(m.name[7:] for m in regions) == ["bone", "muscle", "skin", "viscera"]  # bone: the held capsules
     assert len(doc.animations[0].channels) == 1 + len(regions)
@@ -75,10 +74,10 @@ def test_glb_animation_is_valid_and_plays_the_frames(tmp_path, motion):
         assert doc.materials[primitive.material].name == mesh.name and primitive.attributes.NORMAL is not None
     assert doc.materials[doc.meshes[0].primitives[0].material].alphaMode == "BLEND"  # the skin shows the tissue
     assert all(re.fullmatch(r"[A-Za-z0-9_-]+", node.name) for node in doc.nodes)
-    used = np.unique(files.region_surfaces(motion)["viscera"])
-    assert doc.accessors[viscera.attributes.POSITION].count == len(used)
+    surface = files.region_surfaces(motion, light=True)["viscera"]
+    assert doc.accessors[viscera.attributes.POSITION].count == len(surface.rest)
     last = doc.accessors[viscera.targets[-1]["POSITION"]]
-    moved = np.abs(motion.nodes[-1][used] - model.points[used]).max(axis=0)
+    moved = np.abs(surface.frame(motion, len(motion.times) - 1) - surface.rest).max(axis=0)
     assert moved.max() > 1e-4 and np.allclose(np.maximum(np.abs(last.min), np.abs(last.max)), moved, atol=1e-6)
 
 
@@ -110,6 +109,28 @@ def test_pictures_and_gif_show_something(tmp_path, motion):
     assert height == 240 and width >= 300  # two views side by side
     gif = Image.open(files.write_gif(tmp_path / "m.gif", motion, ("front", "side"), (120, 180), rate=5))
     assert gif.n_frames == 4
+
+
+def test_the_picture_shows_the_tissue_of_the_forearm(motion, female):
+    """The regions are drawn over the whole body, whatever the elastic model holds (here the trunk): a point
+    of the forearm, beside its bone, is coloured by the translucent tissue, not the background."""
+    pytest.importorskip("pyvista")
+    from hitogata.render import Points
+
+    rig = female.rig
+    i = rig.names.index("lowerarm01.L")
+    along = (rig.tails[i] - rig.heads[i]) / np.linalg.norm(rig.tails[i] - rig.heads[i])
+    beside = np.array([-along[1], along[0], 0.0]) / np.hypot(along[0], along[1])  # in the front view's plane
+    point = 0.5 * (rig.heads[i] + rig.tails[i]) + 0.012 * beside  # inside the forearm, off the skeleton's line
+    with files.MotionPictures(motion, ("front",), (300, 450)) as pictures:
+        picture = pictures.frame(0, supersample=1)
+        marker = pictures._render([Points(pictures.bounds, color="white", size=1.0, opacity=0.0),
+                                   Points(point[None], color="blue", radius=0.006)], 0, pictures.size, 1)
+    there = (marker[..., 2] > 150) & (marker[..., 0] < 100)
+    assert there.sum() >= 4
+    red, green, blue = picture[there].astype(float).mean(axis=0)
+    print(red, green, blue)
+    assert max(red, green, blue) < 245 and red - blue > 15  # the skin's and the bone's tint, not white
 
 
 def test_simulate_command_writes_files_and_a_summary(tmp_path, capsys):

@@ -57,6 +57,7 @@ from hitogata.posing.skinning import skin_vertices
 
 if TYPE_CHECKING:
     from hitogata.body.model import Body
+    from hitogata.dynamics.carried_surfaces import CarriedSurface
     from hitogata.elastic import ElasticModel
     from hitogata.fem.modes import Modes
 
@@ -154,6 +155,21 @@ class BodyDynamics:
         """Holds the skin's elastic displacement back where it would fold or cross the skin (made on first use)."""
         body = self.poser.body
         return OffsetLimiter(body.vertices, body.faces)
+
+    @cached_property
+    def region_surfaces(self) -> tuple[CarriedSurface, ...]:
+        """The whole body's tissue regions' surfaces bound to this model and skeleton, for pictures
+        (`dynamics.carried_surfaces`; made on first use)."""
+        from hitogata.dynamics.carried_surfaces import carried_region_surfaces
+
+        return carried_region_surfaces(self)
+
+    @cached_property
+    def light_region_surfaces(self) -> tuple[CarriedSurface, ...]:
+        """The same with fewer triangles, for an animation file (`volume.region_surfaces.LIGHT_REDUCTION`)."""
+        from hitogata.dynamics.carried_surfaces import carried_region_surfaces
+
+        return carried_region_surfaces(self, light=True)
 
     def skin_offset(self, rotations: np.ndarray, translations: np.ndarray, node_rotations: np.ndarray,
                     delta_qs: np.ndarray, dynamic: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

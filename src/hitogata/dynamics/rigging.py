@@ -95,11 +95,7 @@ def node_weights(poser: Poser, volume, points: np.ndarray, elements: np.ndarray,
     n_parts = len(sk.names)
 
     skin_nodes = np.unique(volume.boundary_faces[volume.boundary_on_skin])
-    dist, near = cKDTree(body.vertices).query(volume.nodes[skin_nodes], k=SKIN_NEIGHBOURS)
-    idw = 1.0 / np.maximum(dist, 1e-6)
-    idw /= idw.sum(axis=1, keepdims=True)
-    part_w = poser.skin.weights
-    skin_w = sum(sp.diags(idw[:, j]) @ part_w[near[:, j]] for j in range(SKIN_NEIGHBOURS))
+    skin_w = nearest_skin_weights(poser, volume.nodes[skin_nodes])
 
     bone = fixed_nodes < corners
     bone_nodes, bone_of = fixed_nodes[bone], np.asarray(fixed_bone)[bone]
@@ -127,6 +123,21 @@ def node_weights(poser: Poser, volume, points: np.ndarray, elements: np.ndarray,
     w[w < 1e-6] = 0.0
     w /= w.sum(axis=1, keepdims=True)
     return sp.csr_matrix(w)
+
+
+def nearest_skin(poser: Poser, points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The body's SKIN_NEIGHBOURS nearest skin vertices of each point (P, k) and their inverse-distance
+    shares (P, k), summing to 1."""
+    dist, near = cKDTree(poser.body.vertices).query(points, k=SKIN_NEIGHBOURS)
+    idw = 1.0 / np.maximum(dist, 1e-6)
+    return near, idw / idw.sum(axis=1, keepdims=True)
+
+
+def nearest_skin_weights(poser: Poser, points: np.ndarray) -> sp.csr_matrix:
+    """(P, parts) part weights of points: those of their nearest skin vertices, blended (`nearest_skin`)."""
+    near, idw = nearest_skin(poser, points)
+    part_w = poser.skin.weights
+    return sp.csr_matrix(sum(sp.diags(idw[:, j]) @ part_w[near[:, j]] for j in range(SKIN_NEIGHBOURS)))
 
 
 def _harmonic(tets: np.ndarray, known: np.ndarray, is_known: np.ndarray) -> np.ndarray:

@@ -8,7 +8,9 @@
   displacement, elastic displacement and the tissue (`export.tissue_data`:
   per-sample labels, fractions, materials), a time series for ParaView.
 - PNG: front and side views of the region boundary surfaces, translucent,
-  with the skeleton inside (the paper's Fig. 3(b)), at chosen times.
+  with the skeleton inside (the paper's Fig. 3(b)), at chosen times: every
+  region's own closed surface over the whole body (`volume.region_surfaces`),
+  carried as the tissue moves (`dynamics.carried_surfaces`).
 - GIF: the same views over time (pillow).
 Every file is written whole or not at all.
 """
@@ -27,6 +29,7 @@ import numpy as np
 import pygltflib as gl
 
 from hitogata.body.model import WHOLE_BODY_DENSITY, Body
+from hitogata.dynamics.carried_surfaces import CarriedSurface
 from hitogata.dynamics.motion import Motion
 from hitogata.errors import HitogataError
 from hitogata.export.atomic import write_bytes_atomically
@@ -36,9 +39,7 @@ from hitogata.export.gltf import GlbBuilder, add_material, named_node
 from hitogata.geometry.normals import vertex_normals
 from hitogata.export.tissue_data import tissue_cell_data, tissue_field_data
 from hitogata.export.vtu import write_vtu
-from hitogata.geometry.shells import region_boundary, smoothing_operator, taubin_smooth
 
-SMOOTHING = 4  # Taubin steps on the pictures' region surfaces
 SKIN_OPACITY = 0.35  # the skin over the regions in the motion GLB: see-through, so the tissue shows
 SUPERSAMPLE = 2  # snapshots: rendered at twice the size and averaged (smooth edges)
 # GIF frames: at their size (a 256-colour animation's edges gain little; 2.6x cheaper per frame on
@@ -49,7 +50,7 @@ REGION_STYLE = {  # colour, opacity: translucent nested surfaces as in the paper
     "skin": ("#e3b899", 0.22),
     "muscle": ("#b5473a", 0.30),
     "viscera": ("#d9a52b", 0.45),
-    "bone": ("#efe9dc", 0.95),
+    "bone": ("#efe9dc", 0.55),  # the bones fill the limbs' capsules: the skeleton's lines show through them
 }
 
 
@@ -64,8 +65,9 @@ def write_motion_glb(path: str | os.PathLike, motion: Motion) -> Path:
     Each surface is a mesh with one morph target per frame (frames subsampled
     to `MAX_TARGETS`); one set of one-hot weight keys drives them all. The
     skin is the whole body's, translucent (material "skin"); the regions (the
-    elastic model's corner mesh, nodes and materials "region_<name>") are
-    translucent in the colours of the pictures, nested inside it. Each mesh
+    whole body's, with fewer triangles than the pictures': `region_surfaces`;
+    nodes and materials "region_<name>") are translucent in the colours of
+    the pictures, nested inside it. Each mesh
     has smooth vertex normals at rest; node names are safe for three.js.
     """
     pick = frame_subset(len(motion.times), MAX_TARGETS)
@@ -74,13 +76,12 @@ def write_motion_glb(path: str | os.PathLike, motion: Motion) -> Path:
     names = [f"t={motion.times[k]:.3f}s" for k in pick]
     skin = add_material(builder, "skin", (*_rgb(REGION_STYLE["skin"][0]), SKIN_OPACITY))
     nodes = [_add_morphing_mesh(builder, "skin", body.faces, body.vertices, motion.skin[pick], names, skin)]
-    points = motion.dynamics.model.points
-    for name, faces in region_surfaces(motion).items():
-        used, local = np.unique(faces, return_inverse=True)
+    for name, surface in region_surfaces(motion, light=True).items():
         colour, opacity = REGION_STYLE[name]
         material = add_material(builder, f"region_{name}", (*_rgb(colour), opacity))
-        nodes.append(_add_morphing_mesh(builder, f"region_{name}", local.reshape(faces.shape), points[used],
-                                        motion.nodes[np.ix_(pick, used)], names, material=material))
+        nodes.append(_add_morphing_mesh(builder, f"region_{name}", surface.faces, surface.rest,
+                                        np.stack([surface.frame(motion, k) for k in pick]), names,
+                                        material=material))
     times = builder.add_accessor(motion.times[pick].astype(np.float32), gl.SCALAR, with_bounds=True)
     weights = builder.add_accessor(np.eye(len(pick), dtype=np.float32).reshape(-1), gl.SCALAR)
     builder.gltf.scenes[0].extras = playback_extras(motion.times[pick])
@@ -155,13 +156,11 @@ def write_pvd(folder: str | os.PathLike, motion: Motion, name: str = "motion") -
     return write_bytes_atomically(folder / f"{name}.pvd", xml.encode())
 
 
-def region_surfaces(motion: Motion) -> dict[str, np.ndarray]:
-    """Outward boundary triangles (F, 3) of each tissue region's corner tets; for bones held outside
-    the mesh, the soft tissue's boundary on them."""
-    model = motion.dynamics.model
-    surfaces = {name: region_boundary(model.elements, model.region, model.region_names, [name],
-                                      model.volume.bone_surface) for name in model.region_names}
-    return {name: faces for name, faces in surfaces.items() if len(faces)}
+def region_surfaces(motion: Motion, light: bool = False) -> dict[str, CarriedSurface]:
+    """The whole body's tissue regions' closed surfaces, carried through the motion as its tissue moves
+    (`dynamics.carried_surfaces`); `light`: with fewer triangles, as the GLB has them."""
+    dynamics = motion.dynamics
+    return {s.name: s for s in (dynamics.light_region_surfaces if light else dynamics.region_surfaces)}
 
 
 class MotionPictures:
@@ -184,8 +183,6 @@ class MotionPictures:
 
         self.motion, self.views, self.size, self.title = motion, tuple(views), tuple(size), title
         self.surfaces = region_surfaces(motion)
-        n = len(motion.dynamics.model.points)
-        self._smoothing = {name: smoothing_operator(n, faces) for name, faces in self.surfaces.items()}
         self.bounds = motion_bounds(motion)
         self._renderer = Renderer()
         self._frames: dict[tuple[int, tuple[int, int], int], np.ndarray] = {}
@@ -226,13 +223,12 @@ class MotionPictures:
         if (k, size, supersample) not in self._frames:
             from hitogata.render import Layer
 
-            nodes = self.motion.nodes[k].astype(np.float64)
             items = self._skeleton(k)
             for name in ("bone", "viscera", "muscle", "skin"):
                 if name in self.surfaces:
                     color, opacity = REGION_STYLE[name]
-                    items.append(Layer(taubin_smooth(nodes, self.surfaces[name], SMOOTHING, self._smoothing[name]), self.surfaces[name], color=color,
-                                       opacity=opacity))
+                    surface = self.surfaces[name]
+                    items.append(Layer(surface.frame(self.motion, k), surface.faces, color=color, opacity=opacity))
             self._frames[k, size, supersample] = self._render(items, k, size, supersample)
         return self._frames[k, size, supersample]
 

@@ -41,22 +41,43 @@ def tissue_regions(centroids: np.ndarray, depth: np.ndarray, marks: TrunkLandmar
                    skin: float, wall: float) -> np.ndarray:
     """Region id (T,) per tet (ids index `anatomy.REGIONS`)."""
     region = np.full(len(centroids), A.MUSCLE, dtype=np.int8)
-    y = centroids[:, 1]
-    spine = marks.spine_at(y)
-    ribs = RIB_CAGE_WIDTH * 0.5 * float(np.linalg.norm(marks.shoulders[0] - marks.shoulders[1]))
-    viscera = (
-        in_trunk
-        & (depth >= skin + wall)
-        & (centroids[:, 2] >= spine[:, 2] + A.BONE_RADII["spine"])
-        & (np.abs(centroids[:, 0] - spine[:, 0]) <= ribs)
-        & (y >= marks.hip_height - PELVIC_FLOOR_DROP)
-        & (y <= marks.neck_height)
-    )
-    region[viscera] = A.VISCERA
-    inside_bone = (segment_distance(centroids, bone_heads, bone_tails) <= bone_radii).any(axis=1)
-    region[inside_bone] = A.BONE
+    region[in_trunk & (viscera_margin(centroids, depth, marks, skin, wall) >= 0)] = A.VISCERA
+    region[bone_margin(centroids, bone_heads, bone_tails, bone_radii) >= 0] = A.BONE
     region[depth < skin] = A.SKIN
     return region
+
+
+def viscera_margin(points: np.ndarray, depth: np.ndarray, marks: TrunkLandmarks, skin: float,
+                   wall: float) -> np.ndarray:
+    """(P,) m: how far inside the thoracic and abdominal cavity each point lies (>= 0 inside, given it
+    is in the trunk): the least of its margins to the cavity's bounds (module note)."""
+    y = points[:, 1]
+    spine = marks.spine_at(y)
+    ribs = RIB_CAGE_WIDTH * 0.5 * float(np.linalg.norm(marks.shoulders[0] - marks.shoulders[1]))
+    return np.minimum.reduce([
+        depth - (skin + wall),
+        points[:, 2] - (spine[:, 2] + A.BONE_RADII["spine"]),
+        ribs - np.abs(points[:, 0] - spine[:, 0]),
+        y - (marks.hip_height - PELVIC_FLOOR_DROP),
+        marks.neck_height - y,
+    ])
+
+
+def bone_margin(points: np.ndarray, heads: np.ndarray, tails: np.ndarray, radii: np.ndarray,
+                reach: float = np.inf) -> np.ndarray:
+    """(P,) m: how far inside the nearest bone capsule each point lies (>= 0 inside one); -reach where
+    every capsule's surface is further off than `reach` (only the capsules within it are measured)."""
+    out = np.full(len(points), -reach)
+    if np.isinf(reach):
+        if len(heads):
+            out = (radii - segment_distance(points, heads, tails)).max(axis=1)
+        return out
+    for head, tail, radius in zip(heads, tails, radii):
+        box = np.all((points >= np.minimum(head, tail) - radius - reach)
+                     & (points <= np.maximum(head, tail) + radius + reach), axis=1)
+        near = np.flatnonzero(box)
+        out[near] = np.maximum(out[near], radius - segment_distance(points[near], head[None], tail[None])[:, 0])
+    return out
 
 
 def _tangent(direction: np.ndarray, normal: np.ndarray) -> np.ndarray:

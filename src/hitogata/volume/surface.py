@@ -130,7 +130,11 @@ class SurfaceIndex:
         """Boolean (P,): inside the surface (odd number of crossings above the point)."""
         points = np.asarray(points, dtype=np.float64).reshape(-1, 3)
         xy, line = np.unique(points[:, :2], axis=0, return_inverse=True)
-        line = line.ravel()
+        return self.contains_on_lines(xy, line.ravel(), points[:, 2])
+
+    def contains_on_lines(self, xy: np.ndarray, line: np.ndarray, heights: np.ndarray) -> np.ndarray:
+        """Boolean (P,): inside at heights (P,) on the vertical lines xy[line] (xy (C, 2)): `contains`
+        for points already grouped by their vertical line, as a grid's are."""
         ptr, z = self.crossings_z(xy)
         # Rank each point's height among the crossings of its own line: shift every line
         # into its own unit interval so one global sorted array serves all lines.
@@ -138,7 +142,7 @@ class SurfaceIndex:
         scale = 0.5 / span
         owner = np.repeat(np.arange(len(xy)), np.diff(ptr))
         keys = owner + (z - self.lo[2]) * scale
-        query = line + np.clip((points[:, 2] - self.lo[2]) * scale, -0.25, 0.75)
+        query = line + np.clip((heights - self.lo[2]) * scale, -0.25, 0.75)
         above = ptr[line + 1] - np.searchsorted(keys, query, side="right")
         return (above % 2) == 1
 
