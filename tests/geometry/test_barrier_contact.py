@@ -5,24 +5,19 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-import trimesh
 
 from hitogata.geometry import enclosed_volume, self_intersections
 from hitogata.geometry.barrier_contact import BARRIER_DEFAULTS, barrier_resolve, contact_regions
 from hitogata.geometry.contact import SelfContact
+from samples import two_spheres
 
 RADIUS = 0.05
 
 
 def test_spheres_driven_together_meet_flattened_and_keep_their_volume():
-    sphere = trimesh.creation.icosphere(subdivisions=3, radius=RADIUS)
-    v, f = sphere.vertices, sphere.faces
-    faces = np.concatenate([f, f + len(v)])
-
-    def apart(d: float) -> np.ndarray:  # the second sphere's centre d above the first's
-        return np.concatenate([v, v + [0.0, 0.0, d]])
-
-    test = SelfContact(apart(0.2), faces, np.repeat([0, 1], len(v)))
+    apart, faces, groups = two_spheres(RADIUS, 3)
+    v = apart(0.0)[groups == 0]  # one sphere's vertices
+    test = SelfContact(apart(0.2), faces, groups)
     path = [apart(d) for d in (0.2, 0.15, 0.12, 0.1, 0.09)]  # the target: 10 mm of overlap
     # each step's unknowns: the skin that may meet by then (within 20 mm of the other sphere: none at 150 mm
     # apart, the poles' at 120), each holding the last

@@ -12,7 +12,6 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-import trimesh
 
 from hitogata.errors import HitogataError
 from hitogata.geometry.barrier_contact import BarrierSettings, barrier_resolve
@@ -22,6 +21,7 @@ from hitogata.geometry.strain import principal_stretches
 from hitogata.skin.contact import crease_tether
 from hitogata.skin.settings import SKIN_DEFAULTS, CreaseSettings, SkinSettings, SlideSettings
 from hitogata.skin.skin_slide import SlideResult, slide_fine_skin
+from samples import two_spheres
 
 DECISION = Path(__file__).resolve().parents[2] / "docs" / "decisions" / "0046-skin-settings.md"
 
@@ -128,14 +128,8 @@ def test_the_offset_limits_width_reaches_the_spread():
 
 
 def test_the_barriers_reach_reaches_the_barrier():
-    sphere = trimesh.creation.icosphere(subdivisions=2, radius=0.05)
-    v, f = sphere.vertices, sphere.faces
-    faces = np.concatenate([f, f + len(v)])
-
-    def apart(d: float) -> np.ndarray:  # the second sphere's centre d above the first's
-        return np.concatenate([v, v + [0.0, 0.0, d]])
-
-    test = SelfContact(apart(0.2), faces, np.repeat([0, 1], len(v)))
+    apart, faces, groups = two_spheres(0.05, 2)
+    test = SelfContact(apart(0.2), faces, groups)
     path = [apart(d) for d in (0.2, 0.15, 0.12, 0.1, 0.09)]  # the target: 10 mm of overlap
     wide = barrier_resolve(path, test)
     narrow = barrier_resolve(path, test, BarrierSettings(dhat=1e-3))
