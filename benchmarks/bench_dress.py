@@ -1,70 +1,73 @@
-"""Dressing benchmark: a legging (−20 % ease) put on the default female's soft leg, cold, in a fresh process,
-then through the first frames of the stride at 5 frames a second, each solved from the last (warm).
+"""Dressing benchmark: a legging (−20 % ease) put on the default female's soft leg, cold, then through the
+first frames of the stride at 5 frames a second, each solved from the last (warm); the code as it is
+("now") and a baseline commit's ("before", default `main`), each in a fresh process, in the same run.
 
 Goals: ≤ 60 s on the 2-core machine cold; one motion frame ≤ 5 s warm. Prints the wall and CPU time of
 each stage (imports, the body and garment file, the contact solve with the garment's placement, the
 answers and their exact checks, the stride's postures, its first frame, a warm frame with its placement,
-tissue and solve, its answers), Newton's iterations, the least garment–skin distance, the exact checks
-and, for the motion frame, whether its warm start was taken.
+tissue and solve, its answers) for both, the CPU ratio before / now, the cold and warm totals against
+their goals, Newton's iterations, the least garment–skin distance, the exact checks, whether the motion
+frame's warm start was taken, and each level's pressure (mmHg) and indentation (mm, mean and deepest)
+by both with their differences.
 
-"now" is the code as it is (a Newton step by conjugate gradients preconditioned with the last factored
-step's factors where they serve, else factored by `equilibrium.factor_method`: PARDISO where pypardiso is
-installed, else SuperLU, the default install's); "before" the same run with every step factored by the
-project's SuperLU (`equilibrium.FACTOR = "auto"`, `equilibrium.REUSE_ITERATIONS = 0`), in the same process
-after it: the figures side by side, their CPU ratio, each level's pressure and
-indentation by both with their difference (the answers must agree within 1 %), and the ratio of each time
-to its goal. Read CPU seconds where the machine is
-shared (the wall clock then counts the other processes' turns). "now" runs first, so it alone pays the
-imports and the caches a fresh process fills (its "cold" total); "before" is timed from its contact
-solve on.
+"before" runs this same script (`--pass`) in a subprocess on a `git archive` of the baseline's `src`
+(PYTHONPATH), "now" on this tree's `src`; each process pays its own imports and caches. Read CPU seconds
+where the machine is shared (the wall clock then counts the other processes' turns).
 
-    PYTHONPATH=src python benchmarks/bench_dress.py [--now-only]
+    PYTHONPATH=src python benchmarks/bench_dress.py [--baseline main] [--now-only]
 """
 
 from __future__ import annotations
 
 import argparse
 import importlib
+import json
+import os
+import subprocess
+import sys
+import tempfile
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from pathlib import Path
 from typing import Any
 
-Clock = tuple[float, float]
+ROOT = Path(__file__).resolve().parents[1]
 GOAL_COLD, GOAL_FRAME = 60.0, 5.0  # s wall on 2 idle cores
-
-
-def clock() -> Clock:
-    return time.perf_counter(), time.process_time()
-
-
-@dataclass
-class Run:
-    """One pass: each stage's (name, wall s, CPU s), the standing and moved answers, Newton's iterations."""
-
-    stages: list[tuple[str, float, float]] = field(default_factory=list)
-    answers: dict[str, Any] = field(default_factory=dict)
-
-    def timed(self, name: str, work: Callable[[], Any]) -> Any:
-        start = clock()
-        out = work()
-        now = clock()
-        self.stages.append((name, now[0] - start[0], now[1] - start[1]))
-        return out
-
-    def total(self, names: tuple[str, ...]) -> Clock:
-        chosen = [(wall, cpu) for name, wall, cpu in self.stages if name in names]
-        return sum(w for w, _ in chosen), sum(c for _, c in chosen)
-
-
+MMHG = 133.322  # Pa
 COLD = ("imports", "body and garment file", "contact solve (prepare + Newton)", "answers and exact checks")
 FRAME = ("one warm motion frame",)
 MODULES = ("hitogata.body", "hitogata.garment.contact.answers", "hitogata.garment.contact.motion", "hitogata.pose",
            "hitogata.motion.scenario")
 
 
-def dress_run(run: Run) -> None:
-    """The cold dressing and the stride's first two frames, timed stage by stage into `run`."""
+@dataclass
+class Run:
+    """One pass: each stage's (name, wall s, CPU s) and its answers."""
+
+    stages: list[tuple[str, float, float]] = field(default_factory=list)
+    answers: dict[str, Any] = field(default_factory=dict)
+
+    def timed(self, name: str, work: Callable[[], Any]) -> Any:
+        wall, cpu = time.perf_counter(), time.process_time()
+        out = work()
+        self.stages.append((name, time.perf_counter() - wall, time.process_time() - cpu))
+        return out
+
+    def total(self, names: tuple[str, ...]) -> tuple[float, float]:
+        chosen = [(wall, cpu) for name, wall, cpu in self.stages if name in names]
+        return sum(w for w, _ in chosen), sum(c for _, c in chosen)
+
+
+def levels(contact: Any) -> list[tuple[str, float, float, float]]:
+    """Each level's name, pressure (Pa), mean and deepest indentation (m)."""
+    return [(row.level, row.pressure, row.indentation, row.deepest) for row in contact.levels]
+
+
+def dress_pass() -> Run:
+    """The cold dressing and the stride's first two frames in this process, timed stage by stage."""
+    run = Run()
+    run.timed("imports", lambda: [importlib.import_module(name) for name in MODULES])
     from hitogata.body import default_body
     from hitogata.garment.contact.answers import garment_contact
     from hitogata.garment.contact.dressing import dress
@@ -76,35 +79,41 @@ def dress_run(run: Run) -> None:
 
     body, spec = run.timed("body and garment file", lambda: (default_body("female"), load_garment("legging")))
     dressing = run.timed("contact solve (prepare + Newton)", lambda: dress(body, spec))
-    run.answers["standing"] = run.timed("answers and exact checks", lambda: garment_contact(dressing))
+    standing = run.timed("answers and exact checks", lambda: garment_contact(dressing))
     clip = scenario_clip(load_scenario(shipped_scenarios()["mobility_stride"]), poser_for(body))
     times, frames = run.timed("stride's postures", lambda: postures(body, clip, 5.0))
     first, _ = run.timed("its first frame (standing again)", lambda: dress_frame(dressing, frames[0]))
     second, warm = run.timed("one warm motion frame", lambda: dress_frame(first, frames[1]))
-    run.answers["moved"] = run.timed("its answers and exact checks", lambda: garment_contact(second, laplace=False))
-    run.answers.update(time=float(times[1]), warm=warm, iterations=(dressing.iterations, second.iterations))
+    moved = run.timed("its answers and exact checks", lambda: garment_contact(second, laplace=False))
+    run.answers = {"standing": levels(standing), "moved": levels(moved), "time": float(times[1]), "warm": warm,
+                   "iterations": [dressing.iterations, second.iterations],
+                   "least": [standing.min_distance, moved.min_distance], "inside": [standing.inside, moved.inside],
+                   "crossing": [standing.crossing, moved.crossing]}
+    return run
 
 
-def main(baseline: bool) -> None:
-    now = Run()
-    now.timed("imports", lambda: [importlib.import_module(name) for name in MODULES])
-    dress_run(now)
-    before = None
-    if baseline:
-        from hitogata.garment.contact import equilibrium
+def child_pass(src: Path) -> Run:
+    """`dress_pass` in a fresh process on the package at `src`."""
+    out = subprocess.run([sys.executable, __file__, "--pass"], env={**os.environ, "PYTHONPATH": str(src)},
+                         check=True, capture_output=True, text=True)
+    found = json.loads(out.stdout.strip().splitlines()[-1])
+    return Run([tuple(stage) for stage in found["stages"]], found["answers"])  # type: ignore[misc]
 
-        saved = equilibrium.FACTOR, equilibrium.REUSE_ITERATIONS
-        equilibrium.FACTOR, equilibrium.REUSE_ITERATIONS = "auto", 0
-        try:
-            before = Run()
-            dress_run(before)
-        finally:
-            equilibrium.FACTOR, equilibrium.REUSE_ITERATIONS = saved
-    print(f"{'stage':>36} | {'now wall s':>10} | {'now CPU s':>9}" + (" | before wall s | before CPU s | CPU ratio"
-                                                                       if before else ""))
+
+def baseline_pass(commit: str) -> Run:
+    """`dress_pass` on a `git archive` of `commit`'s src."""
+    with tempfile.TemporaryDirectory() as tree:
+        archive = subprocess.run(["git", "archive", commit, "src"], cwd=ROOT, capture_output=True, check=True)
+        subprocess.run(["tar", "-x", "-C", tree], input=archive.stdout, check=True)
+        return child_pass(Path(tree) / "src")
+
+
+def report(now: Run, before: Run | None, baseline: str) -> None:
+    print(f"{'stage':>36} | {'now wall s':>10} | {'now CPU s':>9}"
+          + (f" | {baseline} wall s | {baseline} CPU s | CPU {baseline} / now" if before else ""))
     for name, wall, cpu in now.stages:
         line = f"{name:>36} | {wall:10.2f} | {cpu:9.2f}"
-        if before is not None and name != "imports":
+        if before is not None:
             _, wall0, cpu0 = next(stage for stage in before.stages if stage[0] == name)
             line += f" | {wall0:13.2f} | {cpu0:12.2f} | {cpu0 / max(cpu, 1e-9):9.2f}"
         print(line)
@@ -113,33 +122,45 @@ def main(baseline: bool) -> None:
         line = f"{label}: now wall {wall:.1f} s, CPU {cpu:.1f} s (goal ≤ {goal:.0f} s: CPU / goal {cpu / goal:.2f})"
         if before is not None:
             wall0, cpu0 = before.total(names)
-            if names is COLD:  # "before" paid no imports: the same import time added
-                wall0, cpu0 = wall0 + now.stages[0][1], cpu0 + now.stages[0][2]
-            line += f"; before wall {wall0:.1f} s, CPU {cpu0:.1f} s; CPU before / now {cpu0 / cpu:.2f}"
+            line += f"; {baseline} wall {wall0:.1f} s, CPU {cpu0:.1f} s; CPU {baseline} / now {cpu0 / cpu:.2f}"
         print(line)
-    for name, run in (("now", now), ("before", before)):
+    for name, run in (("now", now), (baseline, before)):
         if run is None:
             continue
-        standing, moved = run.answers["standing"], run.answers["moved"]
-        print(f"{name}: Newton iterations cold {run.answers['iterations'][0]}, frame {run.answers['iterations'][1]} "
-              f"({'warm' if run.answers['warm'] else 'started cold'}); least distance {1e3 * standing.min_distance:.3f}"
-              f" / {1e3 * moved.min_distance:.3f} mm; inside {standing.inside} / {moved.inside}; crossing "
-              f"{standing.crossing} / {moved.crossing}")
-    print(f"levels (standing, then the frame at {now.answers['time']:.1f} s): pressure mmHg and indentation mm, "
-          "now" + (" | before | now / before − 1" if before else ""))
+        a = run.answers
+        print(f"{name}: Newton iterations cold {a['iterations'][0]}, frame {a['iterations'][1]} "
+              f"({'warm' if a['warm'] else 'started cold'}); least distance {1e3 * a['least'][0]:.3f} / "
+              f"{1e3 * a['least'][1]:.3f} mm; inside {a['inside'][0]} / {a['inside'][1]}; crossing "
+              f"{a['crossing'][0]} / {a['crossing'][1]}")
+    print(f"levels (standing, then the frame at {now.answers['time']:.1f} s): pressure mmHg, indentation mean / "
+          "deepest mm, now" + (f" | {baseline} | now − {baseline}" if before else ""))
     for which in ("standing", "moved"):
-        rows = now.answers[which].levels
-        old = before.answers[which].levels if before else [None] * len(rows)
-        for row, row0 in zip(rows, old):
-            line = f"  {which:>8} {row.level:>6}: {row.pressure / 133.322:6.2f} mmHg {1e3 * row.indentation:5.3f} mm"
+        rows = now.answers[which]
+        old = before.answers[which] if before else [None] * len(rows)
+        for (level, p, mean, deepest), row0 in zip(rows, old):
+            line = f"  {which:>8} {level:>6}: {p / MMHG:6.2f} mmHg {1e3 * mean:6.3f} / {1e3 * deepest:6.3f} mm"
             if row0 is not None:
-                line += (f" | {row0.pressure / 133.322:6.2f} mmHg {1e3 * row0.indentation:5.3f} mm | pressure "
-                         f"{100 * (row.pressure / row0.pressure - 1):+.2f} %, indentation "
-                         f"{100 * (row.indentation / row0.indentation - 1):+.2f} %")
+                _, p0, mean0, deepest0 = row0
+                line += (f" | {p0 / MMHG:6.2f} mmHg {1e3 * mean0:6.3f} / {1e3 * deepest0:6.3f} mm | "
+                         f"{(p - p0) / MMHG:+.3f} mmHg, {1e3 * (mean - mean0):+.4f} / {1e3 * (deepest - deepest0):+.4f} mm")
             print(line)
 
 
-if __name__ == "__main__":
+def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--now-only", action="store_true", help="skip the run with every Newton step factored by SuperLU")
-    main(not parser.parse_args().now_only)
+    parser.add_argument("--baseline", default="main", help="the commit whose code runs as 'before' (default main)")
+    parser.add_argument("--now-only", action="store_true", help="skip the baseline's run")
+    parser.add_argument("--pass", dest="one_pass", action="store_true",
+                        help="one pass in this process, its figures as a JSON line (what each run's process does)")
+    args = parser.parse_args()
+    if args.one_pass:
+        run = dress_pass()
+        print(json.dumps({"stages": run.stages, "answers": run.answers}))
+        return
+    now = child_pass(ROOT / "src")
+    before = None if args.now_only else baseline_pass(args.baseline)
+    report(now, before, args.baseline)
+
+
+if __name__ == "__main__":
+    main()

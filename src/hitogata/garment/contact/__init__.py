@@ -5,6 +5,7 @@
 - `spec`: garment files (TOML) and the shipped examples; `garment_mesh`: a garment given as its rest mesh (OBJ/PLY);
 - `equilibrium`: the garment's (and a soft body's) equilibrium with the barrier;
 - `pressure`: the contact forces as pressure on the skin;
+- `readings`: what a user reads at the levels (pressure, indentation), which Newton stops on;
 - `verify`: bodies with known answers (cylinders, ellipses, Lamé's thick-walled cylinder);
 - `segments`: the levels and stations of a body segment;
 - `dressing`: a garment put on the body; `answers`: its pressure at the levels and on the skin

@@ -1,9 +1,9 @@
 """The answers of a dressed garment: pressure at the levels and on the skin, the garment's strain, the hold.
 
 At each level the pressure is the skin's push on the garment's rings within `BAND` of the level's
-plane over their area (the fabric lies within the barrier's reach, a fraction of a millimetre, of the
-skin: its area is the skin's under it to better than 1 %): the mean round the girth that RAL-GZ 387/1
-classifies a stocking by at B. Round a whole ring that mean is 2π T / C by the ring's balance, whatever
+plane over their area (`readings`, which Newton watches too; the fabric lies within the barrier's
+reach, a fraction of a millimetre, of the skin: its area is the skin's under it to better than 1 %):
+the mean round the girth that RAL-GZ 387/1 classifies a stocking by at B. Round a whole ring that mean is 2π T / C by the ring's balance, whatever
 the section's shape; it differs from Laplace's quick estimate (`garment.pressure`, the same relaxed
 size and course fabric on the standing body) by the tension and circumference the fabric really takes.
 Where the pressure goes round the ring is the contact's own answer: `peak` is the largest of the
@@ -27,16 +27,15 @@ from hitogata.body.model import Body
 from hitogata.elastic.materials import Materials
 from hitogata.garment.contact.dressing import Dressing, dress
 from hitogata.garment.contact.equilibrium import crossings
-from hitogata.garment.contact.pressure import patch_pressure, pressing_forces
+from hitogata.garment.contact.pressure import pressing_forces
+from hitogata.garment.contact.readings import BAND, LevelReader
 from hitogata.garment.contact.spec import GarmentSpec, load_garment
 from hitogata.garment.levels import LEVELS
 from hitogata.garment.pressure import MMHG, Garment, compression_class, garment_pressure
 from hitogata.geometry.mesh_checks import contains
-from hitogata.geometry.normals import vertex_areas
 from hitogata.measure.sections import tape_girth
 from hitogata.geometry.topology import topology
 
-BAND = 0.01  # m each side of a level's plane
 RAL_LETTERS = {"ankle": "B", "calf": "C", "knee": "E", "thigh": "G"}
 
 
@@ -121,9 +120,8 @@ def garment_contact(dressing: Dressing, laplace: bool = True) -> GarmentContact:
     pressing, _ = pressing_forces(skin, faces, dressing.force)
     holding = np.linalg.norm(dressing.friction, axis=1)
     sensor = sensor_pressure(skin, faces, dressing.force)
-    pushed = np.linalg.norm(dressing.garment_force, axis=1)  # frictionless: along the skin's normal
-    garment_areas = vertex_areas(dressing.garment, tube.faces)
-    ring_of_vertex = np.arange(len(dressing.garment)) // tube.per_ring
+    reader = LevelReader.build(tube, dressing.arc, dressing.level_arc, dressing.tissue)
+    pressures = reader.pressures(dressing.garment, dressing.garment_force)
     stations = tube.stations
     axis = stations.axis
     under = dressing.contact_skin & ((skin - stations.origins[0]) @ axis[0] >= 0) \
@@ -134,14 +132,13 @@ def garment_contact(dressing: Dressing, laplace: bool = True) -> GarmentContact:
     ring_of_face = tube.faces[:, 0] // tube.per_ring
     topo = topology(faces)
     rows = []
-    for level, at in zip(dressing.levels, dressing.level_arc):
+    for k, (level, at) in enumerate(zip(dressing.levels, dressing.level_arc)):
         band = under & level.skin & (np.abs((skin - level.origin) @ level.normal) < BAND)
         ring = int(np.argmin(np.abs(dressing.arc - at)))
         standing = tape_girth(skin, topo, level.origin, level.normal, level.origin, part=level.skin)
         pressed = float(pressing[band].sum())
-        rings = np.abs(dressing.arc[ring_of_vertex] - at) <= BAND
-        soft = _soft_level(dressing, at, standing.girth)
-        rows.append(LevelContact(level.name, patch_pressure(pushed, garment_areas, rings),
+        soft = _soft_level(dressing, reader, k, standing.girth)
+        rows.append(LevelContact(level.name, float(pressures[k]),
                                  quick.get(level.name, np.nan), float(sensor[band].max()) if band.any() else np.nan,
                                  standing.girth, float(tube.relaxed[ring] * (1 + ring_strain[ring])),
                                  float(ring_strain[ring]), float(wale[np.abs(ring_of_face - ring) <= 1].mean()),
@@ -172,17 +169,16 @@ def dress_garment(body: Body, garment: GarmentSpec | str | Path, soft: bool = Tr
     return garment_contact(dress(body, spec, soft, materials))
 
 
-def _soft_level(dressing: Dressing, at: float, girth: float) -> tuple[float, float, float]:
-    """At the soft limb's section nearest a level (arc length `at`, m): the mean and largest indentation
-    (m) and the body's girth under the garment (the standing girth less the section's shrinking, m); NaN
-    on the rigid body."""
+def _soft_level(dressing: Dressing, reader: LevelReader, k: int, girth: float) -> tuple[float, float, float]:
+    """At the soft limb's section nearest the `k`th level: the mean and largest indentation (m) and the body's
+    girth under the garment (the standing girth less the section's shrinking, m); NaN on the rigid body."""
     tissue, nodes = dressing.tissue, dressing.tissue_nodes
     if tissue is None or nodes is None:
         return float("nan"), float("nan"), float("nan")
-    section = int(np.argmin(np.abs(dressing.arc[tissue.stations] - at)))
-    moved_in = tissue.indentation(nodes)[section]
+    mean, deepest = reader.indentations(nodes)
+    section = int(reader.sections[k])
     shrink = float(tissue.perimeter[section] - tissue.perimeters(nodes)[section])
-    return float(moved_in.mean()), float(moved_in.max()), girth - shrink
+    return float(mean[k]), float(deepest[k]), girth - shrink
 
 
 def _laplace(dressing: Dressing) -> dict[str, float]:

@@ -26,6 +26,7 @@ from hitogata.body.model import Body
 from hitogata.errors import HitogataError
 from hitogata.elastic.materials import Materials
 from hitogata.garment.contact.equilibrium import ContactBody, settle
+from hitogata.garment.contact.readings import LevelReader
 from hitogata.garment.contact.segments import (
     SPACING,
     Level,
@@ -169,19 +170,20 @@ def solve(body: Body, spec: GarmentSpec, posture: Posture, levels: list[Level], 
     local = np.full(len(rest), -1)
     local[sub] = np.arange(len(sub))
     sub_faces = local[faces]
-    rigid = ContactBody(rest[sub], sub_faces) if tissue is None else ContactBody(tissue.body.points, tissue.body.faces)
-    warm = stiffness is not None
+    # first the garment on the body held still (the skin, or the tissue at its start), then on a limb the
+    # garment and the tissue solved together from there
+    held = ContactBody(rest[sub], sub_faces) if tissue is None else \
+        ContactBody(tissue.body.points if tissue_start is None else tissue_start, tissue.body.faces)
+    reader = LevelReader.build(tube, arc, level_arc, tissue)
     try:
-        if warm and tissue is not None:
-            eq = settle(tube, start, tissue.body, stiffness=stiffness, body_start=tissue_start)
-        else:
-            eq = settle(tube, start, rigid, stiffness=stiffness)
+        eq = settle(tube, start, held, stiffness=stiffness, reader=reader)
     except HitogataError as err:
         raise HitogataError(f"{spec.source}: the garment's start crosses the body ({err}); allowed a garment "
                             "whose segment is clear of other skin") from None
     iterations = eq.iterations
-    if tissue is not None and not warm:  # from the garment settled on the tissue held still: the two solved together
-        eq = settle(tube, eq.garment, tissue.body, stiffness=eq.barrier_stiffness)
+    if tissue is not None:
+        eq = settle(tube, eq.garment, tissue.body, stiffness=eq.barrier_stiffness, body_start=tissue_start,
+                    reader=reader)
         iterations += eq.iterations
     force = np.zeros_like(rest)
     if tissue is None:

@@ -26,6 +26,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from dataclasses import dataclass
 from functools import cache
+from typing import TYPE_CHECKING
 
 import numpy as np
 import scipy.sparse as sp
@@ -33,6 +34,9 @@ import scipy.sparse as sp
 from hitogata.errors import HitogataError
 from hitogata.garment.contact.tube import Tube
 from hitogata.options import FactorMethod
+
+if TYPE_CHECKING:
+    from hitogata.garment.contact.readings import LevelReader
 
 DHAT = 1e-3  # m: the barrier's reach, about a knit's thickness; the garment ends up within it of the skin
 SETTLE = 0.5  # share of DHAT at which the start's garment forces would be balanced (sets κ)
@@ -43,12 +47,16 @@ TOLERANCE = 1e-5  # m: a Newton step whose largest vertex move is below this has
 # the Newton decrement −gᵀΔ below this share of the energy has converged (slow sliding into the facets of the
 # skin's mesh then changes nothing a user reads)
 DECREMENT = 1e-5
+# a full Newton step of decrement below this share of the energy that changed no figure a user reads by more than
+# its `readings.ReadTolerance` has converged (`settle`'s reader)
+READ_DECREMENT = 1e-4
 DAMPING = 1e-7  # Levenberg–Marquardt: × the Hessian's mean diagonal, for the garment's free sliding round a limb
 FACTOR: FactorMethod | None = None  # the Newton step's factorization (None: the fastest installed, `factor_method`)
 # a Newton step by conjugate gradients preconditioned with the last factored step's factors, to this residual
 # relative to the gradient, while they take at most `REUSE_ITERATIONS` (0: every step factored; `_NewtonStep`)
-INEXACT = 1e-2
-REUSE_ITERATIONS = 12
+# (an inexact Newton step: the equilibrium is the same, its last steps converge at about this rate)
+INEXACT = 1e-1
+REUSE_ITERATIONS = 25  # a coupled step's factorization costs about 30 of these iterations
 PROBE_ITERATIONS = 4  # the first iterations, whose pace decides whether the rest are tried
 
 
@@ -149,11 +157,13 @@ class _Problem:
 
 
 def settle(tube: Tube, start: np.ndarray, body: ContactBody, dhat: float = DHAT, stiffness: float | None = None,
-           iterations: int = NEWTON, tolerance: float = TOLERANCE, body_start: np.ndarray | None = None
-           ) -> Equilibrium:
+           iterations: int = NEWTON, tolerance: float = TOLERANCE, body_start: np.ndarray | None = None,
+           reader: LevelReader | None = None) -> Equilibrium:
     """The garment's equilibrium from `start` (V, 3: on its rings' planes, free of crossings with the body
     and more than `CCD_GAP` from it, e.g. outside it) on `body` (its nodes from `body_start`, default their rest). stiffness: the barrier's κ
-    (default: from the garment's forces at the start, see the module note)."""
+    (default: from the garment's forces at the start, see the module note). reader: what a user reads of
+    the answer (the levels' pressures and indentations); Newton also stops where a full step of decrement
+    under `READ_DECREMENT` of the energy changed none of them by more than its tolerance."""
     import ipctk
 
     quiet_ipctk()
@@ -196,12 +206,19 @@ def settle(tube: Tube, start: np.ndarray, body: ContactBody, dhat: float = DHAT,
     n_g = 2 * problem.n_garment
     converged, taken = False, 0
     newton_step = _NewtonStep()
+    read: np.ndarray | None = None  # the read figures where the last step, a full one of small decrement, began
     while taken < iterations:
         taken += 1
         garment, nodes = problem.positions(z)
         v = problem.collision_vertices(garment, nodes)
+        contact_gradient = barrier.gradient(contacts, problem.mesh, v)
+        if reader is not None:
+            reading = reader.read(garment, nodes, -contact_gradient.reshape(-1, 3)[:problem.n_garment])
+            if read is not None and not reader.changed(read, reading):
+                converged = True
+                break
         _, g_membrane, h_membrane = membrane.derivatives(garment)
-        gradient = problem.jacobian.T @ barrier.gradient(contacts, problem.mesh, v)
+        gradient = problem.jacobian.T @ contact_gradient
         gradient[:n_g] += problem.garment_map.T @ g_membrane.ravel()
         h_barrier = barrier.hessian(contacts, problem.mesh, v, ipctk.PSDProjectionMethod.CLAMP)
         hessian = problem.jacobian.T @ h_barrier @ problem.jacobian
@@ -232,6 +249,8 @@ def settle(tube: Tube, start: np.ndarray, body: ContactBody, dhat: float = DHAT,
             if alpha <= 1e-8 or e <= e0 + 1e-4 * alpha * slope:
                 break
             alpha *= 0.5
+        full = alpha * scale == 1.0 and -slope < READ_DECREMENT * abs(e0)
+        read = reading if reader is not None and full else None
         z, e0, contacts = trial, e, contacts_trial
         if alpha * longest * scale < tolerance:
             converged = True
@@ -260,8 +279,9 @@ class _NewtonStep:
     """Newton's step −H⁻¹g, the Hessian's factors kept from step to step. The tissue's stiffness does not
     change between steps, the garment's and the barrier's little once the contacts are set, so a step is
     first sought by conjugate gradients preconditioned with the last factors, to `INEXACT` of the gradient
-    (the step's decrement then within ~1e-4 of the exact step's). Each iteration costs a solve with the
-    factors (~1/30 of a factorization): where the first `PROBE_ITERATIONS` do not reduce the residual at a
+    (an inexact Newton step: a descent direction whose decrement is within about 1 % of the exact step's;
+    it changes the path, not the equilibrium). Each iteration costs a solve with the factors (~1/30 of a
+    factorization): where the first `PROBE_ITERATIONS` do not reduce the residual at a
     pace that reaches `INEXACT` within `REUSE_ITERATIONS`, or those do not reach it, the step's own matrix
     is factored and kept."""
 

@@ -6,11 +6,15 @@ standing body, the same number of stations (the garment's rings are carried alon
 lengthens, over a bent knee, its wale stretches), and on a limb the tissue is meshed again round the
 posed bones. The garment is the standing one (its relaxed sizes and rest shape: an ease is taken on
 the standing girths, not a frame's), and the solve starts warm: the last frame's garment in its rings'
-planes and the tissue's displacements, each carried in its station's frame into the new posture, each
-garment point moved out or in with the skin's section under it (`followed`), with the standing solve's
-barrier stiffness κ. Where that start crosses or touches the posed skin even lifted half a barrier's
-reach (a fast move between frames), or Newton sticks from it, the frame starts cold as the standing solve does: the rings outside
-the sections, shrunk on (decision 0029).
+planes and the tissue's displacements, each carried in its station's frame into the new posture, with
+the standing solve's barrier stiffness κ. On a limb each garment point stays where it lay unless the
+carried tissue's own surface now comes within half a barrier's reach of it along its ray, or past it:
+then it starts that far out from the surface (`onto_tissue`: where the hip's flexion brings the gluteal
+fold into a section, the garment starts on the fold, not 25 mm out on the section's hull). Else, and on
+the rigid body, each point is moved out or in with the skin's section under it (`followed`). The garment is settled on the
+body held still first, then with the tissue (`dressing.solve`). Where every start crosses or touches the
+posed skin (a fast move between frames), or Newton sticks from it, the frame starts cold as the standing
+solve does: the rings outside the sections, shrunk on (decision 0029).
 """
 
 from __future__ import annotations
@@ -25,11 +29,12 @@ from hitogata.elastic.materials import Materials
 from hitogata.errors import HitogataError
 from hitogata.garment.contact.answers import GarmentContact, garment_contact
 from hitogata.garment.contact.dressing import Dressing, Posture, place, solve
-from hitogata.garment.contact.equilibrium import DHAT
+from hitogata.garment.contact.equilibrium import DHAT, SETTLE, crossings
 from hitogata.garment.contact.segments import body_rings
 from hitogata.garment.contact.tissue import ALONG, LimbTissue, limb_tissue
 from hitogata.garment.contact.tube import Stations, Tube
 from hitogata.garment.ease import sampled_frames
+from hitogata.geometry.raycast import ray_triangle
 from hitogata.motion.clip import MotionClip
 from hitogata.posing.pose import poser_for
 from hitogata.body.rig import carried_heads, carrying_parts
@@ -37,6 +42,10 @@ from hitogata.body.rig import carried_heads, carrying_parts
 # m: a carried garment's start this much further out than the skin's move: none first, then half the
 # barrier's reach (the carried tissue's facets and the garment's rings differ between the tissue's sections)
 LIFTS = (0.0, 0.5 * DHAT)
+# m: a garment point the carried tissue's own surface comes within this of along its ray, or past, starts this far
+# out (where the barrier's contact settles, `equilibrium.SETTLE`)
+ON_TISSUE_LIFT = SETTLE * DHAT
+ON_TISSUE_MOST = 16 * DHAT  # m: the furthest a ring crossing the tissue's surface is lifted (then started as it lay)
 
 
 @dataclass(frozen=True, eq=False)
@@ -88,6 +97,74 @@ def followed(coords: np.ndarray, before: np.ndarray, after: np.ndarray, lift: fl
     return coords * ((radius + shift + lift) / radius)[..., None]
 
 
+def onto_tissue(coords: np.ndarray, tube: Tube, tissue: LimbTissue, nodes: np.ndarray, missed: np.ndarray) -> np.ndarray:
+    """In-plane garment coordinates (M, N, 2) kept where they lay, but moved out along their rays from their
+    stations' centres (`tube`'s) where the tissue's outer surface (its nodes at `nodes` (T, 3)) now comes
+    within `ON_TISSUE_LIFT` of them or past them: to that far beyond where the ray leaves the surface. A ring
+    whose triangles then cross the surface (its chords cut the tissue's ridges or a fold) is lifted twice as
+    far, and again, up to `ON_TISSUE_MOST`. A point whose ray meets no triangle of the surface near its
+    station lies at `missed`'s radius (M, N, 2: the same rays), lifted with its ring beyond the first lift."""
+    reach = tissue_reach(coords, tube.stations, tissue, nodes)
+    radius = np.linalg.norm(coords, axis=2)
+    unit = coords / radius[..., None]
+    missed_radius = np.linalg.norm(missed, axis=2)
+    lift = np.full(len(coords), ON_TISSUE_LIFT)
+    while True:
+        laid = np.where(np.isfinite(reach), reach + lift[:, None], missed_radius + lift[:, None] - ON_TISSUE_LIFT)
+        placed = unit * np.maximum(laid, radius)[..., None]
+        rings = crossing_rings(tube, tube.stations.place(placed).reshape(-1, 3), nodes, tissue.body.faces)
+        if not rings.size or lift[rings].max() >= ON_TISSUE_MOST:
+            return placed
+        lift[rings] *= 2
+
+
+def tissue_reach(coords: np.ndarray, stations: Stations, tissue: LimbTissue, nodes: np.ndarray) -> np.ndarray:
+    """(M, N) m: how far from its station's centre each garment point's ray (in-plane coordinates `coords`
+    (M, N, 2)) leaves the tissue's outer surface (its nodes at `nodes`); NaN where it meets none of its
+    triangles near the station."""
+    per_ring = coords.shape[1]
+    unit = coords / np.linalg.norm(coords, axis=2)[..., None]
+    rays = unit[..., :1] * stations.u[:, None] + unit[..., 1:] * stations.v[:, None]  # (M, N, 3)
+    faces = tissue.body.faces
+    station_of_face = tissue.stations[tissue.section[faces]]  # (F, 3)
+    first, last = station_of_face.min(axis=1), station_of_face.max(axis=1)
+    reach = np.full(coords.shape[:2], np.nan)
+    for ring, origin in enumerate(stations.origins):
+        near = faces[(first <= ring + ALONG) & (last >= ring - ALONG)]  # the tissue between its sections round it
+        pairs = np.repeat(rays[ring], len(near), axis=0)
+        triangles = np.tile(nodes[near], (per_ring, 1, 1))
+        # an end ring's plane is near the tissue's end section's: its rays may run along the surface's edges
+        # there, so they are cast a micrometre either side of it too
+        for shift in (0.0, 1e-6, -1e-6):
+            if not np.isnan(reach[ring]).any():
+                break
+            t = ray_triangle(origin + shift * stations.axis[ring], pairs, triangles).reshape(per_ring, len(near))
+            farthest = np.where(np.isfinite(t), t, -np.inf).max(axis=1, initial=-np.inf)  # where the ray leaves it
+            reach[ring] = np.where(np.isnan(reach[ring]) & np.isfinite(farthest), farthest, reach[ring])
+    return reach
+
+
+def crossing_rings(tube: Tube, garment: np.ndarray, skin: np.ndarray, skin_faces: np.ndarray) -> np.ndarray:
+    """The rings (sorted) of the garment's triangles (`garment` (V, 3) on `tube`) that cross the skin's: the
+    exact test on the whole garment, then on halves of its rings where it finds a crossing."""
+    ring_of_face = tube.faces.min(axis=1) // tube.per_ring
+    found: list[int] = []
+
+    def search(low: int, high: int) -> None:
+        chosen = tube.faces[(ring_of_face >= low) & (ring_of_face < high)]
+        if not len(chosen) or not crossings(garment, chosen, skin, skin_faces):
+            return
+        if high - low == 1:  # a band's triangles join its ring to the next
+            found.extend([low, min(low + 1, tube.n_rings - 1)])
+            return
+        middle = (low + high) // 2
+        search(low, middle)
+        search(middle, high)
+
+    search(0, tube.n_rings)
+    return np.unique(np.asarray(found, dtype=np.int64))
+
+
 def dress_frame(previous: Dressing, posture: Posture, materials: Materials | None = None) -> tuple[Dressing, bool]:
     """The garment of a solved dressing on the body in the next `posture`, from the previous equilibrium
     (see the module note); whether the warm start was taken."""
@@ -104,8 +181,11 @@ def dress_frame(previous: Dressing, posture: Posture, materials: Materials | Non
     coords = old.stations.coordinates(previous.garment.reshape(old.n_rings, old.per_ring, 3))
     before = at.radii if previous.hull_radii is None else previous.hull_radii  # the skin's sections it lay on
     args = (body, spec, posture, at.levels, at.arc, at.level_arc, at.radii, tube, tissue)
-    for lift in LIFTS:  # as it lay, then lifted off the skin a little
-        start = at.stations.place(followed(coords, before, at.radii, lift)).reshape(-1, 3)
+    starts = [followed(coords, before, at.radii, lift) for lift in LIFTS]  # as it lay, then lifted a little
+    if tissue is not None and tissue_start is not None:  # first just outside the carried tissue's own surface
+        starts.insert(0, onto_tissue(coords, tube, tissue, tissue_start, starts[0]))
+    for placed in starts:
+        start = at.stations.place(placed).reshape(-1, 3)
         try:
             warm = solve(*args, start, stiffness=previous.barrier_stiffness, tissue_start=tissue_start)
         except HitogataError:

@@ -13,8 +13,9 @@ muscle; their moduli are the materials file's (`elastic.materials`). The bone no
 sections are held along the limb (the tissue beyond them), free across it.
 
 Its stiffness K joins the garment's barrier problem (`equilibrium.settle`): garment and tissue are
-solved together in one Newton, to its tolerance (a step's largest move under 10 µm, or a Newton
-decrement under 1e-5 of the energy).
+solved together in one Newton, to its tolerance (a step's largest move under 10 µm, a Newton decrement
+under 1e-5 of the energy, or a full step that changed no level's pressure or indentation by what is
+printed of it: `readings`).
 """
 
 from __future__ import annotations

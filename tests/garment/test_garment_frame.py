@@ -1,0 +1,118 @@
+"""Newton stopped on what a user reads (the levels' pressures and indentations), and a motion frame's garment
+started on the tissue's own surface: the same answers as Newton run to its decrement."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from hitogata.garment.contact.equilibrium import settle
+from hitogata.garment.contact.readings import PRINTED, LevelReader
+from hitogata.garment.contact.spec import load_garment
+from hitogata.garment.contact.tube import build_tube
+from hitogata.garment.contact.verify import elliptic_rings, soft_annulus, straight_stations
+from hitogata.garment.fabric import Fabric
+
+# the sleeve of the motion tests: ankle to calf, 32 vertices round, on the soft leg
+SHORT_GARMENT = '''title = "Ankle sleeve"
+segment = "leg"
+ease = "-20%"
+levels = ["ankle", "calf"]
+per_ring = 32
+[fabric]
+course = "400N/m"
+wale = "200N/m"
+'''
+
+
+def test_a_reading_that_settles_stops_newton_at_the_answer_read_to_its_tolerance():
+    """The soft thick-walled cylinder: Newton stopped where the ring's pressure no longer changes by 0.05
+    mmHg gives the pressure of Newton run to its decrement within that, in no more steps."""
+    inner, outer, length = 0.03, 0.05, 0.004
+    body = soft_annulus(inner, outer, length, 20e3, 0.49, 6, 96, 1)
+    stations = straight_stations(length, 5)
+    tube = build_tube(stations, 96, np.full(5, 0.85 * 2 * np.pi * outer), Fabric.linear(300.0), Fabric.linear(300.0),
+                      30.0)
+    start = elliptic_rings(stations, outer + 0.002, outer + 0.002, 96)
+    arc = stations.origins[:, 2]
+    reader = LevelReader.build(tube, arc, np.array([0.5 * length]), None)
+    read = settle(tube, start, body, reader=reader)
+    full = settle(tube, start, body)
+    assert read.converged and full.converged and read.iterations <= full.iterations
+    pressure = reader.pressures(read.garment, read.garment_force)
+    assert np.abs(pressure - reader.pressures(full.garment, full.garment_force)).max() < PRINTED.pressure
+    # the ring's balance: its tension over its radius (Laplace's law on the garment's own circle)
+    tension = float(tube.membrane.tensions(read.garment)[0].mean())
+    radius = float(np.linalg.norm(read.garment[:, :2], axis=1).mean())
+    assert pressure[0] == pytest.approx(tension / radius, rel=0.01)
+    # the rigid body's readings have no indentation: NaN, never compared
+    assert np.isnan(reader.read(read.garment, read.body, read.garment_force)[1:]).all()
+    assert not reader.changed(np.array([1.0, np.nan, np.nan]), np.array([1.0 + 0.5 * PRINTED.pressure, 1.0, 2.0]))
+    assert reader.changed(np.array([1.0, np.nan, np.nan]), np.array([1.0 + 2 * PRINTED.pressure, np.nan, np.nan]))
+
+
+@pytest.fixture(scope="module")
+def sleeve(female, tmp_path_factory):
+    """The short sleeve dressed on the default female's soft leg (standing)."""
+    from hitogata.garment.contact.dressing import dress
+
+    path = tmp_path_factory.mktemp("sleeve") / "sleeve.toml"
+    path.write_text(SHORT_GARMENT, encoding="utf-8")
+    return dress(female, load_garment(path))
+
+
+@pytest.mark.slow
+def test_a_garment_laid_on_the_tissue_starts_clear_of_it_and_settles_to_the_same_answer(sleeve):
+    """The standing garment laid on its own tissue's surface (a motion frame's start, `onto_tissue`): every
+    point where it lay or half a barrier's reach out from the tissue along its ray, no triangle through the
+    tissue; a ring pushed into the tissue is found crossing; solved from the laid start, the levels read the
+    standing answer to their tolerance."""
+    from hitogata.garment.contact.dressing import Posture, solve
+    from hitogata.garment.contact.equilibrium import DHAT
+    from hitogata.garment.contact.motion import (
+        ON_TISSUE_LIFT,
+        ON_TISSUE_MOST,
+        crossing_rings,
+        onto_tissue,
+        tissue_reach,
+    )
+
+    tube, tissue, nodes = sleeve.tube, sleeve.tissue, sleeve.tissue_nodes
+    assert tissue is not None and nodes is not None
+    coords = tube.stations.coordinates(sleeve.garment.reshape(tube.n_rings, tube.per_ring, 3))
+    laid = onto_tissue(coords, tube, tissue, nodes, coords)
+    reach = tissue_reach(coords, tube.stations, tissue, nodes)
+    assert np.isfinite(reach).mean() > 0.95  # rays leave the surface near their station (an end ring's may not)
+    hit = np.isfinite(reach)
+    # the garment lay outside the tissue, about the barrier's reach along its rays (more where it bridges hollows)
+    lay = np.linalg.norm(coords, axis=2)[hit] - reach[hit]
+    assert 0 < lay.min() and lay.max() < 3 * DHAT
+    # kept where it lay, or moved out to half a barrier's reach beyond the tissue along its ray (twice, four
+    # times … that where its ring's chords still cut the tissue's ridges: one lift a ring)
+    radius, out = np.linalg.norm(coords, axis=2), np.linalg.norm(laid, axis=2)
+    assert (out >= radius - 1e-12).all() and (out[hit] >= reach[hit] + ON_TISSUE_LIFT - 1e-9).all()
+    moved = hit & (out > radius + 1e-12)
+    for ring in range(tube.n_rings):
+        lift = out[ring, moved[ring]] - reach[ring, moved[ring]]
+        if lift.size:
+            assert lift.max() - lift.min() < 1e-9 and ON_TISSUE_LIFT - 1e-9 < lift.max() <= ON_TISSUE_MOST
+            assert np.log2(lift.max() / ON_TISSUE_LIFT) == pytest.approx(round(np.log2(lift.max() / ON_TISSUE_LIFT)),
+                                                                         abs=1e-6)
+    placed = tube.stations.place(laid).reshape(-1, 3)
+    assert crossing_rings(tube, placed, nodes, tissue.body.faces).size == 0
+    pushed = laid.copy()
+    middle = tube.n_rings // 2
+    pushed[middle] *= 0.9  # some 4 mm into the leg
+    found = crossing_rings(tube, tube.stations.place(pushed).reshape(-1, 3), nodes, tissue.body.faces)
+    assert middle in found and set(found) <= {middle - 1, middle, middle + 1}
+    body = sleeve.body
+    again = solve(body, sleeve.spec, Posture.standing(body), sleeve.levels, sleeve.arc, sleeve.level_arc,
+                  sleeve.hull_radii, tube, tissue, placed, stiffness=sleeve.barrier_stiffness, tissue_start=nodes)
+    assert again.converged and again.tissue_nodes is not None
+    reader = LevelReader.build(tube, sleeve.arc, sleeve.level_arc, tissue)
+    before = reader.read(sleeve.garment, nodes, sleeve.garment_force)
+    after = reader.read(again.garment, again.tissue_nodes, again.garment_force)
+    n = len(sleeve.levels)
+    # Newton's path differs; what is read agrees to twice the step's tolerance (each solve stops within one)
+    assert np.abs(after[:n] - before[:n]).max() < 2 * PRINTED.pressure
+    assert np.abs(after[n:] - before[n:]).max() < 2 * PRINTED.indentation
