@@ -53,9 +53,12 @@ READ_DECREMENT = 1e-4
 DAMPING = 1e-7  # Levenberg–Marquardt: × the Hessian's mean diagonal, for the garment's free sliding round a limb
 FACTOR: FactorMethod | None = None  # the Newton step's factorization (None: the fastest installed, `factor_method`)
 # a Newton step by conjugate gradients preconditioned with the last factored step's factors, to this residual
-# relative to the gradient, while they take at most `REUSE_ITERATIONS` (0: every step factored; `_NewtonStep`)
-# (an inexact Newton step: the equilibrium is the same, its last steps converge at about this rate)
-INEXACT = 1e-1
+# relative to the gradient, while they take at most `REUSE_ITERATIONS` (0: every step factored; `_NewtonStep`):
+# `INEXACT_FAR` where Newton watches the read figures and the last step's decrement was above `READ_DECREMENT` of
+# the energy (an inexact Newton step: the path changes, the answer is held to what is read), else `INEXACT` (the
+# equilibrium as tight as exact steps give it: the force balance to 1e-4)
+INEXACT = 1e-2
+INEXACT_FAR = 1e-1
 REUSE_ITERATIONS = 25  # a coupled step's factorization costs about 30 of these iterations
 PROBE_ITERATIONS = 4  # the first iterations, whose pace decides whether the rest are tried
 
@@ -207,6 +210,7 @@ def settle(tube: Tube, start: np.ndarray, body: ContactBody, dhat: float = DHAT,
     converged, taken = False, 0
     newton_step = _NewtonStep()
     read: np.ndarray | None = None  # the read figures where the last step, a full one of small decrement, began
+    near = False  # whether the last step's decrement was under READ_DECREMENT of the energy (then steps to INEXACT)
     while taken < iterations:
         taken += 1
         garment, nodes = problem.positions(z)
@@ -229,7 +233,7 @@ def settle(tube: Tube, start: np.ndarray, body: ContactBody, dhat: float = DHAT,
             blocks.append(problem.stiffness)
         hessian = (hessian + sp.block_diag(blocks)).tocsc()
         hessian = hessian + DAMPING * float(np.mean(np.abs(hessian.diagonal()))) * sp.identity(len(z), format="csc")
-        step = newton_step(hessian, gradient)
+        step = newton_step(hessian, gradient, INEXACT_FAR if reader is not None and not near else INEXACT)
         move = (problem.jacobian @ step).reshape(-1, 3)
         longest = float(np.linalg.norm(move, axis=1).max())
         if longest < tolerance or -float(gradient @ step) < DECREMENT * abs(e0):
@@ -249,7 +253,8 @@ def settle(tube: Tube, start: np.ndarray, body: ContactBody, dhat: float = DHAT,
             if alpha <= 1e-8 or e <= e0 + 1e-4 * alpha * slope:
                 break
             alpha *= 0.5
-        full = alpha * scale == 1.0 and -slope < READ_DECREMENT * abs(e0)
+        near = -slope < READ_DECREMENT * abs(e0)
+        full = alpha * scale == 1.0 and near
         read = reading if reader is not None and full else None
         z, e0, contacts = trial, e, contacts_trial
         if alpha * longest * scale < tolerance:
@@ -278,41 +283,41 @@ def _collision_free(problem: _Problem, v0: np.ndarray, v1: np.ndarray) -> float:
 class _NewtonStep:
     """Newton's step −H⁻¹g, the Hessian's factors kept from step to step. The tissue's stiffness does not
     change between steps, the garment's and the barrier's little once the contacts are set, so a step is
-    first sought by conjugate gradients preconditioned with the last factors, to `INEXACT` of the gradient
-    (an inexact Newton step: a descent direction whose decrement is within about 1 % of the exact step's;
-    it changes the path, not the equilibrium). Each iteration costs a solve with the factors (~1/30 of a
+    first sought by conjugate gradients preconditioned with the last factors, to `inexact` of the gradient
+    (`settle` asks 1e-1 far from the equilibrium where it watches the read figures: a descent direction that
+    changes the path; else 1e-2, the step's decrement within ~1e-4 of the exact step's). Each iteration costs a solve with the factors (~1/30 of a
     factorization): where the first `PROBE_ITERATIONS` do not reduce the residual at a
-    pace that reaches `INEXACT` within `REUSE_ITERATIONS`, or those do not reach it, the step's own matrix
+    pace that reaches `inexact` within `REUSE_ITERATIONS`, or those do not reach it, the step's own matrix
     is factored and kept."""
 
     def __init__(self) -> None:
         self.factors: Callable[[np.ndarray], np.ndarray] | None = None
 
-    def __call__(self, hessian: sp.csc_matrix, gradient: np.ndarray) -> np.ndarray:
+    def __call__(self, hessian: sp.csc_matrix, gradient: np.ndarray, inexact: float = INEXACT) -> np.ndarray:
         from hitogata.fem.factor import factorize
 
         if self.factors is not None and REUSE_ITERATIONS > 0:
-            step = self._reused(hessian, gradient, self.factors)
+            step = self._reused(hessian, gradient, self.factors, inexact)
             if step is not None:
                 return step
         self.factors = factorize(hessian, factor_method())
         return -np.asarray(self.factors(gradient))
 
     @staticmethod
-    def _reused(hessian: sp.csc_matrix, gradient: np.ndarray, factors: Callable[[np.ndarray], np.ndarray]
-                ) -> np.ndarray | None:
+    def _reused(hessian: sp.csc_matrix, gradient: np.ndarray, factors: Callable[[np.ndarray], np.ndarray],
+                inexact: float) -> np.ndarray | None:
         """The step by conjugate gradients preconditioned with `factors`, or None where they no longer serve."""
         from scipy.sparse.linalg import LinearOperator, cg
 
         preconditioner = LinearOperator(hessian.shape, matvec=factors, dtype=float)
         probe = min(PROBE_ITERATIONS, REUSE_ITERATIONS)
-        step, info = cg(hessian, -gradient, rtol=INEXACT, maxiter=probe, M=preconditioner)
+        step, info = cg(hessian, -gradient, rtol=inexact, maxiter=probe, M=preconditioner)
         if info == 0:
             return np.asarray(step)
         residual = float(np.linalg.norm(hessian @ step + gradient) / np.linalg.norm(gradient))
-        if residual ** (REUSE_ITERATIONS / probe) > INEXACT:  # too slow a pace to reach it within the budget
+        if residual ** (REUSE_ITERATIONS / probe) > inexact:  # too slow a pace to reach it within the budget
             return None
-        step, info = cg(hessian, -gradient, x0=step, rtol=INEXACT, maxiter=REUSE_ITERATIONS - probe,
+        step, info = cg(hessian, -gradient, x0=step, rtol=inexact, maxiter=REUSE_ITERATIONS - probe,
                         M=preconditioner)
         return np.asarray(step) if info == 0 else None
 
