@@ -284,11 +284,11 @@ class _NewtonStep:
     """Newton's step −H⁻¹g, the Hessian's factors kept from step to step. The tissue's stiffness does not
     change between steps, the garment's and the barrier's little once the contacts are set, so a step is
     first sought by conjugate gradients preconditioned with the last factors, to `inexact` of the gradient
-    (`settle` asks 1e-1 far from the equilibrium where it watches the read figures: a descent direction that
-    changes the path; else 1e-2, the step's decrement within ~1e-4 of the exact step's). Each iteration costs a solve with the factors (~1/30 of a
-    factorization): where the first `PROBE_ITERATIONS` do not reduce the residual at a
-    pace that reaches `inexact` within `REUSE_ITERATIONS`, or those do not reach it, the step's own matrix
-    is factored and kept."""
+    (`settle` asks 1e-1 far from the equilibrium where it watches the read figures: a descent direction
+    that changes the path; else 1e-2, the step's decrement within ~1e-4 of the exact step's). Each
+    iteration costs a solve with the factors (~1/30 of a factorization): where the first
+    `PROBE_ITERATIONS` do not reduce the residual at a pace that reaches `inexact` within
+    `REUSE_ITERATIONS`, or those do not reach it, the step's own matrix is factored and kept."""
 
     def __init__(self) -> None:
         self.factors: Callable[[np.ndarray], np.ndarray] | None = None

@@ -11,10 +11,10 @@ the standing solve's barrier stiffness κ. On a limb each garment point stays wh
 carried tissue's own surface now comes within half a barrier's reach of it along its ray, or past it:
 then it starts that far out from the surface (`onto_tissue`: where the hip's flexion brings the gluteal
 fold into a section, the garment starts on the fold, not 25 mm out on the section's hull). Else, and on
-the rigid body, each point is moved out or in with the skin's section under it (`followed`). The garment is settled on the
-body held still first, then with the tissue (`dressing.solve`). Where every start crosses or touches the
-posed skin (a fast move between frames), or Newton sticks from it, the frame starts cold as the standing
-solve does: the rings outside the sections, shrunk on (decision 0029).
+the rigid body, each point is moved out or in with the skin's section under it (`followed`). The
+garment is settled on the body held still first, then with the tissue (`dressing.solve`). Where every
+start crosses or touches the posed skin (a fast move between frames), or Newton sticks from it, the
+frame starts cold as the standing solve does: the rings outside the sections, shrunk on (decision 0029).
 """
 
 from __future__ import annotations
