@@ -158,7 +158,12 @@ def main() -> None:
         print(json.dumps({"stages": run.stages, "answers": run.answers}))
         return
     now = child_pass(ROOT / "src")
-    before = None if args.now_only else baseline_pass(args.baseline)
+    before = None
+    if not args.now_only:
+        try:
+            before = baseline_pass(args.baseline)
+        except subprocess.CalledProcessError as err:  # no such commit here (a shallow clone), or its code failed
+            print(f"{args.baseline}: not run ({' '.join(map(str, err.cmd))[:80]} exited {err.returncode})")
     report(now, before, args.baseline)
 
 
