@@ -143,7 +143,7 @@ def check_within(quantity: str, sex: float, age: float, value: float) -> None:
 
 GIRTH_TABLE = ("growth", "nhanes_child_girths.csv")
 # The body measurement each NHANES girth is compared with (the table's header says why)
-GIRTH_MEASUREMENTS = {"waist": "omphalion_waist_girth", "hip": "hip_girth", "upper_arm": "upper_arm_girth"}
+GIRTH_MEASUREMENTS = {"waist": "iliac_crest_waist_girth", "hip": "hip_girth", "upper_arm": "upper_arm_girth"}
 P90_Z = NormalDist().inv_cdf(0.9)
 
 
