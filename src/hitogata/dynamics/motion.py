@@ -238,7 +238,8 @@ def _modal_basis(model: ElasticModel) -> tuple[np.ndarray, np.ndarray, np.ndarra
     at one node) has no equilibrium to return to: its motion is left to the quasi-statics."""
     stiff = np.asarray(model.modes.eigenvalues) > (2.0 * np.pi * MIN_FREQUENCY) ** 2
     phi = model.modes.vectors[:, stiff]
-    projector = np.ascontiguousarray((model.M @ phi).T)
+    # no modes (a held posture's model): no product with M, which then stays unread (`elastic.stored.DeferredMatrix`)
+    projector = np.ascontiguousarray((model.M @ phi).T) if phi.shape[1] else np.zeros((0, len(phi)))
     return (phi.reshape(len(model.points), 3, -1), np.ascontiguousarray(phi, dtype=np.float32), projector,
             np.asarray(model.modes.eigenvalues)[stiff])
 
