@@ -2,7 +2,8 @@
 
 An entry holds the elastic model (mesh, K and M, modes, the skin's map) and what
 `BodyDynamics.build` makes from it at length: the FE nodes' part weights, the
-skin bound to the nodes, and the muscles' unit loads. The rest (the quasi-statics'
+skin bound to the nodes, the muscles' unit loads, and the skin's crossings at
+rest (its offset limiter's whole test of the skin). The rest (the quasi-statics'
 factor, the mass-weighted modes, the skin's fade) is made again from those arrays
 in a fraction of a second: a factor is not an array to store. The model's K and M
 (four fifths of the entry) are read when first used: a held posture never does.
@@ -47,7 +48,8 @@ def cached_dynamics(body: Body, skinning: Skinning = "dqs", cache: bool | None =
 
 
 def _encode(dynamics: BodyDynamics) -> dict[str, np.ndarray]:
-    parts = {"weights": dynamics.rig.weights, "skin_map": dynamics.rig.skin_map, "loads": dynamics.unit_loads}
+    parts = {"weights": dynamics.rig.weights, "skin_map": dynamics.rig.skin_map, "loads": dynamics.unit_loads,
+             "skin_crossings": dynamics.skin_limiter.crossing_at_rest}
     return {**to_arrays(dynamics.model, MODEL), **to_arrays(parts, PARTS)}
 
 
@@ -55,4 +57,5 @@ def _decode(body: Body, skinning: Skinning, arrays: Mapping[str, np.ndarray]) ->
     model, parts = from_arrays(arrays, MODEL), from_arrays(arrays, PARTS)
     poser = poser_for(body)
     rig = NodeRig(prepare_skin(model.points, parts["weights"], poser.skeleton.parents), skinning, parts["skin_map"])
-    return BodyDynamics.build(body, model, skinning, poser, rig=rig, unit_loads=parts["loads"])
+    return BodyDynamics.build(body, model, skinning, poser, rig=rig, unit_loads=parts["loads"],
+                              skin_crossings=parts["skin_crossings"])

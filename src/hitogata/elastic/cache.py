@@ -55,7 +55,12 @@ def materials_values(table: Materials) -> dict[str, Any]:
 
 
 def body_digest(body: Body) -> str:
-    """A digest of what the elastic model takes from a body: skin, rig, skinning weights, density, sex."""
+    """A digest of what the elastic model takes from a body: skin, rig, skinning weights, density, sex
+    (found once per body)."""
+    return body.prepared(_body_digest)
+
+
+def _body_digest(body: Body) -> str:
     h = hashlib.sha256()
     weights = sp.csr_matrix(body.skin_weights)
     rig = body.rig
