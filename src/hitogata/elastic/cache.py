@@ -93,11 +93,11 @@ def cached(kind: str, key: Mapping[str, Any], build: Callable[[], T], encode: Ca
     names are read when `decode`'s value first uses them (`disk_cache.Entry`)."""
     if not disk_cache.enabled(cache):
         return build()
-    stored = _read(kind, key, decode, deferred)
+    stored = read_cached(kind, key, decode, deferred)
     if stored is not None:
         return stored
     with disk_cache.building(kind, key):
-        stored = _read(kind, key, decode, deferred)  # built by another process while this one waited
+        stored = read_cached(kind, key, decode, deferred)  # built by another process while this one waited
         if stored is not None:
             return stored
         value = build()
@@ -105,9 +105,10 @@ def cached(kind: str, key: Mapping[str, Any], build: Callable[[], T], encode: Ca
     return value
 
 
-def _read(kind: str, key: Mapping[str, Any], decode: Callable[[Mapping[str, np.ndarray]], T],
-          deferred: Callable[[str], bool] | None) -> T | None:
-    """The entry of `key` decoded, or None when there is none or it does not decode (then removed with a note)."""
+def read_cached(kind: str, key: Mapping[str, Any], decode: Callable[[Mapping[str, np.ndarray]], T],
+                deferred: Callable[[str], bool] | None = None) -> T | None:
+    """The entry of `key` decoded, or None when there is none or it does not decode (then removed with a note);
+    `deferred`: as `cached`'s."""
     arrays = disk_cache.load(kind, key, deferred)
     if arrays is None:
         return None

@@ -43,6 +43,11 @@ class DeferredMatrix(sp.csr_matrix):
         self.__dict__["_read"] = read
         self.__dict__["_stored_shape"] = shape
 
+    @property
+    def arrays_read(self) -> bool:
+        """Whether the arrays have been read."""
+        return "_read" not in self.__dict__
+
     def __getattr__(self, name: str) -> Any:  # only for attributes not set yet: the first use reads the arrays
         read = self.__dict__.pop("_read", None)
         if read is None:

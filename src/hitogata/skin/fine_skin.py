@@ -11,9 +11,11 @@ too, so the posed fine skin's stretch is smooth where the coarse one is a
 patchwork of per-triangle values (midpoint subdivision would keep the
 weights' piecewise-linear kinks and the bands). It is posed by the same
 skinning with those weights. The coarse mesh stays the simulation surface.
-A body's fine skin and its weights are kept in the disk cache
-(`hitogata.disk_cache`, keyed by the body and the code) beside its elastic
-model: a second process reads them instead of subdividing again.
+A body posed elastically keeps its fine skin and the fine skin's weights in the
+disk cache (`hitogata.disk_cache`, keyed by the body and the code) beside its
+elastic model (`keep_fine_skin`): a second process reads them instead of
+subdividing again. Other bodies' are made in the process that asks (a body
+measured once would only fill the cache).
 """
 
 from __future__ import annotations
@@ -136,7 +138,8 @@ def fine_skinning(fine: FineSkin, coarse: Skin, weights: sp.csr_matrix | None = 
 
 
 def body_fine_skin(body: Body) -> FineSkin:
-    """The body's skin subdivided `LEVELS` times, found once per body and kept with it (and on disk)."""
+    """The body's skin subdivided `LEVELS` times, found once per body and kept with it (read from the disk
+    cache where `keep_fine_skin` stored it)."""
     return body.prepared(_stored_fine_skin)[0]
 
 
@@ -145,18 +148,40 @@ def body_fine_skinning(body: Body) -> FineSkinning:
     return body.prepared(_fine_skinning_of_body)
 
 
+def keep_fine_skin(body: Body) -> None:
+    """Store the body's fine skin and its weights in the disk cache unless they are there or the cache is off
+    (`hitogata.disk_cache`), once per body and process: for a body posed elastically, whose every posture
+    carries it."""
+    body.prepared(_keep_fine_skin)
+
+
+def _keep_fine_skin(body: Body) -> bool:
+    from hitogata import disk_cache
+
+    key = _key(body)
+    if disk_cache.enabled() and not disk_cache.entry_path(FINE_SKIN, key).exists():
+        disk_cache.save(FINE_SKIN, key, _encode(body.prepared(_stored_fine_skin)))
+    return True
+
+
+def _key(body: Body) -> dict[str, object]:
+    from hitogata.elastic.cache import body_digest, code_digest
+
+    return {"format": FORMAT, "code": code_digest(), "body": body_digest(body), "levels": LEVELS}
+
+
 def _stored_fine_skin(body: Body) -> tuple[FineSkin, sp.csr_matrix, sp.csr_matrix]:
-    """The body's fine skin with its skinning's weights and homogeneous weights (`Skin`), read from the disk
-    cache when a process made them before for this body and code, else made and stored."""
-    from hitogata.elastic.cache import body_digest, cached, code_digest
+    """The body's fine skin with its skinning's weights and homogeneous weights (`Skin`): read from the disk
+    cache where `keep_fine_skin` stored them for this body and code, else made."""
+    from hitogata import disk_cache
+    from hitogata.elastic.cache import read_cached
 
-    def build() -> tuple[FineSkin, sp.csr_matrix, sp.csr_matrix]:
-        fine = subdivide(body.vertices, body.faces)
-        skin = fine_skinning(fine, poser_for(body).skin).skin
-        return fine, skin.weights, skin.homogeneous
-
-    key = {"format": FORMAT, "code": code_digest(), "body": body_digest(body), "levels": LEVELS}
-    return cached(FINE_SKIN, key, build, _encode, _decode, None)
+    stored = read_cached(FINE_SKIN, _key(body), _decode) if disk_cache.enabled() else None
+    if stored is not None:
+        return stored
+    fine = subdivide(body.vertices, body.faces)
+    skin = fine_skinning(fine, poser_for(body).skin).skin
+    return fine, skin.weights, skin.homogeneous
 
 
 def _encode(value: tuple[FineSkin, sp.csr_matrix, sp.csr_matrix]) -> dict[str, np.ndarray]:
