@@ -38,10 +38,15 @@ class DeferredMatrix(sp.csr_matrix):
     """A CSR matrix whose arrays are read when it is first used (any of its attributes asked for), then a CSR
     matrix like any other: a held posture never reads the whole body's stiffness and mass matrices."""
 
-    def __init__(self, read: Callable[[], tuple[np.ndarray, np.ndarray, np.ndarray]], shape: tuple[int, int]
-                 ) -> None:
-        self.__dict__["_read"] = read
-        self.__dict__["_stored_shape"] = shape
+    def __init__(self, arg1: Callable[[], tuple[np.ndarray, np.ndarray, np.ndarray]] | Any, shape: Any = None,
+                 *args: Any, **kwargs: Any) -> None:
+        """arg1: what reads the arrays (data, indices, indptr) when the matrix is first used, `shape` its shape;
+        otherwise (a matrix scipy makes from this one's arrays, as `csr_matrix`'s arguments) a CSR matrix."""
+        if callable(arg1):
+            self.__dict__["_read"] = arg1
+            self.__dict__["_stored_shape"] = shape
+        else:
+            super().__init__(arg1, shape, *args, **kwargs)
 
     @property
     def arrays_read(self) -> bool:
