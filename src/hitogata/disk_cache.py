@@ -27,6 +27,7 @@ import hashlib
 import json
 import os
 import sys
+import threading
 import time
 import zipfile
 from collections.abc import Callable, Iterator, Mapping
@@ -99,7 +100,8 @@ class Entry(Mapping[str, np.ndarray]):
     """The arrays of an entry, read whole when it is loaded but for the `deferred` ones: those are read (their
     checksums checked) the first time they are asked for, from the file as it was opened, which is kept open
     until then (a writer renaming a new entry into place, or the cache's pruning, leaves this one's file as
-    it was). A deferred member found damaged then removes the entry with a note and raises `HitogataError`."""
+    it was; one thread at a time reads from it). A deferred member found damaged then removes the entry with a
+    note and raises `HitogataError`."""
 
     def __init__(self, path: Path, arrays: dict[str, np.ndarray], stored: Any = None,
                  deferred: frozenset[str] = frozenset()) -> None:
@@ -107,6 +109,7 @@ class Entry(Mapping[str, np.ndarray]):
         self._arrays = arrays
         self._stored = stored  # the open `NpzFile` the deferred members are read from
         self._deferred = set(deferred)
+        self._reading = threading.Lock()
 
     def deferred(self, name: str) -> bool:
         """Whether the member `name` is still to be read."""
@@ -114,16 +117,21 @@ class Entry(Mapping[str, np.ndarray]):
 
     def __getitem__(self, name: str) -> np.ndarray:
         if name in self._deferred:
-            try:
-                self._arrays[name] = self._stored[name]
-            except (OSError, ValueError, EOFError, zipfile.BadZipFile) as err:
-                self._close()
-                discard(self.path, f"unreadable ({type(err).__name__}: {err})")
-                raise HitogataError(f"the model cache entry {self.path} was damaged: removed; run again") from err
-            self._deferred.discard(name)
-            if not self._deferred:
-                self._close()
+            with self._reading:
+                if name in self._deferred:  # not read by another thread meanwhile
+                    self._read(name)
         return self._arrays[name]
+
+    def _read(self, name: str) -> None:
+        try:
+            self._arrays[name] = self._stored[name]
+        except (OSError, ValueError, EOFError, zipfile.BadZipFile) as err:
+            self._close()
+            discard(self.path, f"unreadable ({type(err).__name__}: {err})")
+            raise HitogataError(f"the model cache entry {self.path} was damaged: removed; run again") from err
+        self._deferred.discard(name)
+        if not self._deferred:
+            self._close()
 
     def __iter__(self) -> Iterator[str]:
         return iter([*self._arrays, *sorted(self._deferred)])

@@ -3,6 +3,7 @@
 import os
 import pickle
 import subprocess
+from concurrent.futures import ThreadPoolExecutor
 import sys
 from dataclasses import replace
 from pathlib import Path
@@ -118,6 +119,19 @@ def test_deferred_members_are_read_when_first_used_from_the_file_as_opened(cache
     assert abs((matrix - 0.5 * matrix) - 0.5 * K).max() == 0.0  # scipy's products of it are matrices like any
     plain = pickle.loads(pickle.dumps(matrix))  # to a Dask worker: a plain CSR matrix
     assert type(plain) is sp.csr_matrix and (plain != K).nnz == 0
+
+
+def test_threads_first_using_deferred_matrices_at_once_each_get_the_matrix(cache_folder):
+    """K and M share their pattern's arrays: threads first using both at once read each member once, whole."""
+    key, K = {"n": 3}, _stiff(50_000)
+    disk_cache.save("test", key, to_arrays((K, 2.0 * K)))
+    entry = disk_cache.load("test", key, deferred=lambda name: True)
+    stiffness, mass = from_arrays(entry)
+    x = np.linspace(0.0, 1.0, K.shape[0])
+    with ThreadPoolExecutor(4) as pool:
+        products = list(pool.map(lambda m: m @ x, [stiffness, mass, stiffness, mass]))
+    for product, factor in zip(products, (1.0, 2.0, 1.0, 2.0)):
+        np.testing.assert_array_equal(product, factor * (K @ x))
 
 
 def test_a_damaged_deferred_member_is_never_used(cache_folder, capsys):

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import dataclasses
 import json
+import threading
 from collections.abc import Callable, Mapping
 from types import MappingProxyType
 from typing import Any
@@ -35,16 +36,16 @@ TREE = "tree"  # the array holding the JSON tree, beside the value's arrays
 
 
 class DeferredMatrix(sp.csr_matrix):
-    """A CSR matrix whose arrays are read when it is first used (any of its attributes asked for), then a CSR
-    matrix like any other: a held posture never reads the whole body's stiffness and mass matrices."""
+    """A CSR matrix whose arrays are read when it is first used (any of its attributes asked for; one thread
+    reads, any other asking meanwhile waits for it), then a CSR matrix like any other: a held posture never
+    reads the whole body's stiffness and mass matrices."""
 
     def __init__(self, arg1: Callable[[], tuple[np.ndarray, np.ndarray, np.ndarray]] | Any, shape: Any = None,
                  *args: Any, **kwargs: Any) -> None:
         """arg1: what reads the arrays (data, indices, indptr) when the matrix is first used, `shape` its shape;
         otherwise (a matrix scipy makes from this one's arrays, as `csr_matrix`'s arguments) a CSR matrix."""
         if callable(arg1):
-            self.__dict__["_read"] = arg1
-            self.__dict__["_stored_shape"] = shape
+            self.__dict__.update(_read=arg1, _stored_shape=shape, _reading=threading.RLock())
         else:
             super().__init__(arg1, shape, *args, **kwargs)
 
@@ -53,12 +54,17 @@ class DeferredMatrix(sp.csr_matrix):
         """Whether the arrays have been read."""
         return "_read" not in self.__dict__
 
-    def __getattr__(self, name: str) -> Any:  # only for attributes not set yet: the first use reads the arrays
-        read = self.__dict__.pop("_read", None)
-        if read is None:
-            raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
-        sp.csr_matrix.__init__(self, read(), shape=self.__dict__.pop("_stored_shape"))
-        return getattr(self, name)
+    def __getattr__(self, name: str) -> Any:  # only for attributes not set: the first use reads the arrays
+        state = self.__dict__
+        reading = state.get("_reading")
+        if reading is not None and not name.startswith("__"):
+            with reading:
+                read = state.pop("_read", None)
+                if read is not None:
+                    sp.csr_matrix.__init__(self, read(), shape=state["_stored_shape"])
+            if name in state:
+                return state[name]
+        raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
 
     def __reduce__(self) -> tuple[type, tuple]:  # pickled (to a Dask worker) as the plain matrix it is
         return sp.csr_matrix, ((self.data, self.indices, self.indptr), self.shape)
