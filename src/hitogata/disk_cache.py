@@ -242,9 +242,10 @@ def clear() -> tuple[int, int]:
     folder = cache_dir()
     removed, size = 0, 0
     for path in _entries(folder):
-        size += _size(path)
-        path.unlink(missing_ok=True)
-        removed += 1
+        entry_size = _size(path)
+        if _remove(path):
+            size += entry_size
+            removed += 1
     for path in folder.glob(".*.tmp") if folder.is_dir() else ():
         path.unlink(missing_ok=True)
     for path in folder.glob(f"*{LOCK_SUFFIX}") if folder.is_dir() else ():
@@ -270,14 +271,25 @@ def prune(keep: Path | None = None) -> None:
         if total <= limit:
             break
         if path != keep:
-            total -= _size(path)
-            path.unlink(missing_ok=True)
+            entry_size = _size(path)
+            if _remove(path):
+                total -= entry_size
 
 
 def discard(path: Path, why: str) -> None:
     """Remove an entry that cannot be used, with a one-line note saying why."""
     note(f"cache entry {path.name} {why}: removed, built again")
-    path.unlink(missing_ok=True)
+    _remove(path)
+
+
+def _remove(path: Path) -> bool:
+    """Remove an entry's file; False where it cannot be (Windows: a process still reading its deferred
+    members holds it open), then it stays for the next prune or clear."""
+    try:
+        path.unlink(missing_ok=True)
+    except OSError:
+        return False
+    return True
 
 
 def _key_text(key: Mapping) -> str:
