@@ -160,7 +160,8 @@ def _keep_fine_skin(body: Body) -> bool:
 
     key = _key(body)
     if disk_cache.enabled() and not disk_cache.entry_path(FINE_SKIN, key).exists():
-        disk_cache.save(FINE_SKIN, key, _encode(body.prepared(_stored_fine_skin)))
+        skinning = body_fine_skinning(body)
+        disk_cache.save(FINE_SKIN, key, _encode((skinning.fine, skinning.skin.weights, skinning.skin.homogeneous)))
     return True
 
 
@@ -170,18 +171,15 @@ def _key(body: Body) -> dict[str, object]:
     return {"format": FORMAT, "code": code_digest(), "body": body_digest(body), "levels": LEVELS}
 
 
-def _stored_fine_skin(body: Body) -> tuple[FineSkin, sp.csr_matrix, sp.csr_matrix]:
+def _stored_fine_skin(body: Body) -> tuple[FineSkin, sp.csr_matrix | None, sp.csr_matrix | None]:
     """The body's fine skin with its skinning's weights and homogeneous weights (`Skin`): read from the disk
-    cache where `keep_fine_skin` stored them for this body and code, else made."""
+    cache where `keep_fine_skin` stored them for this body and code, else the fine skin made (the weights
+    then made when skinning asks for them: `body_fine_skinning`)."""
     from hitogata import disk_cache
     from hitogata.elastic.cache import read_cached
 
     stored = read_cached(FINE_SKIN, _key(body), _decode) if disk_cache.enabled() else None
-    if stored is not None:
-        return stored
-    fine = subdivide(body.vertices, body.faces)
-    skin = fine_skinning(fine, poser_for(body).skin).skin
-    return fine, skin.weights, skin.homogeneous
+    return (subdivide(body.vertices, body.faces), None, None) if stored is None else stored
 
 
 def _encode(value: tuple[FineSkin, sp.csr_matrix, sp.csr_matrix]) -> dict[str, np.ndarray]:
