@@ -10,7 +10,10 @@ an entry holds the entry's lock file (`building`) while it builds, so a second
 process or Dask worker asking for the same entry waits and then reads it instead
 of building it again; a builder that dies releases its lock with its process. An
 entry that cannot be read whole (truncated, corrupt, another key) is removed with
-a one-line note and built again, never used.
+a one-line note and built again, never used. Members a reader names `deferred` (a model's
+stiffness and mass matrices, which a held posture never uses: four fifths of a whole-body
+entry) are read, their checksums checked, only when first asked for, from the file as it
+was opened (`Entry`).
 
 Where: `$HITOGATA_CACHE`, else the platform's user cache folder (`~/.cache/hitogata`
 on Linux). Size: at most `$HITOGATA_CACHE_LIMIT` megabytes (default `DEFAULT_LIMIT_MB`);
@@ -24,12 +27,14 @@ import hashlib
 import json
 import os
 import sys
+import threading
 import time
 import zipfile
-from collections.abc import Iterator, Mapping
+from collections.abc import Callable, Iterator, Mapping
 from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 from filelock import FileLock, Timeout
@@ -91,25 +96,85 @@ def entry_path(kind: str, key: Mapping) -> Path:
     return cache_dir() / f"{kind}-{digest(key)}{SUFFIX}"
 
 
-def load(kind: str, key: Mapping) -> dict[str, np.ndarray] | None:
-    """The arrays of the entry of `key`, or None when there is none; an unreadable one is removed with a note."""
+class Entry(Mapping[str, np.ndarray]):
+    """The arrays of an entry, read whole when it is loaded but for the `deferred` ones: those are read (their
+    checksums checked) the first time they are asked for, from the file as it was opened, which is kept open
+    until then (a writer renaming a new entry into place, or the cache's pruning, leaves this one's file as
+    it was; one thread at a time reads from it). A deferred member found damaged then removes the entry with a
+    note and raises `HitogataError`."""
+
+    def __init__(self, path: Path, arrays: dict[str, np.ndarray], stored: Any = None,
+                 deferred: frozenset[str] = frozenset()) -> None:
+        self.path = path
+        self._arrays = arrays
+        self._stored = stored  # the open `NpzFile` the deferred members are read from
+        self._deferred = set(deferred)
+        self._reading = threading.Lock()
+
+    def deferred(self, name: str) -> bool:
+        """Whether the member `name` is still to be read."""
+        return name in self._deferred
+
+    def __getitem__(self, name: str) -> np.ndarray:
+        if name in self._deferred:
+            with self._reading:
+                if name in self._deferred:  # not read by another thread meanwhile
+                    self._read(name)
+        return self._arrays[name]
+
+    def _read(self, name: str) -> None:
+        try:
+            self._arrays[name] = self._stored[name]
+        except (OSError, ValueError, EOFError, zipfile.BadZipFile) as err:
+            self._close()
+            discard(self.path, f"unreadable ({type(err).__name__}: {err})")
+            raise HitogataError(f"the model cache entry {self.path} was damaged: removed; run again") from err
+        self._deferred.discard(name)
+        if not self._deferred:
+            self._close()
+
+    def __iter__(self) -> Iterator[str]:
+        return iter([*self._arrays, *sorted(self._deferred)])
+
+    def __len__(self) -> int:
+        return len(self._arrays) + len(self._deferred)
+
+    def _close(self) -> None:
+        if self._stored is not None:
+            self._stored.close()
+            self._stored = None
+        self._deferred.clear()
+
+
+def load(kind: str, key: Mapping, deferred: Callable[[str], bool] | None = None) -> Entry | None:
+    """The arrays of the entry of `key`, or None when there is none; an unreadable one is removed with a note.
+    Members whose name `deferred` accepts are read when first asked for (`Entry`)."""
     path = entry_path(kind, key)
     try:
-        with np.load(path, allow_pickle=False) as stored:
-            arrays = {name: stored[name] for name in stored.files}  # every member read: its CRC checked
+        stored = np.load(path, allow_pickle=False)
     except FileNotFoundError:
         return None
     except (OSError, ValueError, EOFError, zipfile.BadZipFile) as err:
         discard(path, f"unreadable ({type(err).__name__}: {err})")
         return None
+    later = frozenset(name for name in stored.files if deferred is not None and name != KEY and deferred(name))
+    try:
+        arrays = {name: stored[name] for name in stored.files if name not in later}  # read: their CRC checked
+    except (OSError, ValueError, EOFError, zipfile.BadZipFile) as err:
+        stored.close()
+        discard(path, f"unreadable ({type(err).__name__}: {err})")
+        return None
+    if not later:
+        stored.close()
     if KEY not in arrays or str(arrays.pop(KEY)) != _key_text(key):
+        stored.close()
         discard(path, "made for another key")
         return None
     try:
         os.utime(path)  # used now: the last to go when the cache is over its limit
     except OSError:
         pass
-    return arrays
+    return Entry(path, arrays, stored if later else None, later)
 
 
 @contextmanager
@@ -177,9 +242,10 @@ def clear() -> tuple[int, int]:
     folder = cache_dir()
     removed, size = 0, 0
     for path in _entries(folder):
-        size += _size(path)
-        path.unlink(missing_ok=True)
-        removed += 1
+        entry_size = _size(path)
+        if _remove(path):
+            size += entry_size
+            removed += 1
     for path in folder.glob(".*.tmp") if folder.is_dir() else ():
         path.unlink(missing_ok=True)
     for path in folder.glob(f"*{LOCK_SUFFIX}") if folder.is_dir() else ():
@@ -205,14 +271,25 @@ def prune(keep: Path | None = None) -> None:
         if total <= limit:
             break
         if path != keep:
-            total -= _size(path)
-            path.unlink(missing_ok=True)
+            entry_size = _size(path)
+            if _remove(path):
+                total -= entry_size
 
 
 def discard(path: Path, why: str) -> None:
     """Remove an entry that cannot be used, with a one-line note saying why."""
     note(f"cache entry {path.name} {why}: removed, built again")
-    path.unlink(missing_ok=True)
+    _remove(path)
+
+
+def _remove(path: Path) -> bool:
+    """Remove an entry's file; False where it cannot be (Windows: a process still reading its deferred
+    members holds it open), then it stays for the next prune or clear."""
+    try:
+        path.unlink(missing_ok=True)
+    except OSError:
+        return False
+    return True
 
 
 def _key_text(key: Mapping) -> str:

@@ -1,13 +1,16 @@
 """The disk cache of elastic models: keyed by all it is built from, shared safely, never read corrupt."""
 
 import os
+import pickle
 import subprocess
+from concurrent.futures import ThreadPoolExecutor
 import sys
 from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
 import pytest
+import scipy.sparse as sp
 
 from hitogata import disk_cache
 from hitogata.body import Body
@@ -16,6 +19,8 @@ from hitogata.dynamics.model_cache import cached_dynamics
 from hitogata.skin.single_pose import elastic_pose
 from hitogata.elastic import load_materials
 from hitogata.elastic.cache import cached, model_key, model_options
+from hitogata.elastic.stored import DeferredMatrix, from_arrays, to_arrays
+from hitogata.errors import HitogataError
 from hitogata.fem import Material
 
 
@@ -88,6 +93,64 @@ def test_a_corrupt_entry_is_rebuilt_with_a_note(cache_folder, capsys):
     assert disk_cache.load("test", key) is None
     assert "hitogata: note: cache entry" in capsys.readouterr().err
     assert not path.exists()
+
+
+def _stiff(n: int) -> sp.csr_matrix:
+    """A sparse symmetric matrix of n rows, a stand-in for K."""
+    return sp.csr_matrix(sp.diags([np.full(n - 1, -1.0), np.full(n, 2.5), np.full(n - 1, -1.0)], [-1, 0, 1]))
+
+
+def test_deferred_members_are_read_when_first_used_from_the_file_as_opened(cache_folder):
+    """A held posture does not read K and M: an entry's deferred members are read when first used, from the
+    entry as it was opened, even if another process has since renamed a new entry into its place."""
+    key, K = {"n": 1}, _stiff(50_000)
+    disk_cache.save("test", key, to_arrays((np.arange(3.0), K)))
+    entry = disk_cache.load("test", key, deferred=lambda name: name.startswith(".1."))
+    value = from_arrays(entry)
+    assert all(entry.deferred(name) for name in (".1.data", ".1.indices", ".1.indptr"))
+    np.testing.assert_array_equal(value[0], np.arange(3.0))
+    matrix = value[1]
+    assert isinstance(matrix, DeferredMatrix) and not matrix.arrays_read and entry.deferred(".1.data")
+    disk_cache.save("test", key, to_arrays((np.zeros(3), 2.0 * K)))  # another writer's entry, renamed in
+    x = np.linspace(0.0, 1.0, K.shape[0])
+    np.testing.assert_array_equal(matrix @ x, K @ x)  # the first use reads this entry's K, not the new one's
+    assert matrix.arrays_read and not entry.deferred(".1.data")
+    assert (matrix != K).nnz == 0 and matrix.shape == K.shape
+    assert abs((matrix - 0.5 * matrix) - 0.5 * K).max() == 0.0  # scipy's products of it are matrices like any
+    plain = pickle.loads(pickle.dumps(matrix))  # to a Dask worker: a plain CSR matrix
+    assert type(plain) is sp.csr_matrix and (plain != K).nnz == 0
+
+
+def test_threads_first_using_deferred_matrices_at_once_each_get_the_matrix(cache_folder):
+    """K and M share their pattern's arrays: threads first using both at once read each member once, whole."""
+    key, K = {"n": 3}, _stiff(50_000)
+    disk_cache.save("test", key, to_arrays((K, 2.0 * K)))
+    entry = disk_cache.load("test", key, deferred=lambda name: True)
+    stiffness, mass = from_arrays(entry)
+    x = np.linspace(0.0, 1.0, K.shape[0])
+    with ThreadPoolExecutor(4) as pool:
+        products = list(pool.map(lambda m: m @ x, [stiffness, mass, stiffness, mass]))
+    for product, factor in zip(products, (1.0, 2.0, 1.0, 2.0)):
+        np.testing.assert_array_equal(product, factor * (K @ x))
+
+
+def test_a_damaged_deferred_member_is_never_used(cache_folder, capsys):
+    key = {"n": 2}
+    disk_cache.save("test", key, to_arrays((np.arange(3.0), _stiff(50_000))))
+    path = disk_cache.entry_path("test", key)
+    data = bytearray(path.read_bytes())
+    at = data.find(np.array([-1.0, 2.5, -1.0] * 2).tobytes())  # inside the matrix's data
+    assert at > 0
+    data[at + 3] ^= 0xFF
+    path.write_bytes(bytes(data))
+    entry = disk_cache.load("test", key, deferred=lambda name: name.startswith(".1."))
+    assert entry is not None  # the members read at once are whole
+    matrix = from_arrays(entry)[1]
+    with pytest.raises(HitogataError, match="damaged"):
+        matrix @ np.ones(matrix.shape[1])
+    notes = [line for line in capsys.readouterr().err.splitlines() if line]
+    assert len(notes) == 1 and notes[0].startswith("hitogata: note: cache entry") and path.name in notes[0]
+    assert not path.exists()  # removed: the next run builds it again
 
 
 WRITER = """

@@ -7,8 +7,12 @@ import numpy as np
 import pytest
 import trimesh
 
+from hitogata import disk_cache
 from hitogata.cli import main
-from hitogata.skin.single_pose import elastic_dynamics, elastic_pose
+from hitogata.dynamics.model_cache import cached_dynamics
+from hitogata.elastic import load_materials
+from hitogata.elastic.stored import DeferredMatrix
+from hitogata.skin.single_pose import ELEMENT_SIZE, elastic_dynamics, elastic_pose
 from hitogata.measure.body_lines import body_lines
 from hitogata.skin.fine_skin import body_fine_skinning
 
@@ -106,3 +110,17 @@ def test_pose_elastic_contact_writes_the_contact_resolved_skin(tmp_path, female_
     assert capsys.readouterr().err.strip().endswith(
         f"{tmp_path / 'knee.json'}: fine_skin = 'knee_fine.ply': no such file; allowed the name of the fine "
         "skin's .ply beside knee.json, written with it by `hitogata pose`")
+
+
+def test_a_held_posture_from_the_model_cache_reads_neither_k_nor_m(female, monkeypatch):
+    """The next process's model, read from the disk cache, poses the same skin bit for bit without reading
+    the stiffness and mass matrices (four fifths of the entry)."""
+    monkeypatch.delenv(disk_cache.NO_CACHE_ENV, raising=False)
+    options = {"extent": "body", "element_size": ELEMENT_SIZE, "n_modes": 0, "materials": load_materials()}
+    cached_dynamics(female, **options)  # stored here if no test before stored it (elastic_dynamics' entry)
+    stored = cached_dynamics(female, **options)
+    clinical = {"forearm_l.flexion": np.radians(120)}
+    held = elastic_pose(stored, clinical=clinical)
+    np.testing.assert_array_equal(held.vertices, elastic_pose(elastic_dynamics(female), clinical=clinical).vertices)
+    assert isinstance(stored.model.K, DeferredMatrix) and isinstance(stored.model.M, DeferredMatrix)
+    assert not stored.model.K.arrays_read and not stored.model.M.arrays_read

@@ -12,12 +12,13 @@ import warnings
 from hitogata.commands.body_file import body_of
 from hitogata.commands.pose_args import PoseRequest, pose_request
 from hitogata.muscles.activation import MuscleLimitWarning
-from hitogata.posing.pose import PosedBody, Poser
+from hitogata.posing.pose import PosedBody, Poser, poser_for
 
 
 def pose_from_args(args: argparse.Namespace) -> tuple[Poser, PoseRequest, PosedBody]:
-    """The body, the checked request and the posed body; clamping notes go to stderr."""
-    poser = Poser.from_body(body_of(args))
+    """The body, the checked request and the posed body; clamping notes go to stderr. The poser is the body's
+    own (`poser_for`): an elastic pose of it then shares it, not making another."""
+    poser = poser_for(body_of(args))
     request = pose_request(args, poser)
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always", MuscleLimitWarning)

@@ -92,13 +92,15 @@ class BodyDynamics:
     @classmethod
     def build(cls, body: Body, model: ElasticModel, skinning: Skinning = "dqs", poser: Poser | None = None,
               solver: type[QuasiStatic] = QuasiStatic, rig: NodeRig | None = None,
-              unit_loads: Mapping[str, np.ndarray] | None = None) -> BodyDynamics:
+              unit_loads: Mapping[str, np.ndarray] | None = None,
+              skin_crossings: np.ndarray | None = None) -> BodyDynamics:
         """Prepare a body and its elastic model (`hitogata.elastic.build_elastic_model`).
 
         solver: the quasi-statics' class (its constructor's); another is for comparisons
         (`benchmarks/bench_dynamics.py` runs a baseline solver this way); rig, unit_loads: the node rig
         and the muscles' unit loads of this body and model already made (`dynamics.model_cache` reads
-        them from disk), else made here."""
+        them from disk), else made here; skin_crossings: the skin limiter's crossings at rest found before
+        (`OffsetLimiter.crossing_at_rest`, read from disk too), else found when the limiter is first used."""
         poser = poser or poser_for(body)
         rig = rig or node_rig(poser, model, skinning)
         held = np.setdiff1d(model.fixed_nodes, joint_nodes(rig.weights, model.elements, model.fixed_nodes))
@@ -120,7 +122,11 @@ class BodyDynamics:
             name: model.muscle_load(name, 1.0).reshape(-1, 3) for name in model.muscle_names
             if len(model.muscle_elements(name))}
         mass = lumped_masses(model.points, model.elements, model.rho)[::3]
-        return cls(poser, model, rig, statics, loads, mass, *_modal_basis(model), cut_fade(body.vertices, model))
+        dynamics = cls(poser, model, rig, statics, loads, mass, *_modal_basis(model), cut_fade(body.vertices, model))
+        if skin_crossings is not None:  # `skin_limiter` made now, its one costly part known
+            dynamics.__dict__["skin_limiter"] = OffsetLimiter(body.vertices, body.faces,
+                                                              crossing_at_rest=skin_crossings)
+        return dynamics
 
     def with_modes(self, modes: Modes) -> BodyDynamics:
         """The same dynamics with the model's modes replaced by `modes` (of the same K and M): a body built
@@ -238,7 +244,8 @@ def _modal_basis(model: ElasticModel) -> tuple[np.ndarray, np.ndarray, np.ndarra
     at one node) has no equilibrium to return to: its motion is left to the quasi-statics."""
     stiff = np.asarray(model.modes.eigenvalues) > (2.0 * np.pi * MIN_FREQUENCY) ** 2
     phi = model.modes.vectors[:, stiff]
-    projector = np.ascontiguousarray((model.M @ phi).T)
+    # no modes (a held posture's model): no product with M, which then stays unread (`elastic.stored.DeferredMatrix`)
+    projector = np.ascontiguousarray((model.M @ phi).T) if phi.shape[1] else np.zeros((0, len(phi)))
     return (phi.reshape(len(model.points), 3, -1), np.ascontiguousarray(phi, dtype=np.float32), projector,
             np.asarray(model.modes.eigenvalues)[stiff])
 

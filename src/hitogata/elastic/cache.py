@@ -55,7 +55,12 @@ def materials_values(table: Materials) -> dict[str, Any]:
 
 
 def body_digest(body: Body) -> str:
-    """A digest of what the elastic model takes from a body: skin, rig, skinning weights, density, sex."""
+    """A digest of what the elastic model takes from a body: skin, rig, skinning weights, density, sex
+    (found once per body)."""
+    return body.prepared(_body_digest)
+
+
+def _body_digest(body: Body) -> str:
     h = hashlib.sha256()
     weights = sp.csr_matrix(body.skin_weights)
     rig = body.rig
@@ -80,17 +85,19 @@ def code_digest() -> str:
 
 
 def cached(kind: str, key: Mapping[str, Any], build: Callable[[], T], encode: Callable[[T], dict[str, np.ndarray]],
-           decode: Callable[[dict[str, np.ndarray]], T], cache: bool | None) -> T:
+           decode: Callable[[Mapping[str, np.ndarray]], T], cache: bool | None,
+           deferred: Callable[[str], bool] | None = None) -> T:
     """The value of `key`: read from the disk cache, else built and stored (`cache`: see `disk_cache.enabled`).
     One process builds an entry while any other asking for it waits, then reads it (`disk_cache.building`).
-    An entry that reads but does not decode is removed with a note and built again."""
+    An entry that reads but does not decode is removed with a note and built again. The arrays `deferred`
+    names are read when `decode`'s value first uses them (`disk_cache.Entry`)."""
     if not disk_cache.enabled(cache):
         return build()
-    stored = _read(kind, key, decode)
+    stored = read_cached(kind, key, decode, deferred)
     if stored is not None:
         return stored
     with disk_cache.building(kind, key):
-        stored = _read(kind, key, decode)  # built by another process while this one waited
+        stored = read_cached(kind, key, decode, deferred)  # built by another process while this one waited
         if stored is not None:
             return stored
         value = build()
@@ -98,9 +105,11 @@ def cached(kind: str, key: Mapping[str, Any], build: Callable[[], T], encode: Ca
     return value
 
 
-def _read(kind: str, key: Mapping[str, Any], decode: Callable[[dict[str, np.ndarray]], T]) -> T | None:
-    """The entry of `key` decoded, or None when there is none or it does not decode (then removed with a note)."""
-    arrays = disk_cache.load(kind, key)
+def read_cached(kind: str, key: Mapping[str, Any], decode: Callable[[Mapping[str, np.ndarray]], T],
+                deferred: Callable[[str], bool] | None = None) -> T | None:
+    """The entry of `key` decoded, or None when there is none or it does not decode (then removed with a note);
+    `deferred`: as `cached`'s."""
+    arrays = disk_cache.load(kind, key, deferred)
     if arrays is None:
         return None
     try:

@@ -4,20 +4,24 @@ A value is taken apart into numpy arrays (sparse matrices as their CSR arrays,
 a pattern stored once when K and M share it) and a JSON tree of the rest:
 numbers, strings, tuples, mappings, and the project's own frozen dataclasses,
 named in `CLASSES`. Reading builds only those classes back from their fields:
-nothing in a stored entry is code.
+nothing in a stored entry is code. A sparse matrix whose arrays the cache entry
+holds back (`disk_cache.Entry`, deferred) comes back as a `DeferredMatrix`,
+read when first used.
 """
 
 from __future__ import annotations
 
 import dataclasses
 import json
-from collections.abc import Mapping
+import threading
+from collections.abc import Callable, Mapping
 from types import MappingProxyType
 from typing import Any
 
 import numpy as np
 import scipy.sparse as sp
 
+from hitogata.disk_cache import Entry
 from hitogata.elastic.materials import Materials
 from hitogata.elastic.model import ElasticModel
 from hitogata.fem import Material
@@ -29,6 +33,41 @@ from hitogata.volume.repair import Repair
 CLASSES: dict[str, type] = {cls.__name__: cls for cls in (ElasticModel, VolumeModel, VolumeQuality, MeshIntegrity,
                                                            Repair, Materials, Material, Modes)}
 TREE = "tree"  # the array holding the JSON tree, beside the value's arrays
+
+
+class DeferredMatrix(sp.csr_matrix):
+    """A CSR matrix whose arrays are read when it is first used (any of its attributes asked for; one thread
+    reads, any other asking meanwhile waits for it), then a CSR matrix like any other: a held posture never
+    reads the whole body's stiffness and mass matrices."""
+
+    def __init__(self, arg1: Callable[[], tuple[np.ndarray, np.ndarray, np.ndarray]] | Any, shape: Any = None,
+                 *args: Any, **kwargs: Any) -> None:
+        """arg1: what reads the arrays (data, indices, indptr) when the matrix is first used, `shape` its shape;
+        otherwise (a matrix scipy makes from this one's arrays, as `csr_matrix`'s arguments) a CSR matrix."""
+        if callable(arg1):
+            self.__dict__.update(_read=arg1, _stored_shape=shape, _reading=threading.RLock())
+        else:
+            super().__init__(arg1, shape, *args, **kwargs)
+
+    @property
+    def arrays_read(self) -> bool:
+        """Whether the arrays have been read."""
+        return "_read" not in self.__dict__
+
+    def __getattr__(self, name: str) -> Any:  # only for attributes not set: the first use reads the arrays
+        state = self.__dict__
+        reading = state.get("_reading")
+        if reading is not None and not name.startswith("__"):
+            with reading:
+                read = state.pop("_read", None)
+                if read is not None:
+                    sp.csr_matrix.__init__(self, read(), shape=state["_stored_shape"])
+            if name in state:
+                return state[name]
+        raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
+
+    def __reduce__(self) -> tuple[type, tuple]:  # pickled (to a Dask worker) as the plain matrix it is
+        return sp.csr_matrix, ((self.data, self.indices, self.indptr), self.shape)
 
 
 def to_arrays(value: Any, prefix: str = "") -> dict[str, np.ndarray]:
@@ -83,9 +122,11 @@ def _decode(tree: Any, arrays: Mapping[str, np.ndarray]) -> Any:
     if "array" in tree:
         return arrays[tree["array"]]
     if "csr" in tree:
-        pattern = tree["pattern"]
-        return sp.csr_matrix((arrays[tree["csr"] + ".data"], arrays[pattern + ".indices"], arrays[pattern + ".indptr"]),
-                             shape=tuple(tree["shape"]))
+        names = (tree["csr"] + ".data", tree["pattern"] + ".indices", tree["pattern"] + ".indptr")
+        shape = tuple(tree["shape"])
+        if isinstance(arrays, Entry) and any(arrays.deferred(name) for name in names):
+            return DeferredMatrix(lambda: (arrays[names[0]], arrays[names[1]], arrays[names[2]]), shape)
+        return sp.csr_matrix((arrays[names[0]], arrays[names[1]], arrays[names[2]]), shape=shape)
     if "tuple" in tree:
         return tuple(_decode(v, arrays) for v in tree["tuple"])
     if "list" in tree:

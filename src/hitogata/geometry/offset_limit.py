@@ -76,13 +76,16 @@ class OffsetLimiter:
     """For one surface (rest vertices (V, 3), faces (T, 3)): weights that keep reference + w·offset whole,
     held back as `settings` say."""
 
-    def __init__(self, rest: np.ndarray, faces: np.ndarray, settings: OffsetLimitSettings = OFFSET_LIMIT_DEFAULTS
-                 ) -> None:
+    def __init__(self, rest: np.ndarray, faces: np.ndarray, settings: OffsetLimitSettings = OFFSET_LIMIT_DEFAULTS,
+                 crossing_at_rest: np.ndarray | None = None) -> None:
+        """crossing_at_rest: the surface's `crossing_at_rest` found before (kept with a body's model: a whole
+        test of the surface), else found here."""
         self.settings = settings
         self.faces = _faces(faces)
         rest = np.asarray(rest, dtype=np.float64)
         self.pairs = _neighbour_pairs(self.faces)
-        self.crossing_at_rest = _pair_keys(_crossing_pairs(rest, self.faces), len(self.faces))
+        self.crossing_at_rest = _pair_keys(_crossing_pairs(rest, self.faces), len(self.faces)) \
+            if crossing_at_rest is None else np.asarray(crossing_at_rest, dtype=np.int64)
         self.graph = edge_graph(rest, self.faces)
 
     def with_settings(self, settings: OffsetLimitSettings) -> OffsetLimiter:

@@ -40,15 +40,25 @@ def _frames(vertices: np.ndarray, faces: np.ndarray) -> tuple[np.ndarray, np.nda
             0.5 * np.sqrt(nx * nx + ny * ny + nz * nz))
 
 
-def deformation(rest: np.ndarray, deformed: np.ndarray, faces: np.ndarray
+RestFrames = tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]  # `rest_frames`' answer
+
+
+def rest_frames(rest: np.ndarray, faces: np.ndarray) -> RestFrames:
+    """Each rest triangle in its own plane, as `deformation` finds it: for a surface strained many times
+    over (a body's fine skin), found once and handed to `deformation` and `principal_stretches`."""
+    return _frames(np.asarray(rest, dtype=np.float64), faces)
+
+
+def deformation(rest: np.ndarray, deformed: np.ndarray, faces: np.ndarray, frames: RestFrames | None = None
                 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """Each triangle's in-plane deformation gradient F = [[a, c], [0, d]] (from its rest frame to its
     deformed one, first edge along the first axis) as (a, c, d), with the rest frame's axes t, b (F, 3)
-    and the rest area (F,). A triangle of zero rest area gives NaN."""
+    and the rest area (F,). A triangle of zero rest area gives NaN. frames: `rest_frames(rest, faces)`
+    found before, else found here."""
     rest, deformed = np.asarray(rest, dtype=np.float64), np.asarray(deformed, dtype=np.float64)
     if rest.shape != deformed.shape:
         raise HitogataError(f"deformed vertices: shape {deformed.shape}, allowed {rest.shape} (the rest shape)")
-    rest_coords, t, b, area = _frames(rest, faces)
+    rest_coords, t, b, area = _frames(rest, faces) if frames is None else frames
     l0, p0, h0 = rest_coords.T
     l1, p1, h1 = _frames(deformed, faces)[0].T
     # D = [[l, p], [0, h]] (columns: edges 1 and 2); F = D1 D0⁻¹, upper triangular.
@@ -57,11 +67,12 @@ def deformation(rest: np.ndarray, deformed: np.ndarray, faces: np.ndarray
         return a, (p1 - a * p0) / h0, h1 / h0, t, b, area
 
 
-def principal_stretches(rest: np.ndarray, deformed: np.ndarray, faces: np.ndarray
+def principal_stretches(rest: np.ndarray, deformed: np.ndarray, faces: np.ndarray, frames: RestFrames | None = None
                         ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """Per triangle from `rest` to `deformed` (both (V, 3)): the principal stretches λ1 ≥ λ2 (F,), the area
-    ratio (F,), the λ1 direction at rest (F, 3) and the rest area (F,). A triangle of zero rest area: NaN."""
-    a, c, d, t, b, area = deformation(rest, deformed, faces)
+    ratio (F,), the λ1 direction at rest (F, 3) and the rest area (F,). A triangle of zero rest area: NaN.
+    frames: as `deformation`'s."""
+    a, c, d, t, b, area = deformation(rest, deformed, faces, frames)
     mean_part = np.hypot(a + d, c)
     diff_part = np.hypot(a - d, c)
     stretch_max = 0.5 * (mean_part + diff_part)

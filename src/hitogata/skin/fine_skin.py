@@ -11,16 +11,24 @@ too, so the posed fine skin's stretch is smooth where the coarse one is a
 patchwork of per-triangle values (midpoint subdivision would keep the
 weights' piecewise-linear kinks and the bands). It is posed by the same
 skinning with those weights. The coarse mesh stays the simulation surface.
+A body posed elastically keeps its fine skin and the fine skin's weights in the
+disk cache (`hitogata.disk_cache`, keyed by the body and the code) beside its
+elastic model (`keep_fine_skin`): a second process reads them instead of
+subdividing again. Other bodies' are made in the process that asks (a body
+measured once would only fill the cache).
 """
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 import scipy.sparse as sp
 
 from hitogata.body.model import Body
+from hitogata.geometry.strain import RestFrames, rest_frames
 from hitogata.geometry.topology import topology
 from hitogata.options import Skinning
 from hitogata.posing.pose import poser_for
@@ -28,6 +36,8 @@ from hitogata.skeleton.kinematics import Pose
 from hitogata.posing.skinning import Skin, prepare_skin, skin_vertices
 
 LEVELS = 2  # edge ÷ 4: ≥ 20 triangles crossed by a 10 cm line at the elbow and the knee
+FINE_SKIN = "fine-skin"  # the disk cache's entry kind
+FORMAT = 1  # raised when what the entry holds, or how, changes
 
 
 @dataclass(frozen=True, eq=False)
@@ -38,6 +48,12 @@ class FineSkin:
     faces: np.ndarray  # (Ff, 3)
     interpolation: sp.csr_matrix  # (Vf, V): fine vertex = combination of coarse vertices (rows sum to 1)
     parent: np.ndarray  # (Ff,) the coarse face each fine face lies in
+
+    @cached_property
+    def rest_frames(self) -> RestFrames:
+        """Each rest triangle in its own plane (`geometry.strain.rest_frames`): found once, strained against
+        at every posture."""
+        return rest_frames(self.vertices, self.faces)
 
     def carry(self, coarse: np.ndarray) -> np.ndarray:
         """A per-vertex field of the coarse skin (V, k) interpolated onto the fine one (Vf, k)."""
@@ -108,16 +124,23 @@ class FineSkinning:
         return out
 
 
-def fine_skinning(fine: FineSkin, coarse: Skin) -> FineSkinning:
+def fine_skinning(fine: FineSkin, coarse: Skin, weights: sp.csr_matrix | None = None,
+                  homogeneous: sp.csr_matrix | None = None) -> FineSkinning:
     """The fine skin prepared for skinning with the part weights of `coarse` (a `Poser.skin`)
-    interpolated (`body_fine_skinning` is the body's own)."""
-    weights = sp.csr_matrix(fine.interpolation @ coarse.weights)
-    return FineSkinning(fine, prepare_skin(fine.vertices, weights, coarse.parents), coarse)
+    interpolated (`body_fine_skinning` is the body's own); `weights` and `homogeneous`: those found before
+    for this fine skin and these weights (read from the disk cache), else found here."""
+    if weights is None or homogeneous is None:
+        weights = sp.csr_matrix(fine.interpolation @ coarse.weights)
+        return FineSkinning(fine, prepare_skin(fine.vertices, weights, coarse.parents), coarse)
+    skin = Skin(fine.vertices, weights, homogeneous, coarse.parents, coarse.ancestors,  # the same tree as `coarse`
+                np.ascontiguousarray(fine.vertices.T))
+    return FineSkinning(fine, skin, coarse)
 
 
 def body_fine_skin(body: Body) -> FineSkin:
-    """The body's skin subdivided `LEVELS` times, found once per body and kept with it."""
-    return body.prepared(_subdivide_body)
+    """The body's skin subdivided `LEVELS` times, found once per body and kept with it (read from the disk
+    cache where `keep_fine_skin` stored it)."""
+    return body.prepared(_stored_fine_skin)[0]
 
 
 def body_fine_skinning(body: Body) -> FineSkinning:
@@ -125,9 +148,56 @@ def body_fine_skinning(body: Body) -> FineSkinning:
     return body.prepared(_fine_skinning_of_body)
 
 
-def _subdivide_body(body: Body) -> FineSkin:
-    return subdivide(body.vertices, body.faces)
+def keep_fine_skin(body: Body) -> None:
+    """Store the body's fine skin and its weights in the disk cache unless they are there or the cache is off
+    (`hitogata.disk_cache`), once per body and process: for a body posed elastically, whose every posture
+    carries it."""
+    body.prepared(_keep_fine_skin)
+
+
+def _keep_fine_skin(body: Body) -> bool:
+    from hitogata import disk_cache
+
+    key = _key(body)
+    if disk_cache.enabled() and not disk_cache.entry_path(FINE_SKIN, key).exists():
+        skinning = body_fine_skinning(body)
+        disk_cache.save(FINE_SKIN, key, _encode((skinning.fine, skinning.skin.weights, skinning.skin.homogeneous)))
+    return True
+
+
+def _key(body: Body) -> dict[str, object]:
+    from hitogata.elastic.cache import body_digest, code_digest
+
+    return {"format": FORMAT, "code": code_digest(), "body": body_digest(body), "levels": LEVELS}
+
+
+def _stored_fine_skin(body: Body) -> tuple[FineSkin, sp.csr_matrix | None, sp.csr_matrix | None]:
+    """The body's fine skin with its skinning's weights and homogeneous weights (`Skin`): read from the disk
+    cache where `keep_fine_skin` stored them for this body and code, else the fine skin made (the weights
+    then made when skinning asks for them: `body_fine_skinning`)."""
+    from hitogata import disk_cache
+    from hitogata.elastic.cache import read_cached
+
+    stored = read_cached(FINE_SKIN, _key(body), _decode) if disk_cache.enabled() else None
+    return (subdivide(body.vertices, body.faces), None, None) if stored is None else stored
+
+
+def _encode(value: tuple[FineSkin, sp.csr_matrix, sp.csr_matrix]) -> dict[str, np.ndarray]:
+    from hitogata.elastic.stored import to_arrays
+
+    fine, weights, homogeneous = value
+    return to_arrays({"vertices": fine.vertices, "faces": fine.faces, "interpolation": fine.interpolation,
+                      "parent": fine.parent, "weights": weights, "homogeneous": homogeneous})
+
+
+def _decode(arrays: Mapping[str, np.ndarray]) -> tuple[FineSkin, sp.csr_matrix, sp.csr_matrix]:
+    from hitogata.elastic.stored import from_arrays
+
+    parts = from_arrays(arrays)
+    fine = FineSkin(parts["vertices"], parts["faces"], parts["interpolation"], parts["parent"])
+    return fine, parts["weights"], parts["homogeneous"]
 
 
 def _fine_skinning_of_body(body: Body) -> FineSkinning:
-    return fine_skinning(body_fine_skin(body), poser_for(body).skin)
+    fine, weights, homogeneous = body.prepared(_stored_fine_skin)
+    return fine_skinning(fine, poser_for(body).skin, weights, homogeneous)

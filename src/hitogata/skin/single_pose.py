@@ -39,7 +39,7 @@ from hitogata.geometry.contact import Penetrations
 from hitogata.skin.skin_slide import SkinSlide, slide_posed_skin
 from hitogata.options import OnLimit
 from hitogata.posing.pose import PosedBody
-from hitogata.skin.fine_skin import body_fine_skinning
+from hitogata.skin.fine_skin import FineSkinning, body_fine_skinning, keep_fine_skin
 from hitogata.skin.settings import SKIN_DEFAULTS, SkinSettings
 
 ELEMENT_SIZE = 40.0  # mm: the whole body's lattice for a held posture (as the large-motion tests)
@@ -115,7 +115,7 @@ class ElasticPose:
         if self.slide is not None:
             return self.slide.fine.vertices
         poser = self.dynamics.poser
-        return body_fine_skinning(poser.body).surface(self.posed.pose, self.dynamics.rig.method, self.vertices)
+        return _held_fine_skinning(poser.body).surface(self.posed.pose, self.dynamics.rig.method, self.vertices)
 
 
 def elastic_pose(
@@ -151,10 +151,17 @@ def elastic_pose(
         _, skin, _, held = dynamics.frame(posed.pose.rotations[0], posed.pose.translations[0], r[0], delta, at_rest,
                                           skin_limiter(dynamics, settings))
     nodes = g[0] + rotate(r[0], delta)
-    slid = slide_posed_skin(body_fine_skinning(poser.body), posed.pose, dynamics.rig.method, poser.body.vertices, skin,
+    slid = slide_posed_skin(_held_fine_skinning(poser.body), posed.pose, dynamics.rig.method, poser.body.vertices, skin,
                             posed.faces, settings) if slide else None
     skin = skin if slid is None else slid.coarse.vertices
     return ElasticPose(posed, skin.astype(float), nodes, dynamics, held.astype(float), resolved, slid, settings)
+
+
+def _held_fine_skinning(body: Body) -> FineSkinning:
+    """The body's fine skin ready for skinning, kept on disk for the next process posing it (`keep_fine_skin`)."""
+    fine = body_fine_skinning(body)
+    keep_fine_skin(body)
+    return fine
 
 
 def _resolve(dynamics: BodyDynamics, posed: PosedBody, plain: np.ndarray, offset: np.ndarray, settings: SkinSettings

@@ -53,7 +53,7 @@ from scipy.sparse.csgraph import dijkstra
 from hitogata.geometry.mesh_checks import edge_graph, self_intersections
 from hitogata.geometry.normals import triangle_normals, vertex_areas, vertex_normals
 from hitogata.skin.fine_skin import FineSkinning
-from hitogata.geometry.strain import principal_stretches
+from hitogata.geometry.strain import RestFrames, principal_stretches
 from hitogata.options import Skinning
 from hitogata.skeleton.kinematics import Pose
 from hitogata.skin.settings import SKIN_DEFAULTS, SkinSettings, SlideLevel, SlideSettings
@@ -91,9 +91,10 @@ class _Carried:
     interpolation: sp.csr_matrix
 
 
-def _over(rest: np.ndarray, deformed: np.ndarray, faces: np.ndarray, limit: float) -> np.ndarray:
-    """(F,) bool: the triangles stretched, or grown in area, beyond `limit`."""
-    stretch_max, _, area_ratio, _, _ = principal_stretches(rest, deformed, faces)
+def _over(rest: np.ndarray, deformed: np.ndarray, faces: np.ndarray, limit: float, frames: RestFrames | None = None
+          ) -> np.ndarray:
+    """(F,) bool: the triangles stretched, or grown in area, beyond `limit` (frames: the rest's, if found before)."""
+    stretch_max, _, area_ratio, _, _ = principal_stretches(rest, deformed, faces, frames)
     return (stretch_max > limit) | (area_ratio > limit)
 
 
@@ -164,27 +165,29 @@ def _tangents(normals: np.ndarray) -> np.ndarray:
 
 
 def slide_skin(rest: np.ndarray, coarse: np.ndarray, faces: np.ndarray, fine_rest: np.ndarray, fine_faces: np.ndarray,
-               interpolation: sp.csr_matrix, fine_base: np.ndarray, settings: SkinSettings = SKIN_DEFAULTS
-               ) -> SlideResult:
+               interpolation: sp.csr_matrix, fine_base: np.ndarray, settings: SkinSettings = SKIN_DEFAULTS,
+               fine_frames: RestFrames | None = None) -> SlideResult:
     """The coarse skin `coarse` (V, 3; `rest` at rest) slid within its surface until its fine skin
     (`fine_base + interpolation @ coarse`, rest `fine_rest`, `fine_faces`) is stretched at most
-    `settings.slide.done` (principal stretch and area ratio); unchanged where none is beyond (crossings: `_slide`)."""
+    `settings.slide.done` (principal stretch and area ratio); unchanged where none is beyond (crossings: `_slide`).
+    fine_frames: the fine rest's `geometry.strain.rest_frames`, if found before."""
     slide = settings.slide
     coarse = np.asarray(coarse, dtype=float)
     carried = _Carried(fine_base + interpolation @ coarse, fine_rest, fine_faces, interpolation)
-    over = _over(fine_rest, carried.vertices, fine_faces, slide.done)
+    over = _over(fine_rest, carried.vertices, fine_faces, slide.done, fine_frames)
     seeds = np.unique(np.asarray(interpolation[np.unique(fine_faces[over])].indices))
     return _slide(rest, coarse, faces, seeds, carried, slide.coarse, slide)
 
 
-def slide_fine_skin(rest: np.ndarray, fine: np.ndarray, faces: np.ndarray, settings: SkinSettings = SKIN_DEFAULTS
-                    ) -> SlideResult:
+def slide_fine_skin(rest: np.ndarray, fine: np.ndarray, faces: np.ndarray, settings: SkinSettings = SKIN_DEFAULTS,
+                    frames: RestFrames | None = None) -> SlideResult:
     """The fine skin `fine` (Vf, 3; `rest` at rest) slid within its own surface, its vertices free, until
     none of its triangles is stretched beyond `settings.slide.done`: the stretch the coarse skin's slide left
-    where its own triangles may turn no further (the armpit's hollow overhead) spread over the fine triangles."""
+    where its own triangles may turn no further (the armpit's hollow overhead) spread over the fine triangles.
+    frames: the rest's `geometry.strain.rest_frames`, if found before."""
     slide = settings.slide
     fine = np.asarray(fine, dtype=float)
-    over = _over(rest, fine, faces, slide.done)
+    over = _over(rest, fine, faces, slide.done, frames)
     return _slide(rest, fine, faces, np.unique(faces[over]), None, slide.fine, slide)
 
 
@@ -406,6 +409,7 @@ def slide_posed_skin(fine: FineSkinning, pose: Pose, method: Skinning, rest: np.
     fine skin it carries slid on its own (`slide_fine_skin`), as `settings.slide` says."""
     base = fine.surface(pose, method, np.zeros_like(coarse))  # the fine skin less the carried coarse skin
     layout = fine.fine
-    slid = slide_skin(rest, coarse, faces, layout.vertices, layout.faces, layout.interpolation, base, settings)
+    slid = slide_skin(rest, coarse, faces, layout.vertices, layout.faces, layout.interpolation, base, settings,
+                      layout.rest_frames)
     carried = fine.surface(pose, method, slid.vertices)  # as `ElasticPose.fine_vertices` carries it unslid
-    return SkinSlide(slid, slide_fine_skin(layout.vertices, carried, layout.faces, settings))
+    return SkinSlide(slid, slide_fine_skin(layout.vertices, carried, layout.faces, settings, layout.rest_frames))
