@@ -1,4 +1,4 @@
-"""Plain triangle-mesh files (OBJ, PLY, unskinned GLB) through trimesh.
+"""Plain triangle-mesh files: PLY written with numpy (`export.ply`), OBJ and unskinned GLB through trimesh.
 
 For a skinned, posable GLB use :func:`hitogata.export.gltf.write_glb`.
 """
@@ -12,6 +12,7 @@ import numpy as np
 
 from hitogata.errors import HitogataError
 from hitogata.export.atomic import write_bytes_atomically
+from hitogata.export.ply import ply_bytes
 
 MESH_SUFFIXES = (".glb", ".obj", ".ply")
 
@@ -28,8 +29,6 @@ def write_mesh(path: str | os.PathLike, vertices: np.ndarray, faces: np.ndarray)
         raise HitogataError(
             f"{path}: unknown mesh file suffix {path.suffix!r}; allowed: {', '.join(MESH_SUFFIXES)}"
         )
-    import trimesh  # only when a mesh file is written
-
     vertices, faces = np.asarray(vertices, dtype=np.float64), np.asarray(faces)
     if vertices.ndim != 2 or vertices.shape[1] != 3 or not np.isfinite(vertices).all():
         bad = "" if vertices.ndim != 2 or vertices.shape[1] != 3 else \
@@ -38,6 +37,10 @@ def write_mesh(path: str | os.PathLike, vertices: np.ndarray, faces: np.ndarray)
     if faces.ndim != 2 or faces.shape[1] != 3 or faces.dtype.kind not in "iu" or (
             faces.size and not (0 <= faces.min() and faces.max() < len(vertices))):
         raise HitogataError(f"{path}: faces of shape {faces.shape}; allowed (F, 3) vertex indices 0..{len(vertices) - 1}")
+    if suffix == ".ply":
+        return write_bytes_atomically(path, ply_bytes(vertices, faces))
+    import trimesh  # only when an OBJ or GLB is written
+
     mesh = trimesh.Trimesh(vertices=vertices, faces=faces.astype(np.int64), process=False)
     data = mesh.export(file_type=suffix[1:])
     if isinstance(data, str):
