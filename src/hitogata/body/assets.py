@@ -3,11 +3,15 @@
 The file `data/mpfb2_adult.npz` is made by `tools/convert_mpfb2.py` from the CC0
 MakeHuman (MPFB2) data; `docs/data.md` says what it holds. `data/mpfb2_child.npz`
 holds MakeHuman's baby and child macro targets, loaded only for a body younger
-than 18 (`load_child_targets`).
+than 18 (`load_child_targets`). Each is read through its inflated copy in the disk cache
+(`hitogata.disk_cache`, keyed by the shipped file's digest): reading that takes a fifth of the
+time of inflating the shipped file, which every process building a body otherwise pays.
 """
 
 from __future__ import annotations
 
+import hashlib
+import io
 from dataclasses import dataclass
 from functools import cache
 from importlib import resources
@@ -15,8 +19,11 @@ from importlib import resources
 import numpy as np
 import scipy.sparse as sp
 
+from hitogata import disk_cache
+
 DATA_FILE = "mpfb2_adult.npz"
 CHILD_DATA_FILE = "mpfb2_child.npz"
+INFLATED = "body-assets"  # the disk cache's entry kind of a data file's inflated copy
 
 
 @dataclass(frozen=True, eq=False)
@@ -70,18 +77,37 @@ def _cap_weights(rows: sp.csr_matrix, loops: tuple[np.ndarray, ...]) -> sp.csr_m
 
 
 def _read(name: str) -> dict[str, np.ndarray]:
-    with resources.files("hitogata").joinpath("data", name).open("rb") as fh:
-        return dict(np.load(fh, allow_pickle=False))
+    """The arrays of the data file `name`: from its inflated copy in the disk cache, made on the first read
+    (the cache off: from the file itself)."""
+    packed = resources.files("hitogata").joinpath("data", name).read_bytes()
+    if not disk_cache.enabled():
+        return _inflated(packed)
+    key = {"file": name, "sha256": hashlib.sha256(packed).hexdigest()}
+    stored = disk_cache.load(INFLATED, key)
+    if stored is not None:
+        return dict(stored)
+    arrays = _inflated(packed)
+    disk_cache.save(INFLATED, key, arrays)
+    return arrays
+
+
+def _inflated(packed: bytes) -> dict[str, np.ndarray]:
+    """The arrays of a compressed npz file's bytes."""
+    with np.load(io.BytesIO(packed), allow_pickle=False) as stored:
+        return dict(stored)
 
 
 def _target_matrix(d: dict[str, np.ndarray], n_vertices: int) -> tuple[tuple[str, ...], sp.csc_matrix]:
     """Target names and their (3N, T) offsets in metres, from a data file's target arrays."""
     # int32 indices, scipy's own for this size: given int64 it would copy and check all 6 M of them
-    vid = d["target_vertex"].astype(np.int32)  # sorted within each target
-    rows = (3 * vid[:, None] + np.arange(3, dtype=np.int32)).ravel()
+    vid = d["target_vertex"]  # sorted within each target
+    rows = np.empty((len(vid), 3), dtype=np.int32)  # x, y, z of each vertex: 3v, 3v+1, 3v+2 (column by column:
+    np.multiply(vid, 3, out=rows[:, 0], dtype=np.int32)  # a fifth of the time of numpy's broadcasting here)
+    np.add(rows[:, 0], 1, out=rows[:, 1])
+    np.add(rows[:, 0], 2, out=rows[:, 2])
     offsets = d["target_offset"].ravel() * float(d["target_unit"])
     targets = sp.csc_matrix(
-        (offsets, rows, (3 * d["target_ptr"]).astype(np.int32)), shape=(3 * n_vertices, len(d["target_ptr"]) - 1)
+        (offsets, rows.ravel(), (3 * d["target_ptr"]).astype(np.int32)), shape=(3 * n_vertices, len(d["target_ptr"]) - 1)
     )
     return tuple(str(n) for n in d["target_names"]), targets
 
