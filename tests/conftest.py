@@ -15,6 +15,7 @@ import pytest
 
 from golden import GoldenFile, golden_path
 from hitogata.body import Body, default_body
+from hitogata import disk_cache
 from hitogata.disk_cache import CACHE_ENV
 
 # Modules whose tests need these, by the module's name.
@@ -173,6 +174,16 @@ def female() -> Body:
 @pytest.fixture(scope="session")
 def male() -> Body:
     return default_body("male")
+
+
+@pytest.fixture
+def cache_folder(tmp_path, monkeypatch) -> Path:
+    """A disk cache of the test's own, on, at the default size limit."""
+    folder = tmp_path / "cache"
+    monkeypatch.setenv(CACHE_ENV, str(folder))
+    monkeypatch.delenv(disk_cache.NO_CACHE_ENV, raising=False)
+    monkeypatch.delenv(disk_cache.LIMIT_ENV, raising=False)
+    return folder
 
 
 @pytest.fixture(scope="module")

@@ -8,15 +8,6 @@ from hitogata import disk_cache
 from hitogata.body import assets
 
 
-@pytest.fixture
-def cache_folder(tmp_path, monkeypatch):
-    folder = tmp_path / "cache"
-    monkeypatch.setenv(disk_cache.CACHE_ENV, str(folder))
-    monkeypatch.delenv(disk_cache.NO_CACHE_ENV, raising=False)
-    monkeypatch.delenv(disk_cache.LIMIT_ENV, raising=False)
-    return folder
-
-
 @pytest.fixture(scope="module")
 def shipped() -> dict[str, np.ndarray]:
     """The data file's arrays as the file itself holds them."""

@@ -24,15 +24,6 @@ from hitogata.errors import HitogataError
 from hitogata.fem import Material
 
 
-@pytest.fixture()
-def cache_folder(tmp_path, monkeypatch) -> Path:
-    folder = tmp_path / "cache"
-    monkeypatch.setenv(disk_cache.CACHE_ENV, str(folder))
-    monkeypatch.delenv(disk_cache.NO_CACHE_ENV, raising=False)
-    monkeypatch.delenv(disk_cache.LIMIT_ENV, raising=False)
-    return folder
-
-
 def _softer_muscle(materials):
     """The same materials file, its muscle's modulus 10 % lower: the same name, other values."""
     muscle = materials.regions["muscle"]
