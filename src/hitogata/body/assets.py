@@ -19,8 +19,6 @@ from importlib import resources
 import numpy as np
 import scipy.sparse as sp
 
-from hitogata import disk_cache
-
 DATA_FILE = "mpfb2_adult.npz"
 CHILD_DATA_FILE = "mpfb2_child.npz"
 INFLATED = "body-assets"  # the disk cache's entry kind of a data file's inflated copy
@@ -79,6 +77,8 @@ def _cap_weights(rows: sp.csr_matrix, loops: tuple[np.ndarray, ...]) -> sp.csr_m
 def _read(name: str) -> dict[str, np.ndarray]:
     """The arrays of the data file `name`: from its inflated copy in the disk cache, made on the first read
     (the cache off: from the file itself)."""
+    from hitogata import disk_cache  # on first use: it imports the atomic writer, which computation does not load
+
     packed = resources.files("hitogata").joinpath("data", name).read_bytes()
     if not disk_cache.enabled():
         return _inflated(packed)
