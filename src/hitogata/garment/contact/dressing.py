@@ -176,14 +176,18 @@ def solve(body: Body, spec: GarmentSpec, posture: Posture, levels: list[Level], 
         ContactBody(tissue.body.points if tissue_start is None else tissue_start, tissue.body.faces)
     reader = LevelReader.build(tube, arc, level_arc, tissue)
     try:
-        eq = settle(tube, start, held, stiffness=stiffness, reader=reader)
+        # on a limb the held solve is only the coupled one's start: κ is raised there only where CCD blocks a
+        # step (not where contacts merely close: each contact would start further out, to be settled back),
+        # and carried into the coupled solve, whose answer is settled at the start's κ
+        eq = settle(tube, start, held, stiffness=stiffness, reader=reader,
+                    answer_stiffness=None if tissue is None else np.inf, adaptive=tissue is None)
     except HitogataError as err:
         raise HitogataError(f"{spec.source}: the garment's start crosses the body ({err}); allowed a garment "
                             "whose segment is clear of other skin") from None
     iterations = eq.iterations
     if tissue is not None:
         eq = settle(tube, eq.garment, tissue.body, stiffness=eq.barrier_stiffness, body_start=tissue_start,
-                    reader=reader)
+                    reader=reader, answer_stiffness=eq.start_stiffness)
         iterations += eq.iterations
     force = np.zeros_like(rest)
     if tissue is None:
