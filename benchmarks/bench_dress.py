@@ -1,20 +1,22 @@
 """Dressing benchmark: a legging (−20 % ease) put on the default female's soft leg, cold, then through the
-first frames of the stride at 5 frames a second, each solved from the last (warm); the code as it is
-("now") and a baseline commit's ("before", default `main`), each in a fresh process, in the same run.
+stride at 5 frames a second, its first frame (the standing posture again) and the next `--frames` (default
+3: 0.2, 0.4 and 0.6 s), each solved from the last (warm where it can); the code as it is ("now") and a
+baseline commit's ("before", default `main`), each in a fresh process, in the same run.
 
 Goals: ≤ 60 s on the 2-core machine cold; one motion frame ≤ 5 s warm. Prints the wall and CPU time of
 each stage (imports, the body and garment file, the contact solve with the garment's placement, the
-answers and their exact checks, the stride's postures, its first frame, a warm frame with its placement,
-tissue and solve, its answers) for both, the CPU ratio before / now, the cold and warm totals against
-their goals, Newton's iterations, the least garment–skin distance, the exact checks, whether the motion
-frame's warm start was taken, and each level's pressure (mmHg) and indentation (mm, mean and deepest)
-by both with their differences.
+answers and their exact checks, the stride's postures, each frame with its placement, tissue and solve,
+its answers) for both, the CPU ratio before / now, the cold total and the 0.2 s frame against their goals;
+for each frame whether it started warm (from the last frame's equilibrium) or cold, Newton's iterations,
+its CPU, the least garment–skin distance, the exact checks and the barrier's κ of its answer; and each
+level's pressure (mmHg) and indentation (mm, mean and deepest), standing and at each frame, by both with
+their differences.
 
 "before" runs this same script (`--pass`) in a subprocess on a `git archive` of the baseline's `src`
 (PYTHONPATH), "now" on this tree's `src`; each process pays its own imports and caches. Read CPU seconds
 where the machine is shared (the wall clock then counts the other processes' turns).
 
-    PYTHONPATH=src python benchmarks/bench_dress.py [--baseline main] [--now-only]
+    PYTHONPATH=src python benchmarks/bench_dress.py [--baseline main] [--now-only] [--frames N]
 """
 
 from __future__ import annotations

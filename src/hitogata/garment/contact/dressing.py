@@ -160,9 +160,10 @@ def solve(body: Body, spec: GarmentSpec, posture: Posture, levels: list[Level], 
           level_arc: np.ndarray, radii: np.ndarray, tube: Tube, tissue: LimbTissue | None, start: np.ndarray,
           stiffness: float | None = None, tissue_start: np.ndarray | None = None) -> Dressing:
     """The garment from `start` (V, 3) on the body in `posture` (its sections' hull radii `radii`; its skin rigid, or the limb's `tissue`
-    from its nodes `tissue_start`, default at rest). Cold (`stiffness` None): settled on the skin held still
-    first, then with the tissue, the barrier's κ from the garment's forces; warm (a dressed garment's κ
-    given, `start` its last equilibrium carried into the posture): solved with the tissue at once."""
+    from its nodes `tissue_start`, default at rest): settled on the body held still first, then with the
+    tissue. The barrier's κ: `stiffness` (a dressed garment's, `start` its last equilibrium carried into the
+    posture), else from the garment's forces at the start; raised on the way where contacts keep closing,
+    the answer settled back at it (`equilibrium.settle`)."""
     rest = np.asarray(posture.vertices, dtype=float)
     near = cKDTree(start).query(rest, distance_upper_bound=REACH)[0] <= REACH
     faces = body.faces[near[body.faces].any(axis=1)]
