@@ -125,9 +125,10 @@ def test_a_garment_laid_on_the_tissue_starts_clear_of_it_and_settles_to_the_same
 def test_a_barrier_too_weak_for_its_contacts_is_raised_and_the_ring_balances_its_tension():
     """A warm frame's κ is carried from the last frame, whose contacts may have pressed less. The soft
     thick-walled cylinder solved with a thousandth of the κ its own start sets: at that κ the ring's contacts
-    close to CCD's 10 µm gap, where Newton can no longer move them (it stopped there reading 445 Pa against
-    its tension's 1058 Pa over its radius; a motion's frame then started cold). κ is raised where contacts
-    keep closing and where CCD blocks a step (IPC's adaptive stiffness): Newton goes on to an equilibrium,
+    close to CCD's 10 µm gap, where Newton can no longer move them (a step cut there to under its tolerance
+    counted as convergence: the ring read 445 Pa against its tension's 1058 Pa over its radius; where the
+    cut was to nothing, a motion's frame started cold). κ is raised where contacts keep closing and where
+    CCD blocks a step (IPC's adaptive stiffness): Newton goes on to an equilibrium,
     clear of the gap, whose pressure is the ring's tension over its radius (Laplace's law) within 2 %: the ring,
     its contacts from 0.09 to 0.9 mm out, is round to 0.7 % of its radius (at the start's κ, to 0.2 %)."""
     from hitogata.garment.contact.equilibrium import CCD_GAP, STIFFEST
