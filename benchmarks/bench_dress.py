@@ -1,20 +1,22 @@
 """Dressing benchmark: a legging (−20 % ease) put on the default female's soft leg, cold, then through the
-first frames of the stride at 5 frames a second, each solved from the last (warm); the code as it is
-("now") and a baseline commit's ("before", default `main`), each in a fresh process, in the same run.
+stride at 5 frames a second, its first frame (the standing posture again) and the next `--frames` (default
+3: 0.2, 0.4 and 0.6 s), each solved from the last (warm where it can); the code as it is ("now") and a
+baseline commit's ("before", default `main`), each in a fresh process, in the same run.
 
 Goals: ≤ 60 s on the 2-core machine cold; one motion frame ≤ 5 s warm. Prints the wall and CPU time of
 each stage (imports, the body and garment file, the contact solve with the garment's placement, the
-answers and their exact checks, the stride's postures, its first frame, a warm frame with its placement,
-tissue and solve, its answers) for both, the CPU ratio before / now, the cold and warm totals against
-their goals, Newton's iterations, the least garment–skin distance, the exact checks, whether the motion
-frame's warm start was taken, and each level's pressure (mmHg) and indentation (mm, mean and deepest)
-by both with their differences.
+answers and their exact checks, the stride's postures, each frame with its placement, tissue and solve,
+its answers) for both, the CPU ratio before / now, the cold total and the 0.2 s frame against their goals;
+for each frame whether it started warm (from the last frame's equilibrium) or cold, Newton's iterations,
+its CPU, the least garment–skin distance, the exact checks and the barrier's κ of its answer; and each
+level's pressure (mmHg) and indentation (mm, mean and deepest), standing and at each frame, by both with
+their differences.
 
 "before" runs this same script (`--pass`) in a subprocess on a `git archive` of the baseline's `src`
 (PYTHONPATH), "now" on this tree's `src`; each process pays its own imports and caches. Read CPU seconds
 where the machine is shared (the wall clock then counts the other processes' turns).
 
-    PYTHONPATH=src python benchmarks/bench_dress.py [--baseline main] [--now-only]
+    PYTHONPATH=src python benchmarks/bench_dress.py [--baseline main] [--now-only] [--frames N]
 """
 
 from __future__ import annotations
@@ -29,6 +31,7 @@ import tempfile
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from functools import partial
 from pathlib import Path
 from typing import Any
 
@@ -36,7 +39,7 @@ ROOT = Path(__file__).resolve().parents[1]
 GOAL_COLD, GOAL_FRAME = 60.0, 5.0  # s wall on 2 idle cores
 MMHG = 133.322  # Pa
 COLD = ("imports", "body and garment file", "contact solve (prepare + Newton)", "answers and exact checks")
-FRAME = ("one warm motion frame",)
+FRAME = ("frame at 0.2 s",)
 MODULES = ("hitogata.body", "hitogata.garment.contact.answers", "hitogata.garment.contact.motion", "hitogata.pose",
            "hitogata.motion.scenario")
 
@@ -64,8 +67,9 @@ def levels(contact: Any) -> list[tuple[str, float, float, float]]:
     return [(row.level, row.pressure, row.indentation, row.deepest) for row in contact.levels]
 
 
-def dress_pass() -> Run:
-    """The cold dressing and the stride's first two frames in this process, timed stage by stage."""
+def dress_pass(frames: int) -> Run:
+    """The cold dressing and the stride's first frame, then its next `frames` frames (0.2 s apart), each from
+    the last, in this process, timed stage by stage."""
     run = Run()
     run.timed("imports", lambda: [importlib.import_module(name) for name in MODULES])
     from hitogata.body import default_body
@@ -81,31 +85,37 @@ def dress_pass() -> Run:
     dressing = run.timed("contact solve (prepare + Newton)", lambda: dress(body, spec))
     standing = run.timed("answers and exact checks", lambda: garment_contact(dressing))
     clip = scenario_clip(load_scenario(shipped_scenarios()["mobility_stride"]), poser_for(body))
-    times, frames = run.timed("stride's postures", lambda: postures(body, clip, 5.0))
-    first, _ = run.timed("its first frame (standing again)", lambda: dress_frame(dressing, frames[0]))
-    second, warm = run.timed("one warm motion frame", lambda: dress_frame(first, frames[1]))
-    moved = run.timed("its answers and exact checks", lambda: garment_contact(second, laplace=False))
-    run.answers = {"standing": levels(standing), "moved": levels(moved), "time": float(times[1]), "warm": warm,
-                   "iterations": [dressing.iterations, second.iterations],
-                   "least": [standing.min_distance, moved.min_distance], "inside": [standing.inside, moved.inside],
-                   "crossing": [standing.crossing, moved.crossing]}
+    times, postured = run.timed("stride's postures", lambda: postures(body, clip, 5.0))
+    last, _ = run.timed("its first frame (standing again)", lambda: dress_frame(dressing, postured[0]))
+    answers: dict[str, Any] = {"standing": levels(standing), "iterations": [dressing.iterations],
+                               "least": [standing.min_distance], "inside": [standing.inside],
+                               "crossing": [standing.crossing], "frames": []}
+    for k in range(1, min(frames, len(postured) - 1) + 1):
+        at = float(times[k])
+        last, warm = run.timed(f"frame at {at:.1f} s", partial(dress_frame, last, postured[k]))
+        moved = run.timed(f"its answers ({at:.1f} s)", partial(garment_contact, last, laplace=False))
+        answers["frames"].append({"time": at, "warm": warm, "iterations": last.iterations,
+                                  "least": moved.min_distance, "inside": moved.inside, "crossing": moved.crossing,
+                                  "levels": levels(moved), "stiffness": last.barrier_stiffness})
+    answers["stiffness"] = dressing.barrier_stiffness
+    run.answers = answers
     return run
 
 
-def child_pass(src: Path) -> Run:
+def child_pass(src: Path, frames: int) -> Run:
     """`dress_pass` in a fresh process on the package at `src`."""
-    out = subprocess.run([sys.executable, __file__, "--pass"], env={**os.environ, "PYTHONPATH": str(src)},
+    out = subprocess.run([sys.executable, __file__, "--pass", "--frames", str(frames)], env={**os.environ, "PYTHONPATH": str(src)},
                          check=True, capture_output=True, text=True)
     found = json.loads(out.stdout.strip().splitlines()[-1])
     return Run([tuple(stage) for stage in found["stages"]], found["answers"])  # type: ignore[misc]
 
 
-def baseline_pass(commit: str) -> Run:
+def baseline_pass(commit: str, frames: int) -> Run:
     """`dress_pass` on a `git archive` of `commit`'s src."""
     with tempfile.TemporaryDirectory() as tree:
         archive = subprocess.run(["git", "archive", commit, "src"], cwd=ROOT, capture_output=True, check=True)
         subprocess.run(["tar", "-x", "-C", tree], input=archive.stdout, check=True)
-        return child_pass(Path(tree) / "src")
+        return child_pass(Path(tree) / "src", frames)
 
 
 def report(now: Run, before: Run | None, baseline: str) -> None:
@@ -128,19 +138,25 @@ def report(now: Run, before: Run | None, baseline: str) -> None:
         if run is None:
             continue
         a = run.answers
-        print(f"{name}: Newton iterations cold {a['iterations'][0]}, frame {a['iterations'][1]} "
-              f"({'warm' if a['warm'] else 'started cold'}); least distance {1e3 * a['least'][0]:.3f} / "
-              f"{1e3 * a['least'][1]:.3f} mm; inside {a['inside'][0]} / {a['inside'][1]}; crossing "
-              f"{a['crossing'][0]} / {a['crossing'][1]}")
-    print(f"levels (standing, then the frame at {now.answers['time']:.1f} s): pressure mmHg, indentation mean / "
-          "deepest mm, now" + (f" | {baseline} | now − {baseline}" if before else ""))
-    for which in ("standing", "moved"):
-        rows = now.answers[which]
-        old = before.answers[which] if before else [None] * len(rows)
-        for (level, p, mean, deepest), row0 in zip(rows, old):
+        print(f"{name}: cold dressing {a['iterations'][0]} Newton iterations, least distance "
+              f"{1e3 * a['least'][0]:.3f} mm, inside {a['inside'][0]}, crossing {a['crossing'][0]}, κ {a['stiffness']:.3g}")
+        for frame in a["frames"]:
+            cpu = next(stage[2] for stage in run.stages if stage[0] == f"frame at {frame['time']:.1f} s")
+            print(f"{name}: frame at {frame['time']:.1f} s {'warm' if frame['warm'] else 'STARTED COLD'}, "
+                  f"{frame['iterations']} Newton iterations, {cpu:.1f} s CPU, least distance "
+                  f"{1e3 * frame['least']:.3f} mm, inside {frame['inside']}, crossing {frame['crossing']}, "
+                  f"κ {frame['stiffness']:.3g}")
+    print("levels (standing, then each frame): pressure mmHg, indentation mean / deepest mm, now"
+          + (f" | {baseline} | now − {baseline}" if before else ""))
+    tables = [("standing", now.answers["standing"], before.answers["standing"] if before else None)]
+    for k, frame in enumerate(now.answers["frames"]):
+        old = before.answers["frames"][k]["levels"] if before and k < len(before.answers["frames"]) else None
+        tables.append((f"{frame['time']:.1f} s", frame["levels"], old))
+    for which, rows, old_rows in tables:
+        for index, (level, p, mean, deepest) in enumerate(rows):
             line = f"  {which:>8} {level:>6}: {p / MMHG:6.2f} mmHg {1e3 * mean:6.3f} / {1e3 * deepest:6.3f} mm"
-            if row0 is not None:
-                _, p0, mean0, deepest0 = row0
+            if old_rows is not None:
+                _, p0, mean0, deepest0 = old_rows[index]
                 line += (f" | {p0 / MMHG:6.2f} mmHg {1e3 * mean0:6.3f} / {1e3 * deepest0:6.3f} mm | "
                          f"{(p - p0) / MMHG:+.3f} mmHg, {1e3 * (mean - mean0):+.4f} / {1e3 * (deepest - deepest0):+.4f} mm")
             print(line)
@@ -152,16 +168,18 @@ def main() -> None:
     parser.add_argument("--now-only", action="store_true", help="skip the baseline's run")
     parser.add_argument("--pass", dest="one_pass", action="store_true",
                         help="one pass in this process, its figures as a JSON line (what each run's process does)")
+    parser.add_argument("--frames", type=int, default=3,
+                        help="the stride's frames after its first, each from the last (default 3: 0.2, 0.4, 0.6 s)")
     args = parser.parse_args()
     if args.one_pass:
-        run = dress_pass()
+        run = dress_pass(args.frames)
         print(json.dumps({"stages": run.stages, "answers": run.answers}))
         return
-    now = child_pass(ROOT / "src")
+    now = child_pass(ROOT / "src", args.frames)
     before = None
     if not args.now_only:
         try:
-            before = baseline_pass(args.baseline)
+            before = baseline_pass(args.baseline, args.frames)
         except subprocess.CalledProcessError as err:  # no such commit here (a shallow clone), or its code failed
             print(f"{args.baseline}: not run ({' '.join(map(str, err.cmd))[:80]} exited {err.returncode})")
     report(now, before, args.baseline)

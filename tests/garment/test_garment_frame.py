@@ -119,3 +119,32 @@ def test_a_garment_laid_on_the_tissue_starts_clear_of_it_and_settles_to_the_same
     # Newton's path differs; what is read agrees to twice the step's tolerance (each solve stops within one)
     assert np.abs(after[:n] - before[:n]).max() < 2 * PRINTED.pressure
     assert np.abs(after[n:] - before[n:]).max() < 2 * PRINTED.indentation
+
+
+
+def test_a_barrier_too_weak_for_its_contacts_is_raised_and_the_ring_balances_its_tension():
+    """A warm frame's κ is carried from the last frame, whose contacts may have pressed less. The soft
+    thick-walled cylinder solved with a thousandth of the κ its own start sets: at that κ the ring's contacts
+    close to CCD's 10 µm gap, where Newton can no longer move them (a step cut there to under its tolerance
+    counted as convergence: the ring read 445 Pa against its tension's 1058 Pa over its radius; where the
+    cut was to nothing, a motion's frame started cold). κ is raised where contacts keep closing and where
+    CCD blocks a step (IPC's adaptive stiffness): Newton goes on to an equilibrium,
+    clear of the gap, whose pressure is the ring's tension over its radius (Laplace's law) within 2 %: the ring,
+    its contacts from 0.09 to 0.9 mm out, is round to 0.7 % of its radius (at the start's κ, to 0.2 %)."""
+    from hitogata.garment.contact.equilibrium import CCD_GAP, STIFFEST
+
+    inner, outer, length = 0.03, 0.05, 0.004
+    body = soft_annulus(inner, outer, length, 20e3, 0.49, 6, 96, 1)
+    stations = straight_stations(length, 5)
+    tube = build_tube(stations, 96, np.full(5, 0.85 * 2 * np.pi * outer), Fabric.linear(300.0), Fabric.linear(300.0),
+                      30.0)
+    start = elliptic_rings(stations, outer + 0.002, outer + 0.002, 96)
+    reader = LevelReader.build(tube, stations.origins[:, 2], np.array([0.5 * length]), None)
+    weak = 1e-3 * settle(tube, start, body, iterations=0).barrier_stiffness
+    eq = settle(tube, start, body, stiffness=weak, reader=reader)
+    assert eq.converged and eq.start_stiffness == weak and weak < eq.barrier_stiffness <= STIFFEST * weak
+    assert eq.min_distance > 2 * CCD_GAP
+    pressure = reader.pressures(eq.garment, eq.garment_force)[0]
+    tension = float(tube.membrane.tensions(eq.garment)[0].mean())
+    radius = float(np.linalg.norm(eq.garment[:, :2], axis=1).mean())
+    assert pressure == pytest.approx(tension / radius, rel=0.02)

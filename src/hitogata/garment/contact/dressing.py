@@ -160,9 +160,10 @@ def solve(body: Body, spec: GarmentSpec, posture: Posture, levels: list[Level], 
           level_arc: np.ndarray, radii: np.ndarray, tube: Tube, tissue: LimbTissue | None, start: np.ndarray,
           stiffness: float | None = None, tissue_start: np.ndarray | None = None) -> Dressing:
     """The garment from `start` (V, 3) on the body in `posture` (its sections' hull radii `radii`; its skin rigid, or the limb's `tissue`
-    from its nodes `tissue_start`, default at rest). Cold (`stiffness` None): settled on the skin held still
-    first, then with the tissue, the barrier's κ from the garment's forces; warm (a dressed garment's κ
-    given, `start` its last equilibrium carried into the posture): solved with the tissue at once."""
+    from its nodes `tissue_start`, default at rest): settled on the body held still first, then with the
+    tissue. The barrier's κ: `stiffness` (a dressed garment's, `start` its last equilibrium carried into the
+    posture), else from the garment's forces at the start; raised on the way where contacts keep closing,
+    the answer settled back at it (`equilibrium.settle`)."""
     rest = np.asarray(posture.vertices, dtype=float)
     near = cKDTree(start).query(rest, distance_upper_bound=REACH)[0] <= REACH
     faces = body.faces[near[body.faces].any(axis=1)]
@@ -176,14 +177,18 @@ def solve(body: Body, spec: GarmentSpec, posture: Posture, levels: list[Level], 
         ContactBody(tissue.body.points if tissue_start is None else tissue_start, tissue.body.faces)
     reader = LevelReader.build(tube, arc, level_arc, tissue)
     try:
-        eq = settle(tube, start, held, stiffness=stiffness, reader=reader)
+        # on a limb the held solve is only the coupled one's start: κ is raised there only where CCD blocks a
+        # step (not where contacts merely close: each contact would start further out, to be settled back),
+        # and carried into the coupled solve, whose answer is settled at the start's κ
+        eq = settle(tube, start, held, stiffness=stiffness, reader=reader,
+                    answer_stiffness=None if tissue is None else np.inf, adaptive=tissue is None)
     except HitogataError as err:
         raise HitogataError(f"{spec.source}: the garment's start crosses the body ({err}); allowed a garment "
                             "whose segment is clear of other skin") from None
     iterations = eq.iterations
     if tissue is not None:
         eq = settle(tube, eq.garment, tissue.body, stiffness=eq.barrier_stiffness, body_start=tissue_start,
-                    reader=reader)
+                    reader=reader, answer_stiffness=eq.start_stiffness)
         iterations += eq.iterations
     force = np.zeros_like(rest)
     if tissue is None:

@@ -12,9 +12,11 @@ carried tissue's own surface now comes within half a barrier's reach of it along
 then it starts that far out from the surface (`onto_tissue`: where the hip's flexion brings the gluteal
 fold into a section, the garment starts on the fold, not 25 mm out on the section's hull). Else, and on
 the rigid body, each point is moved out or in with the skin's section under it (`followed`). The
-garment is settled on the body held still first, then with the tissue (`dressing.solve`). Where every
-start crosses or touches the posed skin (a fast move between frames), or Newton sticks from it, the
-frame starts cold as the standing solve does: the rings outside the sections, shrunk on (decision 0029).
+garment is settled on the body held still first, then with the tissue (`dressing.solve`); where the
+carried κ is too weak for the new posture's contacts, Newton raises it on the way and settles the answer
+at the carried κ again (`equilibrium.settle`). Where every start crosses or touches the posed skin (a fast
+move between frames), or Newton sticks from it even so, the frame starts cold as the standing solve does:
+the rings outside the sections, shrunk on (decision 0029).
 """
 
 from __future__ import annotations
@@ -29,7 +31,7 @@ from hitogata.elastic.materials import Materials
 from hitogata.errors import HitogataError
 from hitogata.garment.contact.answers import GarmentContact, garment_contact
 from hitogata.garment.contact.dressing import Dressing, Posture, place, solve
-from hitogata.garment.contact.equilibrium import DHAT, SETTLE, crossings
+from hitogata.garment.contact.equilibrium import CCD_GAP, DHAT, SETTLE, crossings
 from hitogata.garment.contact.segments import body_rings
 from hitogata.garment.contact.tissue import ALONG, LimbTissue, limb_tissue
 from hitogata.garment.contact.tube import Stations, Tube
@@ -45,6 +47,9 @@ LIFTS = (0.0, 0.5 * DHAT)
 # m: a garment point the carried tissue's own surface comes within this of along its ray, or past, starts this far
 # out (where the barrier's contact settles, `equilibrium.SETTLE`)
 ON_TISSUE_LIFT = SETTLE * DHAT
+# m: a laid ring closer than this to the carried tissue's surface is lifted as a crossing one is (a start within
+# CCD's gap cannot be moved)
+NEAREST = 2 * CCD_GAP
 ON_TISSUE_MOST = 16 * DHAT  # m: the furthest a ring crossing the tissue's surface is lifted (then started as it lay)
 
 
@@ -101,8 +106,8 @@ def onto_tissue(coords: np.ndarray, tube: Tube, tissue: LimbTissue, nodes: np.nd
     """In-plane garment coordinates (M, N, 2) kept where they lay, but moved out along their rays from their
     stations' centres (`tube`'s) where the tissue's outer surface (its nodes at `nodes` (T, 3)) now comes
     within `ON_TISSUE_LIFT` of them or past them: to that far beyond where the ray leaves the surface. A ring
-    whose triangles then cross the surface (its chords cut the tissue's ridges or a fold) is lifted twice as
-    far, and again, up to `ON_TISSUE_MOST`. A point whose ray meets no triangle of the surface near its
+    whose triangles then cross the surface (its chords cut the tissue's ridges or a fold) or come within
+    `NEAREST` of it is lifted twice as far, and again, up to `ON_TISSUE_MOST`. A point whose ray meets no triangle of the surface near its
     station lies at `missed`'s radius (M, N, 2: the same rays), lifted with its ring beyond the first lift."""
     reach = tissue_reach(coords, tube.stations, tissue, nodes)
     radius = np.linalg.norm(coords, axis=2)
@@ -112,7 +117,8 @@ def onto_tissue(coords: np.ndarray, tube: Tube, tissue: LimbTissue, nodes: np.nd
     while True:
         laid = np.where(np.isfinite(reach), reach + lift[:, None], missed_radius + lift[:, None] - ON_TISSUE_LIFT)
         placed = unit * np.maximum(laid, radius)[..., None]
-        rings = crossing_rings(tube, tube.stations.place(placed).reshape(-1, 3), nodes, tissue.body.faces)
+        rings = crossing_rings(tube, tube.stations.place(placed).reshape(-1, 3), nodes, tissue.body.faces,
+                               NEAREST)
         if not rings.size or lift[rings].max() >= ON_TISSUE_MOST:
             return placed
         lift[rings] *= 2
@@ -144,15 +150,17 @@ def tissue_reach(coords: np.ndarray, stations: Stations, tissue: LimbTissue, nod
     return reach
 
 
-def crossing_rings(tube: Tube, garment: np.ndarray, skin: np.ndarray, skin_faces: np.ndarray) -> np.ndarray:
-    """The rings (sorted) of the garment's triangles (`garment` (V, 3) on `tube`) that cross the skin's: the
-    exact test on the whole garment, then on halves of its rings where it finds a crossing."""
+def crossing_rings(tube: Tube, garment: np.ndarray, skin: np.ndarray, skin_faces: np.ndarray,
+                   gap: float = 0.0) -> np.ndarray:
+    """The rings (sorted) of the garment's triangles (`garment` (V, 3) on `tube`) that cross the skin's or
+    come within `gap` (m) of it: the exact test on the whole garment, then on halves of its rings where it
+    finds a crossing."""
     ring_of_face = tube.faces.min(axis=1) // tube.per_ring
     found: list[int] = []
 
     def search(low: int, high: int) -> None:
         chosen = tube.faces[(ring_of_face >= low) & (ring_of_face < high)]
-        if not len(chosen) or not crossings(garment, chosen, skin, skin_faces):
+        if not len(chosen) or not crossings(garment, chosen, skin, skin_faces, gap):
             return
         if high - low == 1:  # a band's triangles join its ring to the next
             found.extend([low, min(low + 1, tube.n_rings - 1)])
