@@ -23,6 +23,7 @@ from hitogata.garment.contact.verify import (
 )
 from hitogata.garment.fabric import Fabric
 from hitogata.geometry.normals import vertex_areas
+from samples import soft_cylinder
 
 KNIT = Fabric((0.0, 0.1, 0.3, 0.6), (0.0, 30.0, 120.0, 400.0))  # N/m: a knit stiffening with strain
 
@@ -133,12 +134,7 @@ def test_newton_steps_by_reused_factors_reach_the_exact_steps_equilibrium(monkey
     from hitogata.fem import factor
     from hitogata.garment.contact import equilibrium
 
-    inner, outer, length = 0.03, 0.05, 0.004
-    body = soft_annulus(inner, outer, length, 20e3, 0.49, 6, 96, 1)
-    stations = straight_stations(length, 5)
-    tube = build_tube(stations, 96, np.full(5, 0.85 * 2 * np.pi * outer), Fabric.linear(300.0), Fabric.linear(300.0),
-                      30.0)
-    start = elliptic_rings(stations, outer + 0.002, outer + 0.002, 96)
+    body, stations, tube, start = soft_cylinder()
     factored = []
     counted = factor.factorize
     monkeypatch.setattr(factor, "factorize", lambda *args, **kw: factored.append(1) or counted(*args, **kw))

@@ -9,20 +9,7 @@ import pytest
 from hitogata.garment.contact.equilibrium import settle
 from hitogata.garment.contact.readings import PRINTED, LevelReader
 from hitogata.garment.contact.spec import load_garment
-from hitogata.garment.contact.tube import build_tube
-from hitogata.garment.contact.verify import elliptic_rings, soft_annulus, straight_stations
-from hitogata.garment.fabric import Fabric
-
-# the sleeve of the motion tests: ankle to calf, 32 vertices round, on the soft leg
-SHORT_GARMENT = '''title = "Ankle sleeve"
-segment = "leg"
-ease = "-20%"
-levels = ["ankle", "calf"]
-per_ring = 32
-[fabric]
-course = "400N/m"
-wale = "200N/m"
-'''
+from samples import LENGTH, SHORT_GARMENT, soft_cylinder
 
 
 def test_a_reading_that_settles_stops_newton_at_the_answer_read_to_its_tolerance(monkeypatch):
@@ -30,14 +17,9 @@ def test_a_reading_that_settles_stops_newton_at_the_answer_read_to_its_tolerance
     mmHg reads the pressure of Newton run on to round-off within that, in a quarter of its steps."""
     from hitogata.garment.contact import equilibrium
 
-    inner, outer, length = 0.03, 0.05, 0.004
-    body = soft_annulus(inner, outer, length, 20e3, 0.49, 6, 96, 1)
-    stations = straight_stations(length, 5)
-    tube = build_tube(stations, 96, np.full(5, 0.85 * 2 * np.pi * outer), Fabric.linear(300.0), Fabric.linear(300.0),
-                      30.0)
-    start = elliptic_rings(stations, outer + 0.002, outer + 0.002, 96)
+    body, stations, tube, start = soft_cylinder()
     arc = stations.origins[:, 2]
-    reader = LevelReader.build(tube, arc, np.array([0.5 * length]), None)
+    reader = LevelReader.build(tube, arc, np.array([0.5 * LENGTH]), None)
     read = settle(tube, start, body, reader=reader)
     monkeypatch.setattr(equilibrium, "DECREMENT", 1e-12)
     converged = settle(tube, start, body, tolerance=1e-10)
@@ -133,13 +115,8 @@ def test_a_barrier_too_weak_for_its_contacts_is_raised_and_the_ring_balances_its
     its contacts from 0.09 to 0.9 mm out, is round to 0.7 % of its radius (at the start's κ, to 0.2 %)."""
     from hitogata.garment.contact.equilibrium import CCD_GAP, STIFFEST
 
-    inner, outer, length = 0.03, 0.05, 0.004
-    body = soft_annulus(inner, outer, length, 20e3, 0.49, 6, 96, 1)
-    stations = straight_stations(length, 5)
-    tube = build_tube(stations, 96, np.full(5, 0.85 * 2 * np.pi * outer), Fabric.linear(300.0), Fabric.linear(300.0),
-                      30.0)
-    start = elliptic_rings(stations, outer + 0.002, outer + 0.002, 96)
-    reader = LevelReader.build(tube, stations.origins[:, 2], np.array([0.5 * length]), None)
+    body, stations, tube, start = soft_cylinder()
+    reader = LevelReader.build(tube, stations.origins[:, 2], np.array([0.5 * LENGTH]), None)
     weak = 1e-3 * settle(tube, start, body, iterations=0).barrier_stiffness
     eq = settle(tube, start, body, stiffness=weak, reader=reader)
     assert eq.converged and eq.start_stiffness == weak and weak < eq.barrier_stiffness <= STIFFEST * weak

@@ -8,17 +8,8 @@ import numpy as np
 import pytest
 
 from hitogata.cli import main
+from samples import SHORT_GARMENT
 
-# a short garment (ankle to calf, 32 vertices round) keeps the solve small; its knee is bent 12° and back
-SHORT_GARMENT = '''title = "Ankle sleeve"
-segment = "leg"
-ease = "-20%"
-levels = ["ankle", "calf"]
-per_ring = 32
-[fabric]
-course = "400N/m"
-wale = "200N/m"
-'''
 SHORT_MOTION = '''title = "knee bend"
 [body]
 sex = "female"
