@@ -34,13 +34,15 @@ from collections.abc import Callable, Iterator, Mapping
 from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import Any, TypeVar
 
 import numpy as np
 from filelock import FileLock, Timeout
 
 from hitogata.errors import HitogataError
 from hitogata.export.atomic import write_atomically
+
+T = TypeVar("T")
 
 CACHE_ENV = "HITOGATA_CACHE"
 NO_CACHE_ENV = "HITOGATA_NO_CACHE"
@@ -209,6 +211,41 @@ def save(kind: str, key: Mapping, arrays: Mapping[str, np.ndarray]) -> Path | No
         return None
     prune(keep=path)
     return path
+
+
+def cached(kind: str, key: Mapping[str, Any], build: Callable[[], T], encode: Callable[[T], dict[str, np.ndarray]],
+           decode: Callable[[Mapping[str, np.ndarray]], T], cache: bool | None,
+           deferred: Callable[[str], bool] | None = None) -> T:
+    """The value of `key`: read from the disk cache, else built and stored (`cache`: see `enabled`).
+    One process builds an entry while any other asking for it waits, then reads it (`building`).
+    An entry that reads but does not decode is removed with a note and built again. The arrays `deferred`
+    names are read when `decode`'s value first uses them (`Entry`)."""
+    if not enabled(cache):
+        return build()
+    stored = read_cached(kind, key, decode, deferred)
+    if stored is not None:
+        return stored
+    with building(kind, key):
+        stored = read_cached(kind, key, decode, deferred)  # built by another process while this one waited
+        if stored is not None:
+            return stored
+        value = build()
+        save(kind, key, encode(value))
+    return value
+
+
+def read_cached(kind: str, key: Mapping[str, Any], decode: Callable[[Mapping[str, np.ndarray]], T],
+                deferred: Callable[[str], bool] | None = None) -> T | None:
+    """The entry of `key` decoded, or None when there is none or it does not decode (then removed with a note);
+    `deferred`: as `cached`'s."""
+    arrays = load(kind, key, deferred)
+    if arrays is None:
+        return None
+    try:
+        return decode(arrays)
+    except (KeyError, TypeError, ValueError) as err:
+        discard(entry_path(kind, key), f"does not decode ({type(err).__name__}: {err})")
+        return None
 
 
 @dataclass(frozen=True)

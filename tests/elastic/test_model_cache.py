@@ -18,7 +18,8 @@ from hitogata.cli import main
 from hitogata.dynamics.model_cache import cached_dynamics
 from hitogata.skin.single_pose import elastic_pose
 from hitogata.elastic import load_materials
-from hitogata.elastic.cache import cached, model_key, model_options
+from hitogata.disk_cache import cached
+from hitogata.elastic.cache import model_key, model_options
 from hitogata.elastic.stored import DeferredMatrix, from_arrays, to_arrays
 from hitogata.errors import HitogataError
 from hitogata.fem import Material
@@ -174,7 +175,7 @@ ASKER = """
 import sys, time
 from pathlib import Path
 import numpy as np
-from hitogata.elastic.cache import cached
+from hitogata.disk_cache import cached
 folder, me = Path(sys.argv[1]), sys.argv[2]
 def build():
     with open(folder / "builds", "a") as log:

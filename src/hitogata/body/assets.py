@@ -80,15 +80,8 @@ def _read(name: str) -> dict[str, np.ndarray]:
     from hitogata import disk_cache  # on first use: it imports the atomic writer, which computation does not load
 
     packed = resources.files("hitogata").joinpath("data", name).read_bytes()
-    if not disk_cache.enabled():
-        return _inflated(packed)
     key = {"file": name, "sha256": hashlib.sha256(packed).hexdigest()}
-    stored = disk_cache.load(INFLATED, key)
-    if stored is not None:
-        return dict(stored)
-    arrays = _inflated(packed)
-    disk_cache.save(INFLATED, key, arrays)
-    return arrays
+    return disk_cache.cached(INFLATED, key, lambda: _inflated(packed), dict, dict, None)
 
 
 def _inflated(packed: bytes) -> dict[str, np.ndarray]:

@@ -19,7 +19,8 @@ import numpy as np
 from hitogata.body.model import Body
 from hitogata.dynamics.motion import BodyDynamics
 from hitogata.dynamics.rigging import NodeRig
-from hitogata.elastic.cache import cached, model_key, model_options
+from hitogata.disk_cache import cached
+from hitogata.elastic.cache import model_key, model_options
 from hitogata.elastic.model import build_elastic_model
 from hitogata.elastic.stored import from_arrays, to_arrays
 from hitogata.options import Skinning

@@ -14,10 +14,10 @@ import inspect
 import json
 import os
 import time
-from collections.abc import Callable, Mapping
+from collections.abc import Mapping
 from functools import lru_cache
 from pathlib import Path
-from typing import Any, TypeVar
+from typing import Any
 
 import numpy as np
 import scipy.sparse as sp
@@ -32,7 +32,6 @@ FORMAT = 1  # raised when what an entry holds, or how, changes
 MODEL = "elastic-model"  # the entry kind of a bare elastic model
 CODE = "code-digest"  # the entry kind of the code digest of the package's files as they stand
 SETTLED = 2.0  # s: files changed within this of the digest (a file system's clock is coarse) are not remembered
-T = TypeVar("T")
 
 
 def model_options(**options: Any) -> dict[str, Any]:
@@ -126,48 +125,13 @@ def _package_files(package: Path) -> list[tuple[str, os.stat_result]]:
     return sorted(found, key=lambda item: item[0])
 
 
-def cached(kind: str, key: Mapping[str, Any], build: Callable[[], T], encode: Callable[[T], dict[str, np.ndarray]],
-           decode: Callable[[Mapping[str, np.ndarray]], T], cache: bool | None,
-           deferred: Callable[[str], bool] | None = None) -> T:
-    """The value of `key`: read from the disk cache, else built and stored (`cache`: see `disk_cache.enabled`).
-    One process builds an entry while any other asking for it waits, then reads it (`disk_cache.building`).
-    An entry that reads but does not decode is removed with a note and built again. The arrays `deferred`
-    names are read when `decode`'s value first uses them (`disk_cache.Entry`)."""
-    if not disk_cache.enabled(cache):
-        return build()
-    stored = read_cached(kind, key, decode, deferred)
-    if stored is not None:
-        return stored
-    with disk_cache.building(kind, key):
-        stored = read_cached(kind, key, decode, deferred)  # built by another process while this one waited
-        if stored is not None:
-            return stored
-        value = build()
-        disk_cache.save(kind, key, encode(value))
-    return value
-
-
-def read_cached(kind: str, key: Mapping[str, Any], decode: Callable[[Mapping[str, np.ndarray]], T],
-                deferred: Callable[[str], bool] | None = None) -> T | None:
-    """The entry of `key` decoded, or None when there is none or it does not decode (then removed with a note);
-    `deferred`: as `cached`'s."""
-    arrays = disk_cache.load(kind, key, deferred)
-    if arrays is None:
-        return None
-    try:
-        return decode(arrays)
-    except (KeyError, TypeError, ValueError) as err:
-        disk_cache.discard(disk_cache.entry_path(kind, key), f"does not hold a model ({type(err).__name__}: {err})")
-        return None
-
-
 def cached_elastic_model(body: Body, cache: bool | None = None, **options: Any) -> ElasticModel:
     """`build_elastic_model(body, **options)` read from the disk cache when it was built before (then stored);
     a model given its `volume` is built (a volume is not keyed)."""
     chosen = model_options(**options)
     if chosen["volume"] is not None:
         return build_elastic_model(body, **chosen)
-    return cached(MODEL, model_key(body, chosen), lambda: build_elastic_model(body, **chosen), to_arrays,
+    return disk_cache.cached(MODEL, model_key(body, chosen), lambda: build_elastic_model(body, **chosen), to_arrays,
                   from_arrays, cache)
 
 

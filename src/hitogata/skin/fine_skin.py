@@ -176,9 +176,8 @@ def _stored_fine_skin(body: Body) -> tuple[FineSkin, sp.csr_matrix | None, sp.cs
     cache where `keep_fine_skin` stored them for this body and code, else the fine skin made (the weights
     then made when skinning asks for them: `body_fine_skinning`)."""
     from hitogata import disk_cache
-    from hitogata.elastic.cache import read_cached
 
-    stored = read_cached(FINE_SKIN, _key(body), _decode) if disk_cache.enabled() else None
+    stored = disk_cache.read_cached(FINE_SKIN, _key(body), _decode) if disk_cache.enabled() else None
     return (subdivide(body.vertices, body.faces), None, None) if stored is None else stored
 
 
