@@ -33,6 +33,7 @@ from scipy.spatial import cKDTree
 
 from hitogata.errors import require, require_above, require_whole
 from hitogata.geometry.contact import SelfContact
+from hitogata.geometry.ipc_toolkit import prepare_toolkit
 
 if TYPE_CHECKING:
     import ipctk  # imported where used: half a second, paid only when contact is resolved
@@ -192,6 +193,7 @@ class _Problem:
     def __init__(self, test: SelfContact, free: np.ndarray, settings: BarrierSettings, folding: Sequence[int]) -> None:
         import ipctk
 
+        prepare_toolkit()
         self.settings = settings
         # the collision mesh: the free skin's triangles, every vertex of them an unknown (a fixed
         # vertex would jump with its target, unchecked by CCD)
@@ -360,6 +362,7 @@ def barrier_resolve(path: Sequence[np.ndarray], test: SelfContact, settings: Bar
     barrier does not hold apart, one group's skin near at rest, crosses: the female hip flexion 120°)."""
     import ipctk
 
+    prepare_toolkit()
     free = contact_regions(path[1:], test, settings.reach, settings.rings) if free is None else free
     steps = len(path) - 1
     skin = np.array(path[0], dtype=float)  # the whole skin where the path has taken it

@@ -30,6 +30,7 @@ from hitogata.skin import single_pose
 from hitogata.skin.single_pose import elastic_dynamics
 from hitogata.skin.settings import SKIN_DEFAULTS, SkinSettings
 from hitogata.elastic.materials import Materials, load_materials
+from hitogata.geometry.ipc_toolkit import prepare_toolkit
 
 MIN_FRAMES = 10  # fewer frames than this are held here: starting the workers would cost more than they save
 _WORKER: dict[str, object] = {}  # a worker process's model and options (`_start`)
@@ -109,11 +110,10 @@ def _start(params, all_vertices: np.ndarray, density: float, contact: bool, mate
     """A worker's start: BLAS and the contact's TBB on one thread (the workers are the parallelism), the
     body's model read from the disk cache (`materials`: the file the parent's were read from), the parent's
     contact settings."""
-    import ipctk
     from threadpoolctl import threadpool_limits
 
     threadpool_limits(1)
-    ipctk.set_num_threads(1)
+    prepare_toolkit()
     _WORKER["dynamics"] = elastic_dynamics(Body(params, all_vertices, density),
                                            materials=None if materials is None else load_materials(materials))
     _WORKER["contact"] = contact

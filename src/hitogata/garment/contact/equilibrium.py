@@ -43,6 +43,7 @@ import scipy.sparse as sp
 
 from hitogata.errors import HitogataError
 from hitogata.garment.contact.tube import Tube
+from hitogata.geometry.ipc_toolkit import prepare_toolkit
 from hitogata.options import FactorMethod
 
 if TYPE_CHECKING:
@@ -78,17 +79,6 @@ PROBE_ITERATIONS = 4  # the first iterations, whose pace decides whether the res
 CLOSING = 0.1
 # κ raised at most to this many times the answer's (the IPC Toolkit's ratio of its largest κ to its smallest)
 STIFFEST = 100.0
-
-
-@cache
-def quiet_ipctk() -> None:
-    """Keep the IPC Toolkit's log to errors (once). Its one warning in a garment's solve ("Initial distance … ≤
-    d_min, returning toi=0") says a garment–skin pair starts a Newton step within CCD's gap, so CCD allows
-    the step no move: `settle` answers that itself as a stuck solve (not converged), which `hitogata dress`
-    refuses and a motion's frame answers by starting cold. Printed to the user it is noise."""
-    import ipctk
-
-    ipctk.set_logger_level(ipctk.LoggerLevel.error)
 
 
 @dataclass(frozen=True, eq=False)
@@ -132,7 +122,7 @@ class _Problem:
     def __init__(self, tube: Tube, start: np.ndarray, body: ContactBody) -> None:
         import ipctk
 
-        quiet_ipctk()
+        prepare_toolkit()
         self.tube, self.body = tube, body
         self.n_garment = len(start)
         self.surface = body.surface
@@ -194,7 +184,7 @@ def settle(tube: Tube, start: np.ndarray, body: ContactBody, dhat: float = DHAT,
     False raises κ only where CCD blocks a step."""
     import ipctk
 
-    quiet_ipctk()
+    prepare_toolkit()
     problem = _Problem(tube, np.asarray(start, dtype=float), body)
     coords = tube.stations.coordinates(np.asarray(start, dtype=float).reshape(tube.n_rings, tube.per_ring, 3))
     z = np.concatenate([coords.reshape(-1), np.zeros(len(problem.free))])
@@ -358,7 +348,7 @@ def _collision_free(problem: _Problem, v0: np.ndarray, v1: np.ndarray) -> float:
     """The share (0…1) of the way v0 → v1 free of crossings, garment and skin kept CCD_GAP apart."""
     import ipctk
 
-    quiet_ipctk()
+    prepare_toolkit()
     c = ipctk.Candidates()
     c.build(problem.mesh, v0, v1, CCD_GAP)
     return float(c.compute_collision_free_stepsize(problem.mesh, v0, v1, CCD_GAP, problem.ccd))
@@ -429,7 +419,7 @@ def crossings(garment: np.ndarray, garment_faces: np.ndarray, skin: np.ndarray, 
     within `gap` (m) of each other."""
     import ipctk
 
-    quiet_ipctk()
+    prepare_toolkit()
     used = np.unique(skin_faces)
     local = np.full(len(skin), -1)
     local[used] = len(garment) + np.arange(len(used))
