@@ -6,9 +6,10 @@ import numpy as np
 import pytest
 
 from hitogata.motion.scenario import load_scenario, shipped_scenarios
-from hitogata.motion.clip import scenario_clip
+from hitogata.motion.clip import peak_clip, scenario_clip
 from hitogata.posing import poser_for
 from hitogata.skeleton.kinematics import limit_violations
+from hitogata.skin.contact import GROUPS, skin_contact
 
 MOBILITY = ("mobility_arms_overhead", "mobility_reach_forward", "mobility_arms_crossed", "mobility_sit",
             "mobility_deep_squat", "mobility_stride", "mobility_toe_touch", "mobility_trunk_twist")
@@ -50,3 +51,28 @@ def test_the_poses_do_what_their_names_say(female):
     sit = peak("mobility_sit", 1.5)
     thigh = sit[sk.index("shank_r")] - sit[sk.index("thigh_r")]
     assert abs(np.degrees(np.arctan2(thigh[1], thigh[2]))) < 10  # the thigh level
+
+
+@pytest.mark.parametrize("sex", ["female", "male"])
+def test_no_peak_puts_a_forearm_or_hand_inside_the_other_arm_or_the_trunk(request, sex):
+    """A posture a person can take: at each motion's peak, the skinned forearms and hands lie at most 10 mm
+    (soft tissue pressed) inside any part but their own arm and the other hand (palms pressed together).
+    Crossed arms with both forearms at one height put each hand inside the other shoulder (25 mm and more
+    deep, over 1,700 vertices): no contact solve can answer that, and the skin's then holds the hands flat
+    against each other at the midline, 20 cm from their bones."""
+    poser = poser_for(request.getfixturevalue(sex))
+    test = skin_contact(poser)
+    names = list(GROUPS)
+    deep = {}
+    for name in MOBILITY:
+        angles = peak_clip(scenario_clip(load_scenario(shipped_scenarios()[name]), poser)).angles[1]
+        found = test.penetrations(poser.pose_many(angles[None], "dqs")[0])
+        for vertex, face, depth in zip(found.vertex, found.face, found.depth):
+            inside, into = names[test.groups[vertex]], names[test.groups[test.faces[face, 0]]]
+            if not inside.startswith(("forearm", "hand")):
+                continue
+            own_arm = into.startswith(("upper_arm", "forearm", "hand", "shoulder")) and into[-2:] == inside[-2:]
+            other_hand = inside.startswith("hand") and into.startswith("hand")
+            if not (own_arm or other_hand):
+                deep[(name, inside, into)] = max(deep.get((name, inside, into), 0.0), round(1e3 * depth, 1))
+    assert all(mm <= 10.0 for mm in deep.values()), deep
