@@ -221,7 +221,7 @@ class BodyModel:
         n_shape = len(shape)
         jac = np.zeros((len(posed), 3, n_shape + len(pose)))
         for members, rows, moved in changes:
-            jac[np.ix_(rows, range(3), n_shape + columns[members])] = (
+            jac[np.ix_(rows, np.arange(3), n_shape + columns[members])] = (
                 moved / steps[members, None, None]).transpose(1, 2, 0)
         linear = (poser.skin.weights @ kin.rotations[0].reshape(-1, 9)).reshape(-1, 3, 3)
         for j in range(n_shape):
