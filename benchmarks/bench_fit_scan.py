@@ -178,7 +178,7 @@ def report(now: list[dict[str, Any]], before: list[dict[str, Any]] | None, basel
             gap = float(np.abs(ours[f"body{k}"] - theirs[f"body{k}"]).max()) * 1e3
             worst_body = max(worst_body, gap)
             totals[1] += old["cpu"]
-            line += (f" | {old['cpu']:12.1f} {old['median'] * 1e3:9.3f} {girth_gap(old['girths']):>10s} | "
+            line += (f" | {old['cpu']:12.1f} {old['median'] * 1e3:9.3f} {girth_gap(old['girths'], known[name]):>10s} | "
                      f"{old['cpu'] / row['cpu']:9.2f} {gap:9.4f}")
         print(line)
     print("girth Δ: the fitted body's girth less the known body's, the largest of the fit's girths (mm)")
