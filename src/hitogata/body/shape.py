@@ -15,6 +15,7 @@ max(0, v), whatever the macro parameters; vertices are linear in v on each side 
 from __future__ import annotations
 
 import math
+from collections import OrderedDict
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field, replace
 from functools import cache
@@ -189,7 +190,24 @@ def blend(assets: Assets, params: ShapeParameters) -> np.ndarray:
 def _blended(names: tuple[str, ...], targets: Any, params: ShapeParameters) -> np.ndarray:
     weights = target_weights(names, params)
     used = np.flatnonzero(weights)
-    return np.asarray(targets[:, used] @ weights[used])
+    return np.asarray(_used_columns(targets, used) @ weights[used])
+
+
+USED_KEPT = 4  # the last few target sets' columns kept (a fit's or a solve's nearby shapes use the same)
+_used: OrderedDict[tuple[int, bytes], tuple[Any, Any]] = OrderedDict()
+
+
+def _used_columns(targets: Any, used: np.ndarray) -> Any:
+    """`targets[:, used]`, kept for the last `USED_KEPT` sets: nearby shapes (a solver's probes) weight the
+    same targets, and taking the columns costs more than the product."""
+    key = (id(targets), used.tobytes())
+    found = _used.get(key)
+    if found is None or found[0] is not targets:
+        found = _used[key] = (targets, targets[:, used])  # the matrix kept with them: its id stays its own
+        while len(_used) > USED_KEPT:
+            _used.popitem(last=False)
+    _used.move_to_end(key)
+    return found[1]
 
 
 class BilinearShape:

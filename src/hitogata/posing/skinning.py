@@ -38,6 +38,12 @@ class Skin:
     ancestors: np.ndarray  # (N, N): [e, c] = 1 if part e (not the root) is on the root's path to c
     rest_xyz: np.ndarray  # (3, V) the rest positions, one contiguous row per axis
 
+    def part(self, vertices: np.ndarray) -> Skin:
+        """The skin of some of its vertices (indices, in the order given): each skinned exactly as in the
+        whole, at a fraction of the cost when only those are wanted."""
+        return Skin(self.rest[vertices], self.weights[vertices], self.homogeneous[vertices], self.parents,
+                    self.ancestors, np.ascontiguousarray(self.rest_xyz[:, vertices]))
+
 
 def prepare_skin(rest: np.ndarray, weights: sp.spmatrix, parents: np.ndarray) -> Skin:
     """Prepare a rest surface (V, 3) and its (V, N) part weights for skinning."""

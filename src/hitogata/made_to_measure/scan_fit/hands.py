@@ -24,6 +24,7 @@ from scipy.spatial import cKDTree
 from hitogata.made_to_measure.scan_fit.model import FINGERS, POSE_NAMES, BodyModel
 from hitogata.posing.body_split import owning_parts
 from hitogata.posing.pose import Poser
+from hitogata.posing.skinning import skin_vertices
 
 SIDES = ("l", "r")
 # (the skeleton parts whose skin is scored, the pose entries and their offsets tried, degrees)
@@ -50,13 +51,20 @@ def search_hands(model: BodyModel, poser: Poser, pose: np.ndarray, points: np.nd
     """The pose with each wrist's angles (and, with `fingers`, each finger's) the best of their grids for the
     scan points (P, 3) in the body frame."""
     q = model.angles(poser, pose)
-    now = poser.pose_many(q[None])[0]
     part = owning_parts(poser.skin.weights)
     names = poser.skeleton.names
+    arms = np.flatnonzero(np.isin(part, [names.index(t.format(s=s)) for t in ARM_PARTS for s in SIDES]))
+    arm_skin = poser.skin.part(arms)  # the candidates move nothing else: only the arms' skin is posed
+
+    def pose_arms(angles: np.ndarray) -> np.ndarray:
+        kin = poser.kinematics.pose(angles)
+        return skin_vertices(arm_skin, kin.rotations, kin.translations)
 
     def skin(templates: tuple[str, ...], side: str) -> np.ndarray:
-        return np.flatnonzero(np.isin(part, [names.index(t.format(s=side)) for t in templates]))
+        """The arms' skin (indices into `arms`) of the parts `templates` on one side."""
+        return np.flatnonzero(np.isin(part[arms], [names.index(t.format(s=side)) for t in templates]))
 
+    now = pose_arms(q[None])[0]
     tree = cKDTree(points)
     about = {}
     for side in SIDES:
@@ -66,17 +74,30 @@ def search_hands(model: BodyModel, poser: Poser, pose: np.ndarray, points: np.nd
     for parts, grid in (WRIST, *DIGITS) * SWEEPS if fingers else (WRIST,):
         for scale in SCALES:
             candidates = _candidates(model, out, grid, scale)
-            surfaces = poser.pose_many(np.stack([model.moved_angles(poser, pose, q, p) for p in candidates]))
+            surfaces = pose_arms(np.stack([model.moved_angles(poser, pose, q, p) for p in candidates]))
             for side in SIDES:
-                moved = skin(parts, side)
-                score = np.minimum(tree.query(surfaces[:, moved].reshape(-1, 3))[0], clip).reshape(
-                    len(candidates), -1).mean(axis=1)
+                moved = surfaces[:, skin(parts, side)].reshape(-1, 3)
+                score = tree.query(moved, distance_upper_bound=clip)[0].reshape(len(candidates), -1)
+                score = np.minimum(score, clip).mean(axis=1)
                 if len(about[side]):
-                    arm = skin(ARM_PARTS, side)
-                    score += np.minimum([cKDTree(s[arm]).query(about[side])[0] for s in surfaces], clip).mean(axis=1)
+                    score += np.minimum(_nearest_skin(surfaces[:, skin(ARM_PARTS, side)], about[side], clip),
+                                        clip).mean(axis=1)
                 index = [POSE_NAMES.index(t.format(s=side)) for t in grid]
                 out[index] = candidates[int(np.argmin(score)), index]
     return out
+
+
+def _nearest_skin(surfaces: np.ndarray, points: np.ndarray, clip: float) -> np.ndarray:
+    """(C, P) each point's distance to the nearest of each candidate's skin vertices (C, A, 3), exact up to
+    `clip` (inf beyond). The skin no candidate moves is searched once; only the moving rest per candidate."""
+    still = np.all(surfaces == surfaces[:1], axis=(0, 2))
+    fixed = np.full(len(points), np.inf)
+    if still.any():
+        fixed = cKDTree(surfaces[0, still]).query(points, distance_upper_bound=clip)[0]
+    if still.all():
+        return np.tile(fixed, (len(surfaces), 1))
+    return np.stack([np.minimum(fixed, cKDTree(s).query(points, distance_upper_bound=clip)[0])
+                     for s in surfaces[:, ~still]])
 
 
 def _candidates(model: BodyModel, pose: np.ndarray, grid: dict[str, tuple[float, ...]], scale: float) -> np.ndarray:

@@ -25,6 +25,7 @@ from hitogata.body.shape import OLD_YEARS, YOUNG_YEARS, ShapeParameters
 from hitogata.muscles.activation import MuscleLimitWarning
 from hitogata.muscles.geometry import MuscleGeometryWarning
 from hitogata.posing.pose import Poser, poser_for
+from hitogata.posing.skinning import Skin, linear_blend
 from hitogata.skeleton.stretches import spread
 
 SHAPE_NAMES = ("weight", "muscle", "height", "proportions", "cup", "firmness", "age")
@@ -199,8 +200,8 @@ class BodyModel:
         vertices = poser.pose_many(q[None])[0]
         return vertices, poser.rig_joints(kin.rotations[0], kin.translations[0])
 
-    def jacobian(self, shape: np.ndarray, pose: np.ndarray,
-                 moving: np.ndarray | None = None) -> tuple[Body, Poser, np.ndarray, np.ndarray]:
+    def jacobian(self, shape: np.ndarray, pose: np.ndarray, moving: np.ndarray | None = None,
+                 poser: Poser | None = None) -> tuple[Body, Poser, np.ndarray, np.ndarray]:
         """The body, its poser, the posed skin (V, 3) and d(posed skin)/d(shape, pose) (V, 3, S + Q).
 
         Pose columns are finite differences of the skinned surface, for the joint
@@ -208,26 +209,54 @@ class BodyModel:
         Shape columns are finite differences of the rest surface carried by each
         vertex's blended rotation (LBS's linear part): the joints' own move with the
         shape is left to the next iteration, which rebuilds the body.
+        `poser`: the shape's poser (`poser`), if the caller has it.
         """
-        poser = self.poser(shape)
+        poser = self.poser(shape) if poser is None else poser
         body = poser.body
         lo, hi = self.pose_bounds
         columns = np.flatnonzero(np.ones(len(pose), bool) if moving is None else moving)
-        steps = [POSE_STEP if pose[j] + POSE_STEP <= hi[j] else -POSE_STEP for j in columns]
-        q = self._probe_angles(poser, pose, list(zip(columns, steps)))
-        surfaces = poser.pose_many(q)
-        posed = surfaces[0]
-        pose_cols = np.zeros((len(pose), *posed.shape))
-        pose_cols[columns] = (surfaces[1:] - posed) / np.asarray(steps)[:, None, None]
-        kin = poser.kinematics.pose(q[:1])
+        steps = np.array([POSE_STEP if pose[j] + POSE_STEP <= hi[j] else -POSE_STEP for j in columns])
+        kin = poser.kinematics.pose(self._probe_angles(poser, pose, list(zip(columns, steps))))
+        posed, changes = probe_changes(poser.skin, kin.rotations, kin.translations)
+        n_shape = len(shape)
+        jac = np.zeros((len(posed), 3, n_shape + len(pose)))
+        for members, rows, moved in changes:
+            jac[np.ix_(rows, np.arange(3), n_shape + columns[members])] = (
+                moved / steps[members, None, None]).transpose(1, 2, 0)
         linear = (poser.skin.weights @ kin.rotations[0].reshape(-1, 9)).reshape(-1, 3, 3)
-        shape_cols = []
-        for j in range(len(shape)):
+        for j in range(n_shape):
             # central differences within 0..1: every parameter's targets switch at 0.5 (MakeHuman's
             # min/average/max), where a one-sided slope would hold the solver on the side it started
             lo_probe, hi_probe = shape.copy(), shape.copy()
             lo_probe[j], hi_probe[j] = max(shape[j] - SHAPE_STEP, 0.0), min(shape[j] + SHAPE_STEP, 1.0)
             change = self.body(hi_probe).vertices - self.body(lo_probe).vertices
-            shape_cols.append(np.einsum("vij,vj->vi", linear, change / (hi_probe[j] - lo_probe[j])))
-        jac = np.concatenate([np.stack(shape_cols, axis=2), pose_cols.transpose(1, 2, 0)], axis=2)
+            jac[:, :, j] = np.einsum("vij,vj->vi", linear, change / (hi_probe[j] - lo_probe[j]))
         return body, poser, posed, jac
+
+
+def probe_changes(skin: Skin, rotations: np.ndarray, translations: np.ndarray
+                  ) -> tuple[np.ndarray, list[tuple[np.ndarray, np.ndarray, np.ndarray]]]:
+    """The skin (V, 3) in the first of the part transforms (1 + n, N, ...), and where the others move it:
+    (probes, vertices, their change (probes, vertices, 3)), by LBS, exactly as the whole skin posed in
+    each would give them; every vertex not listed for a probe is where the first put it.
+
+    A probe moves few parts (a finger's joint its finger): only the vertices weighted to a part whose
+    transform differs from the first's are posed again, the probes that move the same parts together.
+    """
+    posed = linear_blend(skin, rotations[:1], translations[:1])[0]
+    changed = ((rotations[1:] != rotations[:1]).any(axis=(2, 3))
+               | (translations[1:] != translations[:1]).any(axis=2))  # (n, N)
+    patterns, group = np.unique(changed, axis=0, return_inverse=True)
+    # each weight's vertex and part, read off the arrays (scipy's arithmetic on the matrix would sort its
+    # rows in place, and the skin's later sums would round otherwise)
+    w = skin.weights
+    weighted = w.data != 0
+    vertex, part = np.repeat(np.arange(w.shape[0]), np.diff(w.indptr))[weighted], w.indices[weighted]
+    out = []
+    for k, pattern in enumerate(patterns):
+        rows = np.unique(vertex[pattern[part]])
+        if len(rows):
+            members = np.flatnonzero(group.ravel() == k)
+            moved = linear_blend(skin.part(rows), rotations[1 + members], translations[1 + members])
+            out.append((members, rows, moved - posed[rows]))
+    return posed, out

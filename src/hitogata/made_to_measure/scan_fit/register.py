@@ -121,11 +121,12 @@ def _register(model: BodyModel, points: np.ndarray, start: Registration, iterati
     state = start
     score = np.inf
     for k in range(first, first + iterations):
+        poser = model.poser(state.shape)
         if k in (STAGE_FROM[LIMBS], STAGE_FROM[DISTAL]):
-            state = replace(state, pose=search_hands(model, model.poser(state.shape), state.pose, state.place(points),
-                                                     CLIP, fingers=k == STAGE_FROM[DISTAL]))
+            state = replace(state, pose=search_hands(model, poser, state.pose, state.place(points), CLIP,
+                                                     fingers=k == STAGE_FROM[DISTAL]))
         moving = POSE_STAGES <= max(stage for stage, at in enumerate(STAGE_FROM) if k >= at)
-        body, _, posed, jac = model.jacobian(state.shape, state.pose, moving)
+        body, _, posed, jac = model.jacobian(state.shape, state.pose, moving, poser)
         s = max(sigma[1], sigma[0] * SIGMA_DECAY**k)
         state, score = gauss_newton_step(model, points, state, Surface.of(posed, body.faces), s, jac, moving)
     return state, score
