@@ -60,7 +60,7 @@ def scans() -> dict[str, tuple[Any, Any, str, bool]]:
         truth = Body.from_measurements(sex, 30.0, stature, bmi * stature**2)
         out[name] = (truth, scan_tests.scan_of(truth, truth.vertices, truth.rig.heads, 60_000, rotation=rotation),
                      sex, True)
-    out["woman, left arm 20 % thicker"] = (woman, thick_arm_scan(woman, scan_tests.scan_of), "female", True)
+    out["woman, left arm 20 % thicker"] = (woman, scan_tests.thick_arm_scan(woman), "female", True)
     cloud, _ = synthetic_scan(man, man.vertices, man.rig.heads, Perturbation(), points=30_000)
     out["man 30k cloud (the CLI's)"] = (man, make_scan(cloud, None, "scan"), "male", True)
     d = np.radians
@@ -77,20 +77,6 @@ def scans() -> dict[str, tuple[Any, Any, str, bool]]:
     cloud, faces = synthetic_scan(truth, truth.vertices, truth.rig.heads, points=30_000)
     out["example 03 man"] = (truth, make_scan(cloud, faces, "synthetic scan"), "male", False)
     return out
-
-
-def thick_arm_scan(body: Any, scan_of: Any) -> Any:
-    """The woman's scan with the left arm's skin pushed out 20 % from the arm's axis (test_fit_scan's)."""
-    from hitogata.made_to_measure.scan_fit.regions import REGIONS, vertex_regions
-
-    heads = body.rig.heads
-    shoulder, wrist = heads[body.rig.index("upperarm01.L")], heads[body.rig.index("wrist.L")]
-    axis = (wrist - shoulder) / np.linalg.norm(wrist - shoulder)
-    arm = vertex_regions(body) == REGIONS.index("left arm")
-    v = body.vertices.copy()
-    along = shoulder + ((v[arm] - shoulder) @ axis)[:, None] * axis
-    v[arm] = along + 1.2 * (v[arm] - along)
-    return scan_of(body, v, heads, 100_000)
 
 
 def cpu_seconds() -> float:
