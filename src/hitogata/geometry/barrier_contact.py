@@ -193,7 +193,6 @@ class _Problem:
     def __init__(self, test: SelfContact, free: np.ndarray, settings: BarrierSettings, folding: Sequence[int]) -> None:
         import ipctk
 
-        prepare_toolkit()
         self.settings = settings
         # the collision mesh: the free skin's triangles, every vertex of them an unknown (a fixed
         # vertex would jump with its target, unchecked by CCD)

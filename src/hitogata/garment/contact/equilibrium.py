@@ -122,7 +122,6 @@ class _Problem:
     def __init__(self, tube: Tube, start: np.ndarray, body: ContactBody) -> None:
         import ipctk
 
-        prepare_toolkit()
         self.tube, self.body = tube, body
         self.n_garment = len(start)
         self.surface = body.surface
@@ -348,7 +347,6 @@ def _collision_free(problem: _Problem, v0: np.ndarray, v1: np.ndarray) -> float:
     """The share (0…1) of the way v0 → v1 free of crossings, garment and skin kept CCD_GAP apart."""
     import ipctk
 
-    prepare_toolkit()
     c = ipctk.Candidates()
     c.build(problem.mesh, v0, v1, CCD_GAP)
     return float(c.compute_collision_free_stepsize(problem.mesh, v0, v1, CCD_GAP, problem.ccd))
