@@ -112,11 +112,12 @@ def test_impossible_request_names_what_cannot_be_met() -> None:
 # Bodies at the extremes of the supported range, rebuilt from the measurements a size chart gives
 # (not the mass: with stature and mass the solve would start at the answer). A woman's heaviest build
 # is BMI 33.6 at 150 cm (MakeHuman's max-weight, min-muscle body). The widths between the armpit folds,
-# the armscye and the crotch, shoulder and waist-to-hip lengths are left out: with them the solve is
-# over-determined on the short heavy woman and the lean men (docs/body.md). The iliac crest's waist and height
-# are left out too: no size chart gives them, and their level follows the skeleton's joints (docs/measurements.md).
-NOT_ON_A_SIZE_CHART = ("armscye_girth", "across_back_width", "across_front_width", "crotch_length",
-                       "shoulder_length", "waist_to_hip_length", "iliac_crest_waist_girth", "iliocristale_height")
+# the armscye and the crotch length (and its front and back rise), shoulder and waist-to-hip lengths are left out:
+# with them the solve is over-determined on the short heavy woman and the lean men (docs/body.md). The iliac crest's
+# waist and height are left out too: no size chart gives them, and their level follows the skeleton's joints (docs/measurements.md).
+NOT_ON_A_SIZE_CHART = ("armscye_girth", "across_back_width", "across_front_width", "crotch_length", "front_rise",
+                       "back_rise", "shoulder_length", "waist_to_hip_length", "iliac_crest_waist_girth",
+                       "iliocristale_height")
 EXTREMES = [(sex, stature, bmi) for sex, top in (("female", 33.0), ("male", 35.0))
             for stature in (1.50, 1.95) for bmi in (18.0, top)]
 

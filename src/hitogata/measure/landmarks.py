@@ -93,6 +93,7 @@ FRONT_NECK_SPAN = (-0.10, 0.03)  # m about the base neck joint's height: searche
 FRONT_NECK_SAMPLES = 27
 FRONT_NECK_SOFTNESS = 0.002  # m of depth
 SIDE_NECK_SOFTNESS = 0.001  # m of depth below the neck-to-shoulder chord
+PELVIS_ORIGIN = "root"  # the joint the pelvis carries the crotch from (`pelvis_point`)
 GIRDLE_JOINTS = {side: (f"clavicle.{side}", f"upperarm01.{side}") for side in "RL"}  # sternoclavicular, glenohumeral
 
 
@@ -132,6 +133,11 @@ class Landmarks:
     # acromion belongs to the shoulder girdle, so a posture carries it with the girdle
     # (`girdle_point`), not with the skin, which MakeHuman binds ~60 % to the humerus there.
     acromion_offsets: tuple[tuple[float, float, float], tuple[float, float, float]]
+    # The crotch's rest position relative to the pelvis's frame origin (m): the crotch (the perineum, between
+    # the ischiopubic rami) belongs to the pelvis, so a posture carries it with the pelvis (`pelvis_point`), not
+    # with the skin, which skinning binds partly to the thighs there (at 90° of hip flexion the crotch vertex
+    # slides 15-20 mm forward and up) and the elastic skin draws up between the flexed thighs (5-7 cm).
+    crotch_offset: tuple[float, float, float]
     calf_level: float  # fraction of knee → ankle joint where the calf girth is largest
     ankle_level: float  # … where the leg is thinnest above the malleoli
     neck_level: float  # fraction of the base neck joint → head joint where the neck is narrowest
@@ -251,6 +257,7 @@ def _own(v: np.ndarray, faces: np.ndarray, joints: JointSet, fixed: FixedVertice
         "iliac_crest": _iliac_crest(v, faces, joints, armpits),
         "hip_side": _ray_point(v, faces, at_height(joints["spine05"], float(v[fixed.buttock, 1])), -LATERAL),
         "acromion_offsets": _acromion_offsets(v, joints, right, left),
+        "crotch_offset": tuple(float(x) for x in v[fixed.crotch] - joints[PELVIS_ORIGIN]),
         "calf_level": extreme_girth_level(v, topo, knee, ankle, CALF_SPAN, largest=True),
         "ankle_level": extreme_girth_level(v, topo, knee, ankle, ANKLE_SPAN, largest=False),
     }
@@ -336,6 +343,13 @@ def girdle_point(marks: Landmarks, rest: JointSet, posed: JointSet, side: str) -
     if float(a @ b) < -1.0 + 1e-12:
         raise HitogataError("shoulder girdle turned by 180°: the posture is broken")
     return posed[outer] + shortest_arc(a, b) @ thorax @ offset
+
+
+def pelvis_point(marks: Landmarks, rest: JointSet, posed: JointSet) -> np.ndarray:
+    """Where the pelvis carries the crotch in a posture (3,): its rest offset from the pelvis's origin joint turned
+    by the pelvis's frame (`trunk_frame`), as the girdle carries an acromion (`girdle_point`)."""
+    turn = trunk_frame(posed, "pelvis") @ trunk_frame(rest, "pelvis").T
+    return posed[PELVIS_ORIGIN] + turn @ np.asarray(marks.crotch_offset)
 
 
 def _thigh_level(v: np.ndarray, crotch: int, joints: JointSet) -> float:

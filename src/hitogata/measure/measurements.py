@@ -16,10 +16,10 @@ import numpy as np
 from hitogata.body.model import Body
 from hitogata.errors import HitogataError, excerpt
 from hitogata.measure.armpits import FOLD_ABOVE
-from hitogata.measure.axes import JointSet, axis, trunk_normal, unit
+from hitogata.measure.axes import JointSet, axis, trunk_frame, trunk_normal, unit
 from hitogata.measure.geodesic import SurfaceGeodesics, polyline_length
-from hitogata.measure.landmarks import Landmarks, body_landmarks, girdle_point
-from hitogata.measure.sections import Tape, arc_tape, loops_around, section, tape_girth
+from hitogata.measure.landmarks import Landmarks, body_landmarks, girdle_point, pelvis_point
+from hitogata.measure.sections import Tape, arc_tape, loops_around, section, split_tape, tape_girth
 from hitogata.measure.surface_points import SurfacePoint, face_of, insert_points
 from hitogata.geometry.topology import Topology, topology
 from hitogata.posing.body_split import mainly_weighted
@@ -204,9 +204,23 @@ def tapes(
     widths = {name: arc_tape(vertices, topo, (left.at(vertices), middle.at(vertices), right.at(vertices)),
                              posed["spine02"], thorax, trunk)
               for name, (left, middle, right) in width_points(marks).items()}
-    crotch = arc_tape(vertices, topo, (marks.waist_front.at(vertices), vertices[marks.crotch],
-                                       marks.waist_back.at(vertices)), posed["spine04"], bounded=False)
-    return {**girths, **widths, "crotch_length": crotch}
+    return {**girths, **widths, **crotch_tapes(vertices, topo, marks, rest, posed)}
+
+
+def crotch_tapes(vertices: np.ndarray, topo: Topology, marks: Landmarks, rest: JointSet,
+                 posed: JointSet) -> dict[str, Tape]:
+    """The crotch length and its two parts, the front rise (waist front → crotch) and the back rise (crotch →
+    waist back): one tape in the pelvis's midsagittal plane through the crotch (the waist's front and back points
+    projected onto it), round the section below the waist's chord, hollows bridged (`sections.arc_tape`), cut
+    where it passes the crotch (`sections.split_tape`). The crotch is where the pelvis carries it
+    (`landmarks.pelvis_point`): the skin's crotch vertex slides with the thighs (skinning) or is drawn up between
+    them (the elastic skin). The plane turns with the pelvis, not with the waist: in a trunk twist the plane of
+    the three points cut the seat obliquely (+6 to +8 cm), where a tape follows the pelvis's midline."""
+    crotch = pelvis_point(marks, rest, posed)
+    tape = arc_tape(vertices, topo, (marks.waist_front.at(vertices), crotch, marks.waist_back.at(vertices)),
+                    posed["spine04"], normal=trunk_frame(posed, "pelvis")[:, 0], bounded=False)
+    front, back = split_tape(tape, crotch)
+    return {"crotch_length": tape, "front_rise": front, "back_rise": back}
 
 
 def armscye_tape(vertices: np.ndarray, topo: Topology, marks: Landmarks, rest: JointSet, posed: JointSet) -> Tape:

@@ -184,3 +184,18 @@ def arc_tape(vertices: np.ndarray, topo: Topology, ends: tuple[np.ndarray, np.nd
     ring = [hull[(i + k) % len(hull)] for k in range((j - i) % len(hull) + 1)]
     path = points[ring]
     return Tape(girth=float(np.linalg.norm(np.diff(path, axis=0), axis=1).sum()), path=path)
+
+
+def split_tape(tape: Tape, point: np.ndarray) -> tuple[Tape, Tape]:
+    """An open tape cut in two where it passes nearest `point` (the nearest point of its polyline, so the cut moves
+    continuously with the point): the part from its first end to there and the part from there to its last end;
+    their lengths sum to the tape's."""
+    a, b = tape.path[:-1], tape.path[1:]
+    step = b - a
+    t = np.clip(np.einsum("ij,ij->i", point - a, step) / np.maximum(np.einsum("ij,ij->i", step, step), 1e-300),
+                0.0, 1.0)
+    nearest = a + t[:, None] * step
+    k = int(np.argmin(np.linalg.norm(nearest - point, axis=1)))
+    first, second = np.vstack([tape.path[:k + 1], nearest[k]]), np.vstack([nearest[k], tape.path[k + 1:]])
+    return tuple(Tape(girth=float(np.linalg.norm(np.diff(p, axis=0), axis=1).sum()), path=p)  # type: ignore[return-value]
+                 for p in (first, second))

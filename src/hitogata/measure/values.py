@@ -36,6 +36,8 @@ class Measurements:
     arm_length: float
     waist_to_hip_length: float
     crotch_length: float
+    front_rise: float  # the crotch length's front part: centre front waist to the crotch
+    back_rise: float  # its back part: the crotch to the centre back waist
     iliocristale_height: float  # the iliac crest's height at the side
     inside_leg: float  # crotch height
 

@@ -57,6 +57,8 @@ LABELS = {
     "arm_length": "arm length",
     "waist_to_hip_length": "waist to hip length",
     "crotch_length": "crotch length",
+    "front_rise": "front rise",
+    "back_rise": "back rise",
     "iliocristale_height": "iliac crest height",
     "inside_leg": "inside leg (crotch height)",
 }

@@ -35,7 +35,7 @@ def series_plot(series: MeasurementSeries, title: str = "") -> bytes:
     against time (changes, because stature and neck girth on one absolute axis would hide them)."""
     fig = Figure(figsize=(9, 8))
     top, bottom = fig.subplots(2, 1, sharex=True)
-    colours = matplotlib.colormaps["tab20"].colors  # 25 measurements: twenty colours, then dashed lines
+    colours = matplotlib.colormaps["tab20"].colors  # 27 measurements: twenty colours, then dashed lines
     for k, name in enumerate(series.names):
         change = (series.values[:, k] - series.values[0, k]) * 100.0
         top.plot(series.times, change, label=name.replace("_", " "), color=colours[k % len(colours)],

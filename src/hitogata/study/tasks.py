@@ -36,7 +36,7 @@ if TYPE_CHECKING:  # for the annotations only: the functions below import what t
     from hitogata.body.model import Body
     from hitogata.posing.pose import Poser
 
-ROWS_VERSION = 4  # part of every task's hash: bump when a row's meaning changes, so old rows are not reused
+ROWS_VERSION = 5  # part of every task's hash: bump when a row's meaning changes, so old rows are not reused
 # (3: waist_girth is ISO 8559-1's waist, the navel's is omphalion_waist_girth; the neck girth at its
 # narrowest; seven measurements added; 4: the iliac crest's waist girth and height added)
 # Figures are stored rounded to this many decimals (nanometres, 1e-9 %): the last bit of a sum in
