@@ -192,8 +192,8 @@ def tapes(
     posed: JointSet,
     skin: dict[str, np.ndarray] | None = None,
 ) -> dict[str, Tape]:
-    """The girths, the across widths and the crotch length with the paths their tapes follow;
-    `skin` as from `tape_skin`."""
+    """The girths, the across widths and the crotch length with its front and back rise, with the paths their
+    tapes follow; `skin` as from `tape_skin`."""
     topo, skin = topology(faces), skin or {}
     planes = girth_planes(vertices, marks, rest, posed)
     girths = {name: tape_girth(vertices, topo, *plane, part=skin.get(name)) for name, plane in planes.items()}
@@ -254,7 +254,7 @@ SURFACE_ENDS = ("olecranon", "ulnar_styloid", "cervicale", "omphalion_back", "si
 def width_points(marks: Landmarks) -> dict[str, tuple[SurfacePoint, SurfacePoint, SurfacePoint]]:
     """The across widths' ends and middle: a tape laid from armpit fold to armpit fold over the
     midline point at their level, in the thorax's horizontal (`sections.arc_tape`; the crotch
-    length is such a tape too, in the plane of the waist's front, the crotch and the waist's back)."""
+    length is such a tape too, `crotch_tapes`)."""
     return {"across_back_width": (marks.fold_back_left, marks.back_middle, marks.fold_back_right),
             "across_front_width": (marks.fold_front_left, marks.front_middle, marks.fold_front_right)}
 
