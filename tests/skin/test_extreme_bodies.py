@@ -40,12 +40,14 @@ def test_the_groin_of_a_large_body_slides_at_hip_flexion():
     # each step of the contact's path had its own unknowns), the fine vertices free and slid, the longest slide mm
     before, after = beyond(fs.fine.vertices, carried, fs.fine.faces), beyond(fs.fine.vertices, fine.vertices, fs.fine.faces)
     free, slid, longest = int(fine.free.sum()), int((fine.moved > 0).sum()), round(float(fine.moved.max()) * 1e3)
-    # here (97.6, 6.2, 5902, 5902, 32). The coarse skin's slide stops where its contact stops it, decided at the
-    # barrier's Newton tolerance (1 mm), so what it leaves beyond +100 % moves between machines (by a factor
-    # 1.6 at the male seated pose of test_extreme_poses): within a factor 2 here; the fine slide takes out at
-    # least nine tenths of it, every free vertex slides, none further than 4 cm
-    assert 97.6 / 2 <= before <= 97.6 * 2 and after <= before / 10 and after <= 15.0, (before, after)
-    assert free == slid and 5902 / 2 <= free <= 5902 * 2 and longest <= 40, (free, slid, longest)
+    # here (96.8, 22.8, 6254, 6254, ≤ 40). The coarse skin's slide stops where its contact stops it, so what it
+    # leaves beyond +100 % moves between machines (by a factor 1.6 at the male seated pose of
+    # test_extreme_poses): within a factor 2 here. The fine slide takes out three quarters of it: its slid skin
+    # crosses itself in 7 pairs after its rounds of held and stiffer-tied skin, and the slide undone round them
+    # leaves 22.8 cm² (6.2 where the barrier stopped short of its minimum, decision 0058); every free vertex
+    # slides, none further than 4 cm
+    assert 96.8 / 2 <= before <= 96.8 * 2 and after <= before / 4 and after <= 30.0, (before, after)
+    assert free == slid and 6254 / 2 <= free <= 6254 * 2 and longest <= 40, (free, slid, longest)
     # the slid fine skin crosses itself nowhere the carried one does not (the faces that moved and those near)
     centroids = carried[fs.fine.faces].mean(axis=1)
     near = np.flatnonzero(cKDTree(carried[fine.moved > 0]).query(centroids, distance_upper_bound=0.05)[0] < np.inf)
