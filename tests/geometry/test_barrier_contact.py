@@ -25,17 +25,17 @@ def test_spheres_driven_together_meet_flattened_and_keep_their_volume():
     assert regions.sum(axis=1).tolist() == [0, 74, 370, 470] and (regions[3] >= regions[2]).all()
     result = barrier_resolve(path, test)
     x = result.vertices
-    assert result.iterations == [0, 0, 2, 5]  # the two first steps meet nothing: the target as it is
+    assert result.iterations == [0, 0, 4, 4]  # the two first steps meet nothing: the target as it is
     assert len(self_intersections(x, faces)) == 0 and len(test.penetrations(x)) == 0
     assert 0.0 < result.min_distance < BARRIER_DEFAULTS.dhat
-    assert result.min_distance == pytest.approx(1.840e-3, rel=1e-3)
+    assert result.min_distance == pytest.approx(1.829e-3, rel=1e-3)
     # flattened against each other: the poles that met (each 10 mm inside the other sphere in the
     # target) pushed back ~5 mm each, to either side of the mid-plane z = 45 mm
     top, bottom = x[np.argmax(v[:, 2]), 2], x[len(v) + np.argmin(v[:, 2]), 2]
-    assert (round(top * 1e3, 2), round(bottom * 1e3, 2)) == (43.78, 45.64)
+    assert (round(top * 1e3, 2), round(bottom * 1e3, 2)) == (43.74, 45.68)
     # the volume the overlap held (counted twice by the target) is kept: the skin round the contact swells by
-    # what the contact presses in, to 0.004 % of the target's (34 mm³ of 1.05 L; the Newton steps stop at 1 mm)
-    assert enclosed_volume(x, faces) / enclosed_volume(path[-1], faces) - 1 == pytest.approx(-3.27e-5, abs=1e-6)
+    # what the contact presses in, to 0.005 % of the target's (53 mm³ of 1.05 L; the Newton steps stop at 0.5 mm)
+    assert enclosed_volume(x, faces) / enclosed_volume(path[-1], faces) - 1 == pytest.approx(-5.03e-5, abs=1e-6)
     # only the skin near the contact moves: the far poles stay where the target has them
     moved = np.linalg.norm(x - path[-1], axis=1) > 1e-9
     assert moved.sum() == 470 and not moved[np.argmin(v[:, 2])] and not moved[len(v) + np.argmax(v[:, 2])]
