@@ -342,11 +342,9 @@ def _relax(rest: np.ndarray, start: np.ndarray, faces: np.ndarray, free: np.ndar
         weight = sp.diags(np.repeat(area * (tension + over), 2))
         force = b.T @ (weight @ (target.transpose(0, 2, 1).reshape(-1, 3) - cols)) \
             - tether[:, None] * (x[idx] - start[idx])  # (nfree, 3): −∂E/∂x
-        stiffness = (b.T @ weight @ b + sp.diags(tether)).tocsr()  # (nfree, nfree): E's Hessian per coordinate
+        stiffness = (b.T @ weight @ b + sp.diags(tether)).tocoo()  # (nfree, nfree): E's Hessian per coordinate
         tangents = _tangents(vertex_normals(x, moving)[idx])  # (nfree, 3, 2): x_i moves by T_i t_i
-        scale = [[sp.diags(tangents[:, c, k]) for k in range(2)] for c in range(3)]
-        normal = sp.bmat([[sum(scale[c][k] @ stiffness @ scale[c][m] for c in range(3)) for m in range(2)]
-                          for k in range(2)]).tocsc()
+        normal = _tangent_hessian(stiffness, tangents)
         rhs = np.concatenate([np.einsum("ic,ic->i", tangents[:, :, k], force) for k in range(2)])
         t = spla.spsolve(normal, rhs).reshape(2, -1).T  # (nfree, 2)
         move = np.einsum("ick,ik->ic", tangents, t)
@@ -356,6 +354,17 @@ def _relax(rest: np.ndarray, start: np.ndarray, faces: np.ndarray, free: np.ndar
         if np.linalg.norm(move, axis=1).max() < slide.stalled:
             break
     return x, step
+
+
+def _tangent_hessian(stiffness: sp.coo_matrix, tangents: np.ndarray) -> sp.csc_matrix:
+    """(2n, 2n) the Hessian `stiffness` (n, n; the same for x, y and z) in the vertices' tangent coordinates
+    (`tangents` (n, 3, 2)): block (k, m) holds K_ij T_i[:, k]·T_j[:, m]."""
+    i, j, n = stiffness.row, stiffness.col, stiffness.shape[0]
+    dots = np.einsum("eck,ecm->ekm", tangents[i], tangents[j])  # (entries, 2, 2)
+    rows = np.concatenate([i + k * n for k in range(2) for _ in range(2)])
+    cols = np.concatenate([j + m * n for _ in range(2) for m in range(2)])
+    values = np.concatenate([stiffness.data * dots[:, k, m] for k in range(2) for m in range(2)])
+    return sp.csc_matrix((values, (rows, cols)), shape=(2 * n, 2 * n))
 
 
 def _surface_facing(surface: _Surface, moving: np.ndarray, idx: np.ndarray
