@@ -63,8 +63,8 @@ class BarrierSettings:
     """λ, m⁻⁴: weight of ½ (V − V_target)², the enclosed volume held to the target's (whose overlaps count
     twice: the tissue a contact presses aside comes back as a swelling of the free skin around it)."""
     tolerance: float = 5e-4
-    """m: a Newton step whose largest vertex move is below this has converged (at 1 mm the crease's skin, where
-    the energy is flat, stopped up to 9 mm short of the minimum it reached when solved again from there)."""
+    """m: a Newton step whose largest vertex move is below this has converged (fine enough for a crease's flat
+    energy: decision 0058)."""
     ccd_gap_share: float = 0.005
     """share of `dhat` that continuous collision detection keeps the skin apart along a step (`ccd_gap`): its
     time-of-impact tolerance is relative to the step, so a long step could otherwise end nanometres from

@@ -19,6 +19,7 @@ from scipy.sparse import csgraph
 from scipy.spatial import ConvexHull
 
 from hitogata.geometry.topology import Topology
+from hitogata.measure.geodesic import polyline_length
 
 
 @dataclass(frozen=True)
@@ -97,7 +98,7 @@ def hull_perimeter(points: np.ndarray, normal: np.ndarray) -> Tape:
     hull = ConvexHull(flat)
     ring = points[hull.vertices]
     closed = flat[np.append(hull.vertices, hull.vertices[0])]
-    return Tape(girth=float(np.linalg.norm(np.diff(closed, axis=0), axis=1).sum()), path=ring)
+    return Tape(girth=polyline_length(closed), path=ring)
 
 
 def tape_girth(
@@ -183,7 +184,7 @@ def arc_tape(vertices: np.ndarray, topo: Topology, ends: tuple[np.ndarray, np.nd
         i, j = j, i
     ring = [hull[(i + k) % len(hull)] for k in range((j - i) % len(hull) + 1)]
     path = points[ring]
-    return Tape(girth=float(np.linalg.norm(np.diff(path, axis=0), axis=1).sum()), path=path)
+    return Tape(girth=polyline_length(path), path=path)
 
 
 def split_tape(tape: Tape, point: np.ndarray) -> tuple[Tape, Tape]:
@@ -197,5 +198,4 @@ def split_tape(tape: Tape, point: np.ndarray) -> tuple[Tape, Tape]:
     nearest = a + t[:, None] * step
     k = int(np.argmin(np.linalg.norm(nearest - point, axis=1)))
     first, second = np.vstack([tape.path[:k + 1], nearest[k]]), np.vstack([nearest[k], tape.path[k + 1:]])
-    return tuple(Tape(girth=float(np.linalg.norm(np.diff(p, axis=0), axis=1).sum()), path=p)  # type: ignore[return-value]
-                 for p in (first, second))
+    return Tape(girth=polyline_length(first), path=first), Tape(girth=polyline_length(second), path=second)

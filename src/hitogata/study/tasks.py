@@ -38,7 +38,8 @@ if TYPE_CHECKING:  # for the annotations only: the functions below import what t
 
 ROWS_VERSION = 5  # part of every task's hash: bump when a row's meaning changes, so old rows are not reused
 # (3: waist_girth is ISO 8559-1's waist, the navel's is omphalion_waist_girth; the neck girth at its
-# narrowest; seven measurements added; 4: the iliac crest's waist girth and height added)
+# narrowest; seven measurements added; 4: the iliac crest's waist girth and height added; 5: the
+# crotch carried by the pelvis, the front and back rise added)
 # Figures are stored rounded to this many decimals (nanometres, 1e-9 %): the last bit of a sum in
 # numpy depends on the memory alignment of its array (SIMD blocks), so the same task gave a thigh
 # girth of 0.5735926758767658 m in one process and ...657 in another; rounded, the bits agree.
