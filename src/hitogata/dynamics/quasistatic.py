@@ -39,7 +39,11 @@ go), each projection capped at STEP_CAP per node (a flat element's
 linearisation is poor), then the regions' volumes restored exactly. The
 few elements that deep creases leave below the floor after that are lifted
 by moving single nodes (`untangle`). A pose with no such element costs two
-volume checks. The repair steps also go on converging the whole body, so
+volume checks. A held element's volume gradient touches its four corners
+only, so the Laplacian's response to it is combined from columns of L⁻¹
+kept per node (`fem.factor.InverseColumns`): a repair step costs the
+regions' back-substitutions whatever the number of elements held
+(docs/decisions/0059-floor-repairs-from-kept-columns.md). The repair steps also go on converging the whole body, so
 they are Anderson-accelerated too, the history restarted whenever the held
 set changes, and stop when a step moves no node by more than the tolerance
 (docs/decisions/0011-quasi-statics-floor-repairs-accelerated.md).
@@ -67,9 +71,9 @@ from threadpoolctl import threadpool_limits
 
 from hitogata.geometry.rotations import extract_rotations
 from hitogata.dynamics.untangle import Untangler
-from hitogata.dynamics.volumes import corner_gradients, corner_volumes, volumes_and_gradients
+from hitogata.dynamics.volumes import corner_volumes, volumes_and_gradients
 from hitogata.fem.elements import element_order, quadrature, shape_gradients, tet_geometry
-from hitogata.fem.factor import factorize
+from hitogata.fem.factor import InverseColumns, factorize
 from hitogata.fem.materials import lame, per_element
 from hitogata.options import FactorMethod
 
@@ -124,6 +128,7 @@ class QuasiStatic:
         self.free, self.fixed = np.flatnonzero(mask), np.asarray(fixed_nodes)
         self._lap_fb = lap[self.free][:, self.fixed]
         self._solve = factorize(lap[self.free][:, self.free], method)
+        self._inverse_columns = InverseColumns(self._solve, len(self.free))
         # The local step as sparse maps (M = T Q quadrature points, rows ordered (i, m)):
         # F[j, i, m] = Σ_n x[n, j] ∂N_n/∂X_i at m, and the global step's right side
         # b[n, j] = Σ_m,i w_m R[j, i, m] ∂N_n/∂X_i (the free nodes' rows only).
@@ -144,6 +149,7 @@ class QuasiStatic:
         self._region_index = np.where(which[self.region] >= 0, which[self.region], len(self.constrained))
         column = np.full(n, -1)
         column[self.free] = np.arange(len(self.free))
+        self._free_column = column
         entry = (column[corners.T] >= 0) & (self._region_index < len(self.constrained))[None, :]  # (4, T)
         corner_t = np.broadcast_to(np.arange(t), (4, t))
         self._region_gather = sp.csr_matrix(
@@ -205,57 +211,60 @@ class QuasiStatic:
     def _project(self, new: np.ndarray, active: np.ndarray | None) -> tuple[np.ndarray, np.ndarray | None]:
         """Enforce the linearised constraints at `new`: each region's rest volume, and the volume
         floor of the active elements (those that have fallen below it in this solve), by one
-        multiplier each (a pressure), the Laplacian's response solved by back-substitution."""
+        multiplier each (a pressure), the Laplacian's response L⁻¹g solved by back-substitution for a
+        region's gradient and combined from the kept columns of L⁻¹ at an element's four corners."""
         if active is not None:
             active = np.union1d(active, self._floor_violations(new))
         held = 0 if active is None else len(active)
         if not self.constrained and not held:
             return new, active
-        grads, targets = [], []
-        if self.constrained:
-            volumes, gradients = self._volume_gradients(new)
-            grads.append(gradients)
+        regions = len(self.constrained)
+        coupling = np.zeros((regions + held, regions + held))
+        targets, responses = [], []
+        if regions:
+            volumes, gradients = self._volume_gradients(new)  # (regions, free, 3)
+            region_response = self._response(gradients)
+            coupling[:regions, :regions] = np.einsum("rfk,sfk->rs", gradients, region_response)
             targets.append(self.rest_volumes - volumes)
+            responses.append(region_response)
         if active is not None and held:
-            grads.append(self._element_volume_gradients(new, active))
-            targets.append(FLOOR * self.rest_element_volumes[active] - corner_volumes(new, self.elements[active]))
-        g_free = np.concatenate(grads)  # (constraints, free, 3)
-        m = len(g_free)
-        # L⁻¹ g, all constraints and axes in one back-substitution: (constraints, free, 3)
-        basis = self._solve(np.ascontiguousarray(g_free.transpose(1, 2, 0).reshape(len(self.free), 3 * m)))
-        basis = basis.reshape(len(self.free), 3, m).transpose(2, 0, 1)
-        coupling = np.einsum("rfk,sfk->rs", g_free, basis)
+            corners = self.elements[active, :4]
+            volumes, gradients = volumes_and_gradients(new, corners)  # (held,), (3, 4, held)
+            columns = self._free_column[corners]  # (held, 4): a held corner's gradient is dropped
+            gradients = np.where(columns.T[None] >= 0, gradients, 0.0).transpose(2, 1, 0)  # (held, 4, 3)
+            columns = np.maximum(columns, 0)
+            element_response = np.einsum("fea,eak->efk", self._inverse_columns(columns), gradients)
+            coupling[regions:, regions:] = np.einsum("efak,fak->ef", element_response[:, columns], gradients)
+            if regions:
+                coupling[:regions, regions:] = np.einsum("rfak,fak->rf", region_response[:, columns], gradients)
+                coupling[regions:, :regions] = coupling[:regions, regions:].T
+            targets.append(FLOOR * self.rest_element_volumes[active] - volumes)
+            responses.append(element_response)
         p = np.linalg.lstsq(coupling, np.concatenate(targets), rcond=1e-12)[0]
-        move = np.einsum("r,rfk->fk", p, basis)
+        move = sum(np.einsum("r,rfk->fk", q, response)
+                   for q, response in zip(np.split(p, [regions]) if regions else [p], responses))
         if active is not None and held:  # the floor is an inequality: an element it would pull down is let go
-            active = active[p[m - held:] >= 0.0]
+            active = active[p[regions:] >= 0.0]
         new = new.copy()
         if active is not None and len(active):  # a flat element's linearisation is poor: no node moves
             move *= min(1.0, STEP_CAP / max(float(np.abs(move).max()), 1e-30))  # more than STEP_CAP,
             new[self.free] += move
             if self.constrained:  # and the regions' volumes are then restored exactly
                 volumes, gradients = self._volume_gradients(new)
-                basis = self._solve(np.ascontiguousarray(gradients.transpose(1, 2, 0).reshape(len(self.free), -1)))
-                basis = basis.reshape(len(self.free), 3, -1).transpose(2, 0, 1)
-                coupling = np.einsum("rfk,sfk->rs", gradients, basis)
-                p = np.linalg.solve(coupling, self.rest_volumes - volumes)
-                new[self.free] += np.einsum("r,rfk->fk", p, basis)
+                response = self._response(gradients)
+                coupling = np.einsum("rfk,sfk->rs", gradients, response)
+                new[self.free] += np.einsum("r,rfk->fk", np.linalg.solve(coupling, self.rest_volumes - volumes),
+                                            response)
             return new, active
         new[self.free] += move
         return new, active
 
-    def _element_volume_gradients(self, x: np.ndarray, elements: np.ndarray) -> np.ndarray:
-        """(len(elements), free nodes, 3): derivative of each listed element's corner volume by the
-        free nodes' positions."""
-        corners = self.elements[elements, :4]
-        g = corner_gradients(x, corners)  # (3, 4, E)
-        column = np.full(len(x), len(self.free))  # held nodes into a dropped last column
-        column[self.free] = np.arange(len(self.free))
-        out = np.zeros((len(elements), len(self.free) + 1, 3))
-        rows = np.arange(len(elements))
-        for a in range(4):
-            out[rows, column[corners[:, a]]] += g[:, a].T
-        return out[:, :-1]
+    def _response(self, gradients: np.ndarray) -> np.ndarray:
+        """L⁻¹ g for each constraint gradient g (constraints, free, 3), all constraints and axes in one
+        back-substitution: (constraints, free, 3)."""
+        m = len(gradients)
+        out = self._solve(np.ascontiguousarray(gradients.transpose(1, 2, 0).reshape(len(self.free), 3 * m)))
+        return out.reshape(len(self.free), 3, m).transpose(2, 0, 1)
 
     def solve(self, x: np.ndarray, loads: np.ndarray | None = None, iterations: int = 8,
               tolerance: float = 1e-5, warm: WarmStart | None = None) -> tuple[np.ndarray, float]:

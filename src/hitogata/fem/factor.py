@@ -147,3 +147,45 @@ def _pardiso_module():
     except (ImportError, OSError):
         return None
     return pypardiso
+
+
+class InverseColumns:
+    """Columns of A⁻¹ (A⁻¹ e_k for chosen k), solved once and kept: a constraint that touches a few
+    unknowns (an element's volume: its four corners) then needs no solve of its own, only a combination
+    of those columns. The columns not yet kept are solved in one batch; past `budget` bytes the kept
+    ones are dropped and solved again as needed."""
+
+    def __init__(self, solve: Solve, size: int, budget: int = 256 * 2**20) -> None:
+        self._solve = solve
+        self._size = size
+        self._capacity = max(1, budget // (8 * max(size, 1)))
+        self._slot = np.full(size, -1, dtype=np.int64)
+        self._store = np.empty((size, 0))
+        self._kept = 0
+
+    def __call__(self, indices: np.ndarray) -> np.ndarray:
+        """(size, len(indices)): A⁻¹ e_k for each k in `indices` (unknowns 0 … size − 1)."""
+        indices = np.asarray(indices, dtype=np.int64)
+        wanted = np.unique(indices)
+        if len(wanted) > self._capacity:  # more than the budget keeps: solved, not kept
+            return self._solve(self._units(wanted))[:, np.searchsorted(wanted, indices)]
+        missing = wanted[self._slot[wanted] < 0]
+        if len(missing):
+            if self._kept + len(missing) > self._capacity:
+                self._slot[:] = -1
+                self._kept = 0
+                missing = wanted
+            if self._kept + len(missing) > self._store.shape[1]:
+                grown = np.empty((self._size, min(self._capacity, max(2 * self._store.shape[1],
+                                                                      self._kept + len(missing)))))
+                grown[:, :self._kept] = self._store[:, :self._kept]
+                self._store = grown
+            self._store[:, self._kept:self._kept + len(missing)] = self._solve(self._units(missing))
+            self._slot[missing] = self._kept + np.arange(len(missing))
+            self._kept += len(missing)
+        return self._store[:, self._slot[indices]]
+
+    def _units(self, indices: np.ndarray) -> np.ndarray:
+        unit = np.zeros((self._size, len(indices)))
+        unit[indices, np.arange(len(indices))] = 1.0
+        return unit
