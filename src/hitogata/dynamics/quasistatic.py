@@ -43,9 +43,10 @@ volume checks. A held element's volume gradient touches its four corners
 only, so the Laplacian's response to it is combined from columns of L⁻¹
 kept per node (`fem.factor.InverseColumns`): a repair step costs the
 regions' back-substitutions whatever the number of elements held
-(docs/decisions/0059-floor-repairs-from-kept-columns.md). The repair steps also go on converging the whole body, so
-they are Anderson-accelerated too, the history restarted whenever the held
-set changes, and stop when a step moves no node by more than the tolerance
+(docs/decisions/0059-floor-repairs-from-kept-columns.md). The repair
+steps also go on converging the whole body, so they are Anderson-
+accelerated too, the history restarted whenever the held set changes, and
+stop when a step moves no node by more than the tolerance
 (docs/decisions/0011-quasi-statics-floor-repairs-accelerated.md).
 
 The solve runs on the elements' corner (linear) mesh: the correction is
@@ -230,7 +231,7 @@ class QuasiStatic:
         if active is not None and held:
             corners = self.elements[active, :4]
             volumes, gradients = volumes_and_gradients(new, corners)  # (held,), (3, 4, held)
-            columns = self._free_column[corners]  # (held, 4): a held corner's gradient is dropped
+            columns = self._free_column[corners]  # (held, 4); a bone node's gradient is dropped
             gradients = np.where(columns.T[None] >= 0, gradients, 0.0).transpose(2, 1, 0)  # (held, 4, 3)
             columns = np.maximum(columns, 0)
             element_response = np.einsum("fea,eak->efk", self._inverse_columns(columns), gradients)
