@@ -4,8 +4,11 @@
 seconds, and how far a relative nudge of the skinned nodes (1e-14, a few units of round-off) moves the corner
 nodes and the skin's elastic offset (mm). A converged solve moves by about the nudge; one that runs to its cap
 moves by whatever round-off decides (docs/decisions/0035-a-held-posture-decided-by-round-off.md).
+`--steps` sets the plain steps' cap and `--memory` the Anderson acceleration's memory (0: unaccelerated
+local/global steps), to tell the iteration's share of that sensitivity from the floor repairs'.
 
     PYTHONPATH=src nice -n 5 python benchmarks/quasistatic_sensitivity.py [female|male ...] [--nudge 1e-14]
+        [--steps 40] [--memory 5]
 """
 
 from __future__ import annotations
@@ -16,12 +19,13 @@ import time
 import numpy as np
 
 from hitogata.body import default_body
+from hitogata.dynamics import quasistatic
 from hitogata.dynamics.quality import STATIC_ITERATIONS
 from hitogata.skin.single_pose import elastic_dynamics
 from hitogata.skeleton.extreme_poses import extreme_poses
 
 
-def main(sexes: list[str], nudge: float) -> None:
+def main(sexes: list[str], nudge: float, steps: int) -> None:
     rng = np.random.default_rng(0)
     print(f"| body | pose | last step mm | CPU s | nodes moved by a {nudge:g} nudge mm | skin offset moved mm |")
     print("|---|---|---:|---:|---:|---:|")
@@ -31,10 +35,10 @@ def main(sexes: list[str], nudge: float) -> None:
             posed = dynamics.poser.pose(clinical=clinical, skinning=dynamics.rig.method)
             g, r = dynamics.rig.pose(posed.pose.rotations, posed.pose.translations)
             cpu = time.process_time()
-            delta, size = dynamics.quasi_static(g[0], r[0], None, None, STATIC_ITERATIONS)
+            delta, size = dynamics.quasi_static(g[0], r[0], None, None, steps)
             cpu = time.process_time() - cpu
             nudged = g[0] * (1.0 + nudge * rng.standard_normal(g[0].shape))
-            other, _ = dynamics.quasi_static(nudged, r[0], None, None, STATIC_ITERATIONS)
+            other, _ = dynamics.quasi_static(nudged, r[0], None, None, steps)
             nodes = float(np.abs(other - delta).max()) * 1e3
             skin = float(np.abs(dynamics.rig.skin_map @ (other - delta)).max()) * 1e3
             print(f"| {sex} | {name} | {size * 1e3:.4f} | {cpu:.2f} | {nodes:.2g} | {skin:.2g} |", flush=True)
@@ -44,5 +48,9 @@ if __name__ == "__main__":
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("sexes", nargs="*", default=["female", "male"])
     parser.add_argument("--nudge", type=float, default=1e-14, help="relative nudge of the skinned nodes")
+    parser.add_argument("--steps", type=int, default=STATIC_ITERATIONS, help="the plain steps' cap")
+    parser.add_argument("--memory", type=int, default=quasistatic.MEMORY,
+                        help="Anderson acceleration's memory (0: unaccelerated steps)")
     args = parser.parse_args()
-    main(args.sexes, args.nudge)
+    quasistatic.MEMORY = args.memory
+    main(args.sexes, args.nudge, args.steps)
