@@ -221,13 +221,13 @@ class QuasiStatic:
             return new, active
         regions = len(self.constrained)
         coupling = np.zeros((regions + held, regions + held))
-        targets, responses = [], []
+        targets = []
+        move = np.zeros((len(self.free), 3))
         if regions:
             volumes, gradients = self._volume_gradients(new)  # (regions, free, 3)
             region_response = self._response(gradients)
             coupling[:regions, :regions] = np.einsum("rfk,sfk->rs", gradients, region_response)
             targets.append(self.rest_volumes - volumes)
-            responses.append(region_response)
         if active is not None and held:
             corners = self.elements[active, :4]
             volumes, gradients = volumes_and_gradients(new, corners)  # (held,), (3, 4, held)
@@ -240,10 +240,11 @@ class QuasiStatic:
                 coupling[:regions, regions:] = np.einsum("rfak,fak->rf", region_response[:, columns], gradients)
                 coupling[regions:, :regions] = coupling[:regions, regions:].T
             targets.append(FLOOR * self.rest_element_volumes[active] - volumes)
-            responses.append(element_response)
         p = np.linalg.lstsq(coupling, np.concatenate(targets), rcond=1e-12)[0]
-        move = sum(np.einsum("r,rfk->fk", q, response)
-                   for q, response in zip(np.split(p, [regions]) if regions else [p], responses))
+        if regions:
+            move += np.einsum("r,rfk->fk", p[:regions], region_response)
+        if active is not None and held:
+            move += np.einsum("r,rfk->fk", p[regions:], element_response)
         if active is not None and held:  # the floor is an inequality: an element it would pull down is let go
             active = active[p[regions:] >= 0.0]
         new = new.copy()
