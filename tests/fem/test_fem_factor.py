@@ -1,14 +1,17 @@
 """Kept columns of a factored matrix's inverse (`fem.factor.InverseColumns`), and the quasi-statics' floor
-repairs built on them: the same multipliers and moves as back-substituting every held element's gradient."""
+repairs built on them: the same multipliers and moves as back-substituting every held element's gradient;
+solves of matrices of one pattern with a kept column order (`fem.factor.SamePatternSolves`): scipy's
+`spsolve`'s answers."""
 
 from __future__ import annotations
 
 import numpy as np
 import scipy.sparse as sp
+import scipy.sparse.linalg as sla
 
 from hitogata.dynamics.quasistatic import FLOOR, STEP_CAP, QuasiStatic
 from hitogata.dynamics.volumes import corner_volumes, volumes_and_gradients
-from hitogata.fem.factor import InverseColumns, factorize
+from hitogata.fem.factor import InverseColumns, SamePatternSolves, factorize
 from hitogata.fem.verify.box_mesh import box_mesh
 
 
@@ -95,3 +98,20 @@ def test_floor_repair_step_equals_back_substituting_every_gradient():
     expected[free] += np.einsum("r,rfk->fk", np.linalg.solve(np.einsum("rfk,sfk->rs", gradients, R),
                                                              statics.rest_volumes - volumes), R)
     assert np.abs(moved - expected).max() < 1e-12  # m
+
+
+def test_solves_of_one_pattern_are_spsolves_bit_for_bit():
+    """The slide's systems change their values, never their pattern: the column order COLAMD finds at the
+    first is kept, and every answer is scipy's `spsolve`'s to the last bit; a new pattern is ordered anew."""
+    rng = np.random.default_rng(3)
+    base = sp.coo_matrix(grid_laplacian(30))
+    solve = SamePatternSolves()
+    for k in range(4):
+        values = base.data * rng.uniform(0.5, 2.0, base.nnz)  # not symmetric: partial pivoting has work to do
+        A = sp.csc_matrix((values, (base.row, base.col)), shape=base.shape)
+        b = rng.normal(size=A.shape[0])
+        assert np.array_equal(solve(A, b), sla.spsolve(A, b)), k
+    wider = sp.csc_matrix(grid_laplacian(30) + sp.eye(900, k=30) * 0.3)  # another pattern
+    b = rng.normal(size=900)
+    assert np.array_equal(solve(wider, b), sla.spsolve(wider, b))
+    assert np.allclose(wider @ solve(wider, b), b, rtol=0, atol=1e-12)

@@ -30,7 +30,7 @@ import scipy.sparse as sp
 from scipy.spatial import cKDTree
 
 from hitogata.fem.elements import element_order, shape_values, tet_geometry
-from hitogata.geometry.tets import TET_FACES
+from hitogata.geometry.tets import TET_FACES, on_boundary
 from hitogata.volume.integrity import face_pieces
 from hitogata.geometry.closest import nearest_on_triangles
 
@@ -163,9 +163,7 @@ def _closest_on_boundary(points: np.ndarray, ids: np.ndarray, nodes: np.ndarray,
     """Each point's closest point on the boundary faces of admissible tets: that face's tet,
     the closest point's barycentric coordinates in it, and the distance (inf: none near)."""
     faces = tets[:, TET_FACES].reshape(-1, 3)
-    key = np.sort(faces, axis=1)
-    _, inverse, counts = np.unique(key, axis=0, return_inverse=True, return_counts=True)
-    outer = np.flatnonzero(counts[inverse.ravel()] == 1)
+    outer = np.flatnonzero(on_boundary(tets))
     owner, tri = outer // 4, nodes[faces[outer]]
     admissible = None if agree is None else (lambda rows, near: agree(ids[rows], tets[owner[near]]))
     distance, face, closest = nearest_on_triangles(cKDTree(tri.mean(axis=1)), tri, points, 4 * _CANDIDATES,

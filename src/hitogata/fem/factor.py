@@ -149,6 +149,30 @@ def _pardiso_module():
     return pypardiso
 
 
+class SamePatternSolves:
+    """``solve(A, b)`` for a sequence of matrices of one sparsity pattern (an iteration's Hessian, its values
+    changing): scipy's ``spsolve`` (SuperLU, COLAMD's column order, partial pivoting), the column order found
+    at the first matrix and kept for the next ones of the same pattern: finding it costs as much as the
+    factorization itself on the skin slide's systems, and the answers are the same."""
+
+    def __init__(self) -> None:
+        self._pattern: tuple[np.ndarray, np.ndarray] | None = None
+        self._order = np.zeros(0, dtype=np.int64)
+
+    def __call__(self, A: sp.spmatrix, b: np.ndarray) -> np.ndarray:
+        A = sp.csc_matrix(A)
+        A.sum_duplicates()
+        if self._pattern is None or not (np.array_equal(self._pattern[0], A.indptr)
+                                         and np.array_equal(self._pattern[1], A.indices)):
+            lu = sla.splu(A)
+            self._pattern = (A.indptr.copy(), A.indices.copy())
+            self._order = np.argsort(lu.perm_c)  # A[:, order] is the column order COLAMD chose
+            return lu.solve(b)
+        x = np.empty_like(b)
+        x[self._order] = sla.splu(A[:, self._order], permc_spec="NATURAL").solve(b)
+        return x
+
+
 class InverseColumns:
     """Columns of A⁻¹ (A⁻¹ e_k for chosen k), solved once and kept: a constraint that touches a few
     unknowns (an element's volume: its four corners) then needs no solve of its own, only a combination

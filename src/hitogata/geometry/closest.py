@@ -1,9 +1,9 @@
 """The closest point of a triangle surface: exact point–triangle closest points, the nearest of a
-point's candidate triangles (those whose centroids a k-d tree finds nearest: the true nearest on
-meshes of reasonably shaped triangles such as the body's) and barycentric weights on a triangle.
+point's candidate triangles (given in groups, or those whose centroids a k-d tree finds nearest: the true
+nearest on meshes of reasonably shaped triangles such as the body's) and barycentric weights on a triangle.
 
 The one place for these; the surface queries of the volume mesher (`volume.surface.SurfaceIndex`),
-the scan fit (`fit.closest`), the landmarks (`measure.surface_points`), the skin's contact and the
+the scan fit (`fit.closest`), the landmarks (`measure.surface_points`), the skin's contact and slide, and the
 tissue mapping (`elastic.mapping`) call them.
 """
 
@@ -19,28 +19,33 @@ PAIRS_AT_ONCE = 1 << 20
 
 
 def closest_points_on_triangles(p: np.ndarray, a: np.ndarray, b: np.ndarray, c: np.ndarray) -> np.ndarray:
-    """Closest point of triangle (a[k], b[k], c[k]) to p[k], all (K, 3) (Ericson 2005, §5.1.5)."""
+    """Closest point of triangle (a[k], b[k], c[k]) to p[k], all (K, 3) (Ericson 2005, §5.1.5): each pair's
+    Voronoi region first, then its point from that region's formula alone."""
     ab, ac = b - a, c - a
     ap, bp, cp = p - a, p - b, p - c
     d1, d2 = np.einsum("ij,ij->i", ab, ap), np.einsum("ij,ij->i", ac, ap)
     d3, d4 = np.einsum("ij,ij->i", ab, bp), np.einsum("ij,ij->i", ac, bp)
     d5, d6 = np.einsum("ij,ij->i", ab, cp), np.einsum("ij,ij->i", ac, cp)
     va, vb, vc = d3 * d6 - d5 * d4, d5 * d2 - d1 * d6, d1 * d4 - d3 * d2
-    with np.errstate(divide="ignore", invalid="ignore"):
-        total = va + vb + vc
-        q = a + ab * (vb / total)[:, None] + ac * (vc / total)[:, None]
-        # Voronoi regions from the lowest to the highest precedence, so the first test in
-        # Ericson's order wins: edge BC, edge AC, vertex C, edge AB, vertex B, vertex A.
-        w_bc = (d4 - d3) / ((d4 - d3) + (d5 - d6))
-        on_bc = (va <= 0) & (d4 - d3 >= 0) & (d5 - d6 >= 0)
-        q = np.where(on_bc[:, None], b + (c - b) * w_bc[:, None], q)
-        on_ac = (vb <= 0) & (d2 >= 0) & (d6 <= 0)
-        q = np.where(on_ac[:, None], a + ac * (d2 / (d2 - d6))[:, None], q)
-        q = np.where(((d6 >= 0) & (d5 <= d6))[:, None], c, q)
-        on_ab = (vc <= 0) & (d1 >= 0) & (d3 <= 0)
-        q = np.where(on_ab[:, None], a + ab * (d1 / (d1 - d3))[:, None], q)
-        q = np.where(((d3 >= 0) & (d4 <= d3))[:, None], b, q)
-        q = np.where(((d1 <= 0) & (d2 <= 0))[:, None], a, q)
+    # in Ericson's order, the first that holds: vertex A, vertex B, edge AB, vertex C, edge AC, edge BC; else inside
+    region = np.select([(d1 <= 0) & (d2 <= 0), (d3 >= 0) & (d4 <= d3), (vc <= 0) & (d1 >= 0) & (d3 <= 0),
+                        (d6 >= 0) & (d5 <= d6), (vb <= 0) & (d2 >= 0) & (d6 <= 0),
+                        (va <= 0) & (d4 - d3 >= 0) & (d5 - d6 >= 0)], np.arange(6), 6)
+    q = np.empty_like(p)
+    with np.errstate(divide="ignore", invalid="ignore"):  # a degenerate triangle gives NaN, as the formula says
+        k = np.flatnonzero(region == 6)
+        total = va[k] + vb[k] + vc[k]
+        q[k] = a[k] + ab[k] * (vb[k] / total)[:, None] + ac[k] * (vc[k] / total)[:, None]
+        k = np.flatnonzero(region == 5)
+        w = (d4[k] - d3[k]) / ((d4[k] - d3[k]) + (d5[k] - d6[k]))
+        q[k] = b[k] + (c[k] - b[k]) * w[:, None]
+        k = np.flatnonzero(region == 4)
+        q[k] = a[k] + ac[k] * (d2[k] / (d2[k] - d6[k]))[:, None]
+        k = np.flatnonzero(region == 2)
+        q[k] = a[k] + ab[k] * (d1[k] / (d1[k] - d3[k]))[:, None]
+    for corner, point in ((0, a), (1, b), (3, c)):
+        k = np.flatnonzero(region == corner)
+        q[k] = point[k]
     return q
 
 
@@ -74,6 +79,25 @@ def nearest_on_triangles(tree: cKDTree, tri: np.ndarray, points: np.ndarray, k: 
         rows = np.arange(len(p))
         dist[s:s + step], face[s:s + step], closest[s:s + step] = d[rows, best], near[rows, best], q[rows, best]
     return dist, face, closest
+
+
+def nearest_in_groups(distance: np.ndarray, indptr: np.ndarray) -> np.ndarray:
+    """For candidates grouped as CSR rows (`indptr`, no group empty): the index of each group's nearest
+    (smallest `distance`), the first of equals; a NaN distance is never the nearest unless all of its
+    group's are (then the group's first). The same as a stable sort by (group, distance), in linear time.
+
+    >>> nearest_in_groups(np.array([3.0, 1.0, 1.0, np.nan, 2.0, np.nan]), np.array([0, 3, 5, 6])).tolist()
+    [1, 4, 5]
+    """
+    starts = np.asarray(indptr[:-1])
+    group = np.repeat(np.arange(len(starts)), np.diff(indptr))
+    least = np.fmin.reduceat(distance, starts)
+    at = np.flatnonzero(distance == least[group])  # sorted, and so are their groups
+    leading = np.ones(len(at), dtype=bool)
+    leading[1:] = group[at[1:]] != group[at[:-1]]
+    first = np.array(starts, dtype=np.int64)
+    first[group[at[leading]]] = at[leading]
+    return first
 
 
 def barycentric_on_triangles(points: np.ndarray, tri: np.ndarray) -> np.ndarray:

@@ -11,6 +11,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from hitogata.geometry.unique import unique_rows
+
 #: The face opposite each corner (row k: opposite corner k), outward-oriented for a positive tet.
 TET_FACES = np.array([[1, 2, 3], [0, 3, 2], [0, 1, 3], [0, 2, 1]])
 
@@ -23,8 +25,8 @@ def tet_faces(tets: np.ndarray) -> np.ndarray:
 def on_boundary(tets: np.ndarray) -> np.ndarray:
     """(4T,) which of `tet_faces(tets)` belong to one tet only."""
     keys = np.sort(tet_faces(tets), axis=1)
-    _, inverse, counts = np.unique(keys, axis=0, return_inverse=True, return_counts=True)
-    return counts[inverse.ravel()] == 1
+    _, inverse, counts = unique_rows(keys, return_inverse=True, return_counts=True)
+    return counts[inverse] == 1
 
 
 def boundary_faces(tets: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

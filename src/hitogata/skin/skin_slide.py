@@ -47,9 +47,9 @@ from dataclasses import dataclass
 
 import numpy as np
 import scipy.sparse as sp
-import scipy.sparse.linalg as spla
 from scipy.sparse.csgraph import dijkstra
 
+from hitogata.fem.factor import SamePatternSolves
 from hitogata.geometry.mesh_checks import edge_graph, self_intersections
 from hitogata.geometry.normals import triangle_normals, vertex_areas, vertex_normals
 from hitogata.skin.fine_skin import FineSkinning
@@ -57,7 +57,7 @@ from hitogata.geometry.strain import RestFrames, principal_stretches
 from hitogata.options import Skinning
 from hitogata.skeleton.kinematics import Pose
 from hitogata.skin.settings import SKIN_DEFAULTS, SkinSettings, SlideLevel, SlideSettings
-from hitogata.geometry.closest import barycentric_on_triangles, closest_points_on_triangles
+from hitogata.geometry.closest import barycentric_on_triangles, closest_points_on_triangles, nearest_in_groups
 
 
 
@@ -287,8 +287,7 @@ class _Surface:
         tri = self.vertices[self.faces[rows.indices]]
         closest = closest_points_on_triangles(points[owner], tri[:, 0], tri[:, 1], tri[:, 2])
         distance = np.linalg.norm(closest - points[owner], axis=1)
-        order = np.lexsort((distance, owner))
-        first = order[np.searchsorted(owner[order], np.arange(len(on)))]
+        first = nearest_in_groups(distance, rows.indptr)
         return closest[first], rows.indices[first]
 
 
@@ -314,6 +313,7 @@ def _relax(rest: np.ndarray, start: np.ndarray, faces: np.ndarray, free: np.ndar
         b = sp.vstack([g_fine @ w_free, own_free]).tocsr()
         fixed_part = np.concatenate([g_fine @ (carried.vertices - w_free @ start[idx]), own_fixed])
         area, measured = np.concatenate([area_fine, area_own]), len(area_fine)  # the first rows: the measured skin's
+    bt = b.T.tocsr()
     tension, limit, done = slide.tension, slide.limit, slide.done
     tether = tension / level.falloff**2 * vertex_areas(rest, faces)[idx] * tied[idx]
     first = (fixed_part + b @ start[idx]).reshape(-1, 2, 3).transpose(0, 2, 1)
@@ -328,6 +328,7 @@ def _relax(rest: np.ndarray, start: np.ndarray, faces: np.ndarray, free: np.ndar
     x = start.copy()
     over = np.zeros(len(area), dtype=bool)
     step, least, since = 0, np.inf, 0
+    solve = SamePatternSolves()
     while step < slide.iterations and since < slide.stall:
         step += 1
         cols = fixed_part + b @ x[idx]
@@ -339,14 +340,16 @@ def _relax(rest: np.ndarray, start: np.ndarray, faces: np.ndarray, free: np.ndar
             break
         least, since = (beyond, 0) if beyond < least else (least, since + 1)
         target = _targets(f, u, stretch, vt, floor, up, over, slide)
-        weight = sp.diags(np.repeat(area * (tension + over), 2))
-        force = b.T @ (weight @ (target.transpose(0, 2, 1).reshape(-1, 3) - cols)) \
+        weight = np.repeat(area * (tension + over), 2)
+        force = bt @ (weight[:, None] * (target.transpose(0, 2, 1).reshape(-1, 3) - cols)) \
             - tether[:, None] * (x[idx] - start[idx])  # (nfree, 3): −∂E/∂x
-        stiffness = (b.T @ weight @ b + sp.diags(tether)).tocoo()  # (nfree, nfree): E's Hessian per coordinate
+        weighted = bt.copy()  # bᵀ W
+        weighted.data *= weight[bt.indices]
+        stiffness = (weighted @ b + sp.diags(tether)).tocoo()  # (nfree, nfree): E's Hessian per coordinate
         tangents = _tangents(vertex_normals(x, moving)[idx])  # (nfree, 3, 2): x_i moves by T_i t_i
         normal = _tangent_hessian(stiffness, tangents)
         rhs = np.concatenate([np.einsum("ic,ic->i", tangents[:, :, k], force) for k in range(2)])
-        t = spla.spsolve(normal, rhs).reshape(2, -1).T  # (nfree, 2)
+        t = solve(normal, rhs).reshape(2, -1).T  # (nfree, 2)
         move = np.einsum("ick,ik->ic", tangents, t)
         move *= np.minimum(1.0, slide.max_move / max(float(np.linalg.norm(move, axis=1).max()), 1e-300))
         trial, trial_on = surface.project(x[idx] + move, on)

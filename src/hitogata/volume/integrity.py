@@ -25,6 +25,7 @@ import scipy.sparse as sp
 from scipy.sparse.csgraph import connected_components
 
 from hitogata.geometry.tets import shared_face_pairs
+from hitogata.geometry.unique import unique_rows
 from hitogata.volume.quality import boundary_faces, dihedral_angles
 
 # The held nodes of every piece must span a triangle whose smallest height is at least this
@@ -103,8 +104,7 @@ def star_groups(tets: np.ndarray, local: np.ndarray) -> tuple[np.ndarray, np.nda
     simplex (index into them) and its group label (global).
     """
     n, k = len(tets), len(local)
-    keys, key = np.unique(np.sort(tets[:, local], axis=2).reshape(n * k, -1), axis=0, return_inverse=True)
-    key = key.ravel()
+    keys, key = unique_rows(np.sort(tets[:, local], axis=2).reshape(n * k, -1), return_inverse=True)
     a, b, face = _shared_faces(tets)
     # The face opposite corner f holds the simplices of the tet that avoid corner f.
     holds = ~(local[None, :, :] == np.arange(4)[:, None, None]).any(axis=2)  # (4, k)
@@ -126,7 +126,7 @@ def star_groups(tets: np.ndarray, local: np.ndarray) -> tuple[np.ndarray, np.nda
 def _pinched(tets: np.ndarray, local: np.ndarray) -> np.ndarray:
     """The simplices whose tets fall into more than one group (see `star_groups`)."""
     keys, key, group = star_groups(tets, local)
-    pairs = np.unique(np.stack([key, group], axis=1), axis=0)
+    pairs = unique_rows(np.stack([key, group], axis=1))
     return keys[np.bincount(pairs[:, 0], minlength=len(keys)) > 1]
 
 
@@ -143,7 +143,7 @@ def pinched_edges(tets: np.ndarray) -> np.ndarray:
 def non_manifold_edges(faces: np.ndarray) -> np.ndarray:
     """Edges (E, 2) of a triangle surface used by other than two of its triangles."""
     edges = np.sort(faces[:, [[0, 1], [1, 2], [2, 0]]].reshape(-1, 2), axis=1)
-    unique, counts = np.unique(edges, axis=0, return_counts=True)
+    unique, counts = unique_rows(edges, return_counts=True)
     return unique[counts != 2]
 
 
@@ -168,7 +168,7 @@ def boundary_fans(faces: np.ndarray) -> np.ndarray:
 
 def non_manifold_vertices(faces: np.ndarray) -> np.ndarray:
     """Vertices of a triangle surface whose triangles form more than one fan (joined through edges)."""
-    pairs = np.unique(np.stack([faces.ravel(), boundary_fans(faces)], axis=1), axis=0)
+    pairs = unique_rows(np.stack([faces.ravel(), boundary_fans(faces)], axis=1))
     return np.flatnonzero(np.bincount(pairs[:, 0]) > 1)
 
 

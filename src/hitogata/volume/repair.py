@@ -25,6 +25,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from hitogata.geometry.unique import unique_rows
 from hitogata.volume.integrity import MIN_HOLD_WIDTH, TET_EDGES, boundary_fans, face_pieces, hold_width, star_groups
 from hitogata.volume.lattice import TetMesh
 from hitogata.volume.quality import boundary_faces, signed_volumes
@@ -89,7 +90,7 @@ def _split_held(tets: np.ndarray, is_held: np.ndarray) -> tuple[np.ndarray, np.n
     """
     keys, key, group = star_groups(tets, np.arange(4)[:, None])
     vertex = keys.ravel()[key]  # per incidence 4 t + c
-    pairs = np.unique(np.stack([vertex, group], axis=1), axis=0)
+    pairs = unique_rows(np.stack([vertex, group], axis=1))
     extra = np.r_[False, pairs[1:, 0] == pairs[:-1, 0]] & is_held[pairs[:, 0]]
     if not extra.any():
         return tets, np.empty(0, dtype=np.int64)
