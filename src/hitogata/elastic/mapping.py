@@ -30,7 +30,7 @@ import scipy.sparse as sp
 from scipy.spatial import cKDTree
 
 from hitogata.fem.elements import element_order, shape_values, tet_geometry
-from hitogata.geometry.tets import TET_FACES, on_boundary
+from hitogata.geometry.tets import on_boundary, tet_faces
 from hitogata.volume.integrity import face_pieces
 from hitogata.geometry.closest import nearest_on_triangles
 
@@ -162,7 +162,7 @@ def _closest_on_boundary(points: np.ndarray, ids: np.ndarray, nodes: np.ndarray,
                          agree) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Each point's closest point on the boundary faces of admissible tets: that face's tet,
     the closest point's barycentric coordinates in it, and the distance (inf: none near)."""
-    faces = tets[:, TET_FACES].reshape(-1, 3)
+    faces = tet_faces(tets)
     outer = np.flatnonzero(on_boundary(tets))
     owner, tri = outer // 4, nodes[faces[outer]]
     admissible = None if agree is None else (lambda rows, near: agree(ids[rows], tets[owner[near]]))
