@@ -7,7 +7,7 @@ gradient, L⁻¹g; this run's solver combines it from kept columns of L⁻¹ at 
 
 Measured on both default bodies, each with the elastic model `elastic_pose` uses:
 
-- the 20 extreme poses' quasi-statics as `elastic_pose` runs them (from rest, `STATIC_ITERATIONS` steps,
+- the 20 extreme poses' quasi-statics from rest (at most `STATIC_ITERATIONS` Anderson-accelerated steps,
   then the floor repairs): CPU seconds of each solver and the largest distance between their skins (mm);
 - a motion (`mobility_deep_squat` at 5 frames/s, `simulate`): CPU seconds and the largest distance
   between the skins of any frame (mm).

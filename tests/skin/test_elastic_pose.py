@@ -124,3 +124,39 @@ def test_a_held_posture_from_the_model_cache_reads_neither_k_nor_m(female, monke
     np.testing.assert_array_equal(held.vertices, elastic_pose(elastic_dynamics(female), clinical=clinical).vertices)
     assert isinstance(stored.model.K, DeferredMatrix) and isinstance(stored.model.M, DeferredMatrix)
     assert not stored.model.K.arrays_read and not stored.model.M.arrays_read
+
+
+@pytest.mark.slow
+def test_a_held_posture_does_not_hang_on_round_off(male):
+    """A nudge of the skinned nodes by round-off (1e-14 relative) leaves the skin's elastic offset where it was:
+    the held posture's steps converge (plain local/global steps; Anderson-mixed ones moved this skin by
+    centimetres, docs/decisions/0061-a-held-posture-that-converges.md)."""
+    from hitogata.dynamics.quality import STATIC_ITERATIONS, STATIC_MEMORY
+    from hitogata.skeleton.extreme_poses import extreme_poses
+
+    dynamics = elastic_dynamics(male)
+    rng = np.random.default_rng(0)
+    for name in ("seated 90/90", "trunk flexion 80°"):
+        posed = dynamics.poser.pose(clinical=extreme_poses(dynamics.poser.skeleton)[name], skinning="dqs")
+        g, r = dynamics.rig.pose(posed.pose.rotations, posed.pose.translations)
+        offsets = []
+        for skinned in (g[0], g[0] * (1.0 + 1e-14 * rng.standard_normal(g[0].shape))):
+            delta, _ = dynamics.quasi_static(skinned, r[0], None, None, STATIC_ITERATIONS, memory=STATIC_MEMORY)
+            offsets.append(dynamics.rig.skin_map @ delta)
+        assert np.linalg.norm(offsets[1] - offsets[0], axis=1).max() < 1e-4, name  # m
+
+
+def test_every_piece_of_the_tissue_is_held_by_a_bone(male):
+    """No piece of the quasi-statics' mesh hangs on released joint nodes alone: there its matrix is singular
+    and round-off alone placed the piece (a tet of the default male's was thrown a metre in a step)."""
+    from scipy.sparse.csgraph import connected_components
+    import scipy.sparse as sp
+
+    statics = elastic_dynamics(male).statics
+    corners = statics.elements[:, :4]
+    n = len(statics.points)
+    pairs = np.stack([np.repeat(corners[:, :1], 4, axis=1).ravel(), corners.ravel()])
+    pieces, piece = connected_components(sp.csr_matrix((np.ones(pairs.shape[1]), tuple(pairs)), shape=(n, n)),
+                                         directed=False)
+    assert pieces > 1  # pieces the mesh keeps apart from the body's main one
+    assert set(piece[statics.fixed]) == set(range(pieces))

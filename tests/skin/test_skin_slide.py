@@ -57,7 +57,7 @@ def test_the_elbows_skin_slides_on_its_surface(female):
     figures = (beyond(contact), beyond(held), int(held.slide.coarse.free.sum()), int(moved.sum()),
                round(float(held.slide.coarse.moved.max()) * 1e3), len(pairs["slid"] - pairs["contact"]))
     # (cm² beyond +100 % before and after, free vertices, vertices slid, the longest slide mm, new crossing pairs)
-    assert figures == (21.3, 0.0, 382, 382, 21, 0)
+    assert figures == (21.3, 0.0, 382, 382, 20, 0)
     assert max(off) < 1e-8
     # the rest of the skin is the contact's (two solves of one pose agree to round-off)
     assert np.abs(held.vertices[~moved] - contact.vertices[~moved]).max() < 1e-8

@@ -40,3 +40,22 @@ def test_a_crease_of_inverted_elements_is_lifted_by_free_nodes_only():
     np.testing.assert_array_equal(out[~inner], x[~inner])  # held nodes stay where they were
     assert np.abs(out - x).max() < 0.2  # a local repair, within the crease's reach
     assert len(untangler.below_floor(out)) == 0
+
+
+def test_what_the_linear_programmes_leave_inverted_the_smooth_pass_lifts(monkeypatch):
+    """The linear programmes can stall with an element a fraction of a per cent inside out (their linearised
+    volumes miss the products of two corners' moves); the smooth penalty on the true volumes then lifts it.
+    With no programme run at all, it alone unfolds the crease."""
+    from hitogata.dynamics import untangle
+
+    monkeypatch.setattr(untangle, "STEPS", 0)
+    points, tets, inner = block()
+    x = points.copy()
+    centre = np.flatnonzero(np.all(np.isclose(points, 0.2), axis=1))[0]
+    x[centre] += [0.13, 0.0, 0.0]  # past the cell's far face: the elements round it fold inside out
+    rest = signed_volumes(points, tets)
+    assert (signed_volumes(x, tets) <= 0).sum() >= 4
+    out = Untangler(points, tets, inner, FLOOR)(x)
+    assert (signed_volumes(out, tets) / rest).min() > 0.0
+    np.testing.assert_array_equal(out[~inner], x[~inner])
+    assert np.abs(out - x).max() < 0.2

@@ -43,7 +43,7 @@ from typing import TYPE_CHECKING, Protocol
 import numpy as np
 from scipy.spatial import cKDTree
 
-from hitogata.dynamics.quasistatic import QuasiStatic, WarmStart, rotate, unrotate
+from hitogata.dynamics.quasistatic import MEMORY, QuasiStatic, WarmStart, rotate, unrotate
 from hitogata.dynamics.rigging import NodeRig, anchored, joint_nodes, node_rig
 from hitogata.dynamics.timeline import MAX_DURATION, MAX_RATE, MAX_SUBSTEPS, RootTrack, Timeline
 from hitogata.errors import HitogataError
@@ -103,7 +103,8 @@ class BodyDynamics:
         (`OffsetLimiter.crossing_at_rest`, read from disk too), else found when the limiter is first used."""
         poser = poser or poser_for(body)
         rig = rig or node_rig(poser, model, skinning)
-        held = np.setdiff1d(model.fixed_nodes, joint_nodes(rig.weights, model.elements, model.fixed_nodes))
+        held = anchored(np.setdiff1d(model.fixed_nodes, joint_nodes(rig.weights, model.elements, model.fixed_nodes)),
+                        model.fixed_nodes, model.elements[:, :4])
         soft = tuple(model.region_names.index(r) for r in SOFT_REGIONS if r in model.region_names)
         soft = tuple(r for r in soft if np.any(model.region == r))
         corners = len(model.volume.nodes)
@@ -111,13 +112,8 @@ class BodyDynamics:
         # they act as cartilage, so no stiffer than CARTILAGE x the stiffest soft tissue (GPa bone
         # against kPa tissue would stall the iteration).
         E = np.minimum(model.E, CARTILAGE * model.E[np.isin(model.region, soft)].max())
-        try:
-            statics = solver(model.points[:corners], model.elements[:, :4], E, model.nu,
-                             held[held < corners], model.region, soft)
-        except RuntimeError:  # SuperLU: "exactly singular": a piece of mesh hangs on released joint nodes alone
-            held = anchored(held, model.fixed_nodes, model.elements[:, :4])
-            statics = solver(model.points[:corners], model.elements[:, :4], E, model.nu,
-                             held[held < corners], model.region, soft)
+        statics = solver(model.points[:corners], model.elements[:, :4], E, model.nu, held[held < corners],
+                         model.region, soft)
         loads = dict(unit_loads) if unit_loads is not None else {
             name: model.muscle_load(name, 1.0).reshape(-1, 3) for name in model.muscle_names
             if len(model.muscle_elements(name))}
@@ -219,17 +215,18 @@ class BodyDynamics:
 
     def quasi_static(self, skinned: np.ndarray, node_rotations: np.ndarray, loads: np.ndarray | None,
                      start: np.ndarray | None = None, iterations: int = ITERATIONS,
-                     warm: WarmStart | None = None) -> tuple[np.ndarray, float]:
+                     warm: WarmStart | None = None, memory: int = MEMORY) -> tuple[np.ndarray, float]:
         """Local correction δ_qs (N, 3) of the equilibrium about the skinned nodes, and the last step (m).
 
         Solved on the corner nodes from a previous δ (`start`) and the previous solve's rotations
         (`warm`, from `statics.warm_start()`, updated in place; None for both: from rest), lifted
-        to mid-edge nodes as their edge's mean.
+        to mid-edge nodes as their edge's mean; memory: the steps' Anderson mixing (`QuasiStatic.solve`).
         """
         c = len(self.statics.points)
         g, R = skinned[:c], node_rotations[:c]
         x = g if start is None else g + rotate(R, start[:c])
-        x, size = self.statics.solve(x, None if loads is None else loads[:c], iterations, warm=warm)
+        x, size = self.statics.solve(x, None if loads is None else loads[:c], iterations, warm=warm,
+                                     memory=memory)
         delta = np.zeros((self.n_nodes, 3))
         delta[:c] = unrotate(R, x - g)
         elements = self.model.elements

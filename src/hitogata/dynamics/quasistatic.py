@@ -25,11 +25,14 @@ as in projective dynamics):
 
 Region volumes enter as Lagrange multipliers — a uniform pressure per
 region — solved from the linearised constraints after each global step
-(one more back-substitution, all regions and axes at once). The steps are
-Anderson-accelerated and start from the previous frame's answer: its
-positions (the caller's `start`) and its rotations (a `WarmStart`, which the
-caller makes with `warm_start()` and hands from solve to solve; a solve
-given none starts from rest), so a few per frame suffice.
+(one more back-substitution, all regions and axes at once). A motion's
+steps are Anderson-accelerated and start from the previous frame's answer:
+its positions (the caller's `start`) and its rotations (a `WarmStart`, which
+the caller makes with `warm_start()` and hands from solve to solve; a solve
+given none starts from rest), so a few per frame suffice. A held posture
+is solved from rest by plain steps until they converge: the mixed steps
+there ended where the last digits of the input sent them, the skin
+centimetres apart (docs/decisions/0061-a-held-posture-that-converges.md).
 
 Elements kept right side out (a floor, not a guarantee): after the
 accelerated steps, while some element's corner volume is below FLOOR x its
@@ -44,9 +47,9 @@ only, so the Laplacian's response to it is combined from columns of L⁻¹
 kept per node (`fem.factor.InverseColumns`): a repair step costs the
 regions' back-substitutions whatever the number of elements held
 (docs/decisions/0059-floor-repairs-from-kept-columns.md). The repair
-steps also go on converging the whole body, so they are Anderson-
-accelerated too, the history restarted whenever the held set changes, and
-stop when a step moves no node by more than the tolerance
+steps also go on converging the whole body, so a motion's frames accelerate
+them as the steps before them, the history restarted whenever the held set
+changes, and stop when a step moves no node by more than the tolerance
 (docs/decisions/0011-quasi-statics-floor-repairs-accelerated.md).
 
 The solve runs on the elements' corner (linear) mesh: the correction is
@@ -79,7 +82,7 @@ from hitogata.fem.materials import lame, per_element
 from hitogata.options import FactorMethod
 
 MEMORY = 5  # Anderson acceleration: past steps mixed
-REPAIRS = 30  # at most so many steps after the last one holding elements over the floor (accelerated)
+REPAIRS = 30  # at most so many steps after the last one holding elements over the floor
 STEP_CAP = 0.02  # m: the largest node move of one projection while elements are held over the floor
 FLOOR = 0.02  # an element's corner volume is held at least at this share of its rest volume
 
@@ -269,32 +272,38 @@ class QuasiStatic:
         return out.reshape(len(self.free), 3, m).transpose(2, 0, 1)
 
     def solve(self, x: np.ndarray, loads: np.ndarray | None = None, iterations: int = 8,
-              tolerance: float = 1e-5, warm: WarmStart | None = None) -> tuple[np.ndarray, float]:
+              tolerance: float = 1e-5, warm: WarmStart | None = None,
+              memory: int = MEMORY) -> tuple[np.ndarray, float]:
         """Node positions (N, 3) after at most `iterations` steps from x, and the last step's size (m).
 
         warm: the rotations to start the local steps from, updated to this solve's (None: from rest).
-        Anderson acceleration (Walker & Ni 2011; for local/global solvers Peng
-        et al. 2018) mixes the last `MEMORY` steps by least squares: the
-        slow, bending-like error fields that plain local/global steps shrink
-        by a few per cent per step fall several times faster. Stops early
-        when a step moves no node by more than `tolerance`.
+        memory: Anderson acceleration (Walker & Ni 2011; for local/global
+        solvers Peng et al. 2018) mixes the last `memory` steps by least
+        squares: the slow, bending-like error fields that plain local/global
+        steps shrink by a few per cent per step fall several times faster,
+        which a motion's few steps a frame need; 0: plain steps, which a held
+        posture solved from rest takes (the mixed steps end where the last
+        digits of the input send them). Stops early when a step moves no node
+        by more than `tolerance`.
         """
         warm = self.warm_start() if warm is None else warm
         with threadpool_limits(1):  # small solves: BLAS threads only wait on each other on a busy machine
-            return self._solve_steps(x, loads, iterations, tolerance, warm)
+            return self._solve_steps(x, loads, iterations, tolerance, warm, memory)
 
     def _solve_steps(self, x: np.ndarray, loads: np.ndarray | None, iterations: int, tolerance: float,
-                     warm: WarmStart) -> tuple[np.ndarray, float]:
-        x, size, _ = self._accelerated(x, loads, iterations, tolerance, warm, None)
+                     warm: WarmStart, memory: int) -> tuple[np.ndarray, float]:
+        x, size, _ = self._steps(x, loads, iterations, tolerance, warm, None, memory)
         if len(self._floor_violations(x)):
-            x, _, _ = self._accelerated(x, loads, REPAIRS, tolerance, warm, np.zeros(0, dtype=int))
+            x, _, _ = self._steps(x, loads, REPAIRS, tolerance, warm, np.zeros(0, dtype=int), memory)
         return self.untangle(x), size
 
-    def _accelerated(self, x: np.ndarray, loads: np.ndarray | None, iterations: int, tolerance: float,
-                     warm: WarmStart, active: np.ndarray | None) -> tuple[np.ndarray, float, np.ndarray | None]:
-        """Anderson-accelerated steps from x: the positions, the last step's size and the held set.
+    def _steps(self, x: np.ndarray, loads: np.ndarray | None, iterations: int, tolerance: float,
+               warm: WarmStart, active: np.ndarray | None,
+               memory: int) -> tuple[np.ndarray, float, np.ndarray | None]:
+        """Local/global steps from x, the last `memory` of them Anderson-mixed (0: plain steps): the
+        positions, the last step's size and the held set.
 
-        active None: plain steps, at most `iterations`, until one moves no node by more than
+        active None: steps, at most `iterations`, until one moves no node by more than
         `tolerance`. Otherwise the floor repairs: steps holding elements over the volume floor
         (`step`'s `active`), until no element is under it or the steps converge; the history is
         restarted whenever the held set changes (the map iterated is another one), and the last
@@ -312,7 +321,7 @@ class QuasiStatic:
             active = held
             xs.append(x[free].ravel())
             gs.append(gx[free].ravel())
-            del xs[:-MEMORY - 1], gs[:-MEMORY - 1]
+            del xs[:-memory - 1], gs[:-memory - 1]
             x = gx
             if size <= tolerance or (active is not None and (k == iterations - 1 or not len(self._floor_violations(x)))):
                 break

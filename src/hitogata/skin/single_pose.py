@@ -32,7 +32,7 @@ from hitogata.dynamics.motion import BodyDynamics
 from hitogata.elastic.materials import Materials
 from hitogata.elastic.model import EIGEN_TOLERANCE
 from hitogata.fem.modes import solve_modes
-from hitogata.dynamics.quality import STATIC_ITERATIONS, PoseQuality, pose_quality
+from hitogata.dynamics.quality import STATIC_ITERATIONS, STATIC_MEMORY, PoseQuality, pose_quality
 from hitogata.dynamics.quasistatic import rotate
 from hitogata.geometry.barrier_contact import BarrierResult, contact_regions
 from hitogata.geometry.contact import Penetrations
@@ -140,7 +140,8 @@ def elastic_pose(
     poser = dynamics.poser
     posed = poser.pose(contractions, lengths, angles, clinical, dynamics.rig.method, on_limit)
     g, r = dynamics.rig.pose(posed.pose.rotations, posed.pose.translations)
-    delta, _ = dynamics.quasi_static(g[0], r[0], None, None, iterations)  # warm=None: from rest
+    delta, _ = dynamics.quasi_static(g[0], r[0], None, None, iterations,  # warm=None: from rest
+                                     memory=STATIC_MEMORY)
     at_rest = np.zeros(len(dynamics.eigenvalues))
     resolved = None
     if contact:  # the barrier takes the whole elastic skin: nothing need be held back
