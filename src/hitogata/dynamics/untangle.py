@@ -23,13 +23,11 @@ Moving all the nodes of a crease at once, the programme's linearised volumes
 miss the true ones by the products of two corners' moves, and it can stall
 with an element a fraction of a per cent inside out (the female's seated
 90/90 pose: two viscera elements at −0.07 % and −1e-12 of their rest
-volume; a single node's max-min there collapses an edge instead, as no one
-corner can lift its whole fan). What the programmes leave inverted is then
-taken by a smooth penalty on the true volumes, Σ (floor − v/V)₊² +
-W' Σ (−v/V)₊², plus a small price on the moves, minimised by L-BFGS over
-the nodes round the elements under the floor and one ring more, to
-convergence (stopped at the first iterate with none inverted, its answer
-was round-off's choice).
+volume). What the programmes leave inverted is then taken by a smooth
+penalty on the true volumes, Σ (floor − v/V)₊² + W' Σ (−v/V)₊², plus a
+small price on the moves, minimised by L-BFGS to convergence over the
+nodes round the elements under the floor and one ring more
+(docs/decisions/0061-a-held-posture-that-converges.md).
 """
 
 from __future__ import annotations
@@ -113,11 +111,14 @@ class Untangler:
         nodes = np.unique(self.corners[self.below_floor(x)])
         nodes = np.unique(self.corners[np.isin(self.corners, nodes[self.movable[nodes]]).any(axis=1)])
         nodes = nodes[self.movable[nodes]]
+        if not len(nodes):  # what is inverted has no free corner
+            return x
         elements = np.flatnonzero(np.isin(self.corners, nodes).any(axis=1))
         corners, rest = self.corners[elements], self.rest_volumes[elements]
         column = np.full(len(x), -1)
         column[nodes] = np.arange(len(nodes))
         local = column[corners]  # (m, 4): -1 where a corner stays
+        held = local >= 0
         scale = PULL / float(self._element_size[elements].mean()) ** 2
         start = x[nodes].copy()
 
@@ -129,7 +130,6 @@ class Untangler:
             under, inside = np.maximum(self.floor - ratio, 0.0), np.maximum(-ratio, 0.0)
             slope = -2.0 * (under + SMOOTH_WEIGHT * inside) / rest  # dE/dv
             grad = np.zeros((len(nodes), 3))
-            held = local >= 0
             for axis in range(3):
                 grad[:, axis] = np.bincount(local[held], (gradients[axis].T * slope[:, None])[held],
                                             minlength=len(nodes))
