@@ -6,7 +6,8 @@ Each girth is scored as a z-score about the fit, in units of the scatter of meas
 band. NHANES takes the waist at the iliac crest on the midaxillary line, which is the body's
 `iliac_crest_waist_girth`; the body's narrowest waist (`waist_girth`) and its navel waist
 (`omphalion_waist_girth`) are scored beside it, as a check that the crest's waist lies between them. What
-holds is asserted; the figures are in docs/howto/children-and-plus-sizes.md."""
+holds is asserted; the figures are in docs/howto/children-and-plus-sizes.md. Their iliac crest and crotch
+heights are scored the same way against ANSUR II's line on stature (`ansur_heights`)."""
 
 from __future__ import annotations
 
@@ -14,6 +15,8 @@ import tomllib
 from importlib import resources
 
 import pytest
+
+from ansur_heights import height_z
 
 from hitogata.body import Body
 from hitogata.measure import measure
@@ -27,6 +30,8 @@ BMIS = (35.0, 42.0, 50.0)
 # the body's measurement scored against each NHANES girth
 MEASURED_AS = {"hip": ("hip_girth",), "upper_arm": ("upper_arm_girth",),
                "waist": ("iliac_crest_waist_girth", "waist_girth", "omphalion_waist_girth")}
+# ANSUR II's heights on stature (`ansur_heights`) and the body's measurement scored against each
+HEIGHTS_AS = {"iliocristale_height": "iliocristale_height", "crotch_height": "inside_leg"}
 
 
 def reference() -> dict:
@@ -53,6 +58,8 @@ def z_scores() -> dict[tuple[str, float, float, str], float]:
                     mean, sd = predicted(table[sex][girth], bmi, 100.0 * stature)
                     for name in names:
                         out[sex, stature, bmi, name] = (100.0 * girths[name] - mean) / sd
+                for height, name in HEIGHTS_AS.items():
+                    out[sex, stature, bmi, name] = height_z(sex, stature, height, girths[name])
     return out
 
 
@@ -69,6 +76,14 @@ def test_the_reference_reads_as_fitted():
     assert 95.0 < mean < 105.0
     mean, _ = predicted(table["female"]["hip"], 30.0, 163.0)
     assert 108.0 < mean < 120.0
+
+
+def test_heavy_bodies_stand_on_hips_and_legs_of_their_stature(z_scores):
+    # ANSUR II's soldiers reach BMI 41 (women) and 44 (men), but its line barely leans on build: adding BMI to it moves
+    # the iliocristale height by < 0.5 mm per unit, the scatter about it by < 0.1 mm
+    for name in HEIGHTS_AS.values():
+        scores = {key[:3]: round(z, 2) for key, z in z_scores.items() if key[3] == name}
+        assert all(abs(z) <= 2.0 for z in scores.values()), (name, scores)
 
 
 def test_heavy_hips_and_arms_lie_among_measured_people(z_scores):

@@ -6,6 +6,7 @@ from scipy.spatial import cKDTree
 from scipy.spatial.transform import Rotation
 from trimesh import remesh
 
+from ansur_heights import height_z
 from measure_posing import flex_elbow, flex_hip
 
 from hitogata.body import Body
@@ -43,14 +44,10 @@ ANSUR_II = {
     "arm_length": ((538, 27), (596, 29)),
     "inside_leg": ((776, 43), (847, 45)),
 }
-# Iliocristale height (floor to the iliac crest on the midaxillary line, standing), from the public ANSUR II
-# data (4,082 men, 1,986 women; the report's own summary table was not at hand): men mean 1062 mm, median
-# 1061, 95th percentile 1148, so SD ≈ (1148 − 1061) / 1.645 = 53 mm; women median 993 mm (the mean of a
-# near-symmetric height lies within ~1 mm of it, as the men's does) and SD 50 mm at the men's coefficient
-# of variation (5.0 %: women's and men's statures vary alike, 3.9 %). As a share of stature: 0.611 (women),
-# 0.604 (men). The body's (`iliocristale_height`): 98.9 cm, 0.599 (female, 165 cm), 109.3 cm, 0.614 (male,
-# 178 cm). Within 2 SD.
-ILIOCRISTALE = ((993, 50), (1062, 53))
+# Iliocristale height (floor to the iliac crest on the midaxillary line, standing) and crotch height: the
+# ANSUR II public data's line on stature and the scatter about it (`ansur_heights`; iliocristale women
+# 995.7 ± 49.7 mm, men 1061.6 ± 52.0; r = 0.92 and 0.91 with stature, so the line's scatter is 20.0 and
+# 21.6 mm). The body's inside leg is ANSUR II's crotch height.
 
 # Shoulder width is a surface length over the back through the cervicale; ANSUR II's
 # biacromial breadth (women 366 ± 18 mm, men 416 ± 19 mm) is the straight line between
@@ -81,8 +78,8 @@ def test_default_bodies_are_plausible_adults(sex, request):
     # Underbust: no ANSUR II figure; bra band sizes (EN 13402-3) span 60–110 cm, below the bust.
     assert 0.60 <= m.underbust_girth <= 1.10 and m.underbust_girth < m.chest_girth
     assert m.stature == pytest.approx(body.stature, abs=1e-12)
-    mean, sd = ILIOCRISTALE[k]
-    assert abs(m.iliocristale_height * 1000 - mean) <= 2 * sd, (m.iliocristale_height, mean, sd)
+    for name, value in (("iliocristale_height", m.iliocristale_height), ("crotch_height", m.inside_leg)):
+        assert abs(height_z(sex, body.stature, name, value)) <= 2, (name, value)
 
 
 @pytest.mark.parametrize(
@@ -98,9 +95,9 @@ def test_landmarks_hold_across_shapes(sex, stature, mass):
     assert m.thigh_girth > m.knee_girth > m.ankle_girth and m.calf_girth > m.ankle_girth
     assert m.upper_arm_girth > m.wrist_girth and 0.10 < m.wrist_girth < m.ankle_girth
     assert 0.42 < m.inside_leg / m.stature < 0.52
-    # the iliac crest above the crotch, at ANSUR II's share of stature (0.604 men, 0.611 women) within
-    # 0.03 (the height's SD over the mean stature, more than the share's own scatter)
-    assert 0.57 < m.iliocristale_height / m.stature < 0.64 and m.inside_leg < m.iliocristale_height
+    # the iliac crest above the crotch, within 2 SD of ANSUR II's people of the body's stature
+    assert abs(height_z(sex, stature, "iliocristale_height", m.iliocristale_height)) <= 2
+    assert abs(height_z(sex, stature, "crotch_height", m.inside_leg)) <= 2 and m.inside_leg < m.iliocristale_height
     assert m.hip_girth > m.iliac_crest_waist_girth > m.waist_girth
     marks, v, rig = body_landmarks(body), body.vertices, body.rig
     joints = JointSet(rig.names, rig.heads)
