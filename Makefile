@@ -10,7 +10,7 @@ demo: system-render $(STAMP)
 	$(VENV)/bin/hitogata demo --out demo --force  # a second run replaces the first one's files
 
 # The linter and the type checker (configured in pyproject.toml) before the tests, which run on two
-# processes (pytest-xdist; tests/conftest.py says what runs together): 22-25 min on two otherwise idle cores (a fresh
+# processes (pytest-xdist; tests/conftest.py says what runs together): 21-26 min on two otherwise idle cores (a fresh
 # clone), about 50 min with another job holding one core.
 # Deselect what a machine cannot run: make test PYTEST_ARGS='-m "not browser"'; one process: PYTEST_ARGS=-n0
 test: system-test $(STAMP) tools/node_modules/.package-lock.json lint

@@ -129,9 +129,10 @@ def test_a_held_posture_from_the_model_cache_reads_neither_k_nor_m(female, monke
 @pytest.mark.slow
 def test_a_held_posture_does_not_hang_on_round_off(male):
     """A nudge of the skinned nodes by round-off (1e-14 relative) leaves the skin's elastic offset where it was:
-    the held posture's steps converge (plain local/global steps; Anderson-mixed ones moved this skin by
-    centimetres, docs/decisions/0061-a-held-posture-that-converges.md)."""
-    from hitogata.dynamics.quality import STATIC_ITERATIONS, STATIC_MEMORY
+    the held posture's steps converge, and their Chebyshev weights are fixed (Anderson-mixed steps moved this
+    skin by centimetres, docs/decisions/0061-a-held-posture-that-converges.md)."""
+    from hitogata.dynamics.quality import STATIC_ITERATIONS
+    from hitogata.dynamics.quasistatic import HELD
     from hitogata.skeleton.extreme_poses import extreme_poses
 
     dynamics = elastic_dynamics(male)
@@ -141,9 +142,29 @@ def test_a_held_posture_does_not_hang_on_round_off(male):
         g, r = dynamics.rig.pose(posed.pose.rotations, posed.pose.translations)
         offsets = []
         for skinned in (g[0], g[0] * (1.0 + 1e-14 * rng.standard_normal(g[0].shape))):
-            delta, _ = dynamics.quasi_static(skinned, r[0], None, None, STATIC_ITERATIONS, memory=STATIC_MEMORY)
+            delta, _ = dynamics.quasi_static(skinned, r[0], None, None, STATIC_ITERATIONS, acceleration=HELD)
             offsets.append(dynamics.rig.skin_map @ delta)
         assert np.linalg.norm(offsets[1] - offsets[0], axis=1).max() < 1e-4, name  # m
+
+
+@pytest.mark.slow
+def test_a_held_posture_ends_at_the_plain_steps_equilibrium(male):
+    """The male's trunk flexion folds the belly: plain local/global steps take 672 to converge, and stopped
+    at 200 they left the skin 31 mm from where they end. The accelerated steps converge within the step cap
+    and land where the plain steps do, within what a step tolerance of 0.01 mm leaves (docs/decisions/
+    0062-a-held-posture-by-chebyshev-steps.md); more extrapolation (ρ = 0.99) lands 30 mm away."""
+    from hitogata.dynamics.quality import STATIC_ITERATIONS
+    from hitogata.dynamics.quasistatic import HELD
+    from hitogata.skeleton.extreme_poses import extreme_poses
+
+    dynamics = elastic_dynamics(male)
+    posed = dynamics.poser.pose(clinical=extreme_poses(dynamics.poser.skeleton)["trunk flexion 80°"],
+                                skinning="dqs")
+    g, r = dynamics.rig.pose(posed.pose.rotations, posed.pose.translations)
+    fast, size = dynamics.quasi_static(g[0], r[0], None, None, STATIC_ITERATIONS, acceleration=HELD)
+    plain, plain_size = dynamics.quasi_static(g[0], r[0], None, None, 2000, acceleration=None)
+    assert size <= 1e-5 and plain_size <= 1e-5  # m: both converged
+    assert np.linalg.norm(dynamics.rig.skin_map @ (fast - plain), axis=1).max() < 1e-3  # m
 
 
 def test_every_piece_of_the_tissue_is_held_by_a_bone(male):

@@ -36,18 +36,18 @@ def test_the_groin_of_a_large_body_slides_at_hip_flexion():
     fs = body_fine_skinning(body)
     carried = fs.surface(pose.posed.pose, "dqs", pose.vertices)  # the fine skin the coarse slide left
     fine = pose.slide.fine
-    # cm² beyond +100 % after the coarse slide, after the fine one (held whole where it crossed: 25.7; 1.0 before
-    # each step of the contact's path had its own unknowns), the fine vertices free and slid, the longest slide mm
+    # cm² beyond +100 % after the coarse slide, after the fine one, the fine vertices free and slid, the longest
+    # slide mm
     before, after = beyond(fs.fine.vertices, carried, fs.fine.faces), beyond(fs.fine.vertices, fine.vertices, fs.fine.faces)
     free, slid, longest = int(fine.free.sum()), int((fine.moved > 0).sum()), round(float(fine.moved.max()) * 1e3)
-    # here (96.8, 22.8, 6254, 6254, ≤ 40). The coarse skin's slide stops where its contact stops it, so what it
-    # leaves beyond +100 % moves between machines (by a factor 1.6 at the male seated pose of
-    # test_extreme_poses): within a factor 2 here. The fine slide takes out three quarters of it: its slid skin
-    # crosses itself in 7 pairs after its rounds of held and stiffer-tied skin, and the slide undone round them
-    # leaves 22.8 cm² (6.2 where the barrier stopped short of its minimum, decision 0058); every free vertex
-    # slides, none further than 4 cm
-    assert 96.8 / 2 <= before <= 96.8 * 2 and after <= before / 4 and after <= 30.0, (before, after)
-    assert free == slid and 6254 / 2 <= free <= 6254 * 2 and longest <= 40, (free, slid, longest)
+    # here (101.9, 53.0, 5972, 5972, 34). The coarse skin's slide stops where its contact stops it, so what it
+    # leaves beyond +100 % moves with the tissue's answer (91.7, and 0.0 left after the fine slide, with the
+    # quasi-statics' earlier 200 plain steps): within a factor 2 here. The fine slide's skin that would cross other
+    # skin is tied harder, then held where it lay while the rest slides again: what that leaves is crossing-free
+    # and about half of it (74.2 where such skin was put back alone, tearing it from its slid neighbours:
+    # 22 → 91 → 538 → … → 0 crossing pairs, decision 0062); every free vertex slides, none further than 4 cm
+    assert 101.9 / 2 <= before <= 101.9 * 2 and after <= 0.6 * before, (before, after)
+    assert free == slid and 5972 / 2 <= free <= 5972 * 2 and longest <= 40, (free, slid, longest)
     # the slid fine skin crosses itself nowhere the carried one does not (the faces that moved and those near)
     centroids = carried[fs.fine.faces].mean(axis=1)
     near = np.flatnonzero(cKDTree(carried[fine.moved > 0]).query(centroids, distance_upper_bound=0.05)[0] < np.inf)

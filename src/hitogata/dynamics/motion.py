@@ -43,7 +43,7 @@ from typing import TYPE_CHECKING, Protocol
 import numpy as np
 from scipy.spatial import cKDTree
 
-from hitogata.dynamics.quasistatic import MEMORY, QuasiStatic, WarmStart, rotate, unrotate
+from hitogata.dynamics.quasistatic import FRAME, Acceleration, QuasiStatic, WarmStart, rotate, unrotate
 from hitogata.dynamics.rigging import NodeRig, anchored, joint_nodes, node_rig
 from hitogata.dynamics.timeline import MAX_DURATION, MAX_RATE, MAX_SUBSTEPS, RootTrack, Timeline
 from hitogata.errors import HitogataError
@@ -215,18 +215,19 @@ class BodyDynamics:
 
     def quasi_static(self, skinned: np.ndarray, node_rotations: np.ndarray, loads: np.ndarray | None,
                      start: np.ndarray | None = None, iterations: int = ITERATIONS,
-                     warm: WarmStart | None = None, memory: int = MEMORY) -> tuple[np.ndarray, float]:
+                     warm: WarmStart | None = None,
+                     acceleration: Acceleration = FRAME) -> tuple[np.ndarray, float]:
         """Local correction δ_qs (N, 3) of the equilibrium about the skinned nodes, and the last step (m).
 
         Solved on the corner nodes from a previous δ (`start`) and the previous solve's rotations
         (`warm`, from `statics.warm_start()`, updated in place; None for both: from rest), lifted
-        to mid-edge nodes as their edge's mean; memory: the steps' Anderson mixing (`QuasiStatic.solve`).
+        to mid-edge nodes as their edge's mean; acceleration: the steps' (`QuasiStatic.solve`).
         """
         c = len(self.statics.points)
         g, R = skinned[:c], node_rotations[:c]
         x = g if start is None else g + rotate(R, start[:c])
         x, size = self.statics.solve(x, None if loads is None else loads[:c], iterations, warm=warm,
-                                     memory=memory)
+                                     acceleration=acceleration)
         delta = np.zeros((self.n_nodes, 3))
         delta[:c] = unrotate(R, x - g)
         elements = self.model.elements

@@ -22,7 +22,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from hitogata.dynamics.motion import BodyDynamics
-from hitogata.dynamics.quasistatic import rotate
+from hitogata.dynamics.quasistatic import HELD, rotate
 from hitogata.dynamics.rigging import node_rig
 from hitogata.dynamics.volumes import corner_volumes
 from hitogata.geometry.normals import triangle_areas
@@ -30,11 +30,10 @@ from hitogata.geometry.normals import triangle_areas
 if TYPE_CHECKING:
     from hitogata.elastic import ElasticModel
 
-# A held posture's quasi-statics from rest: plain local/global steps (no Anderson mixing), at most so many
-# before the floor repairs; they converge to 0.01 mm at 18 of the 20 default bodies' extreme poses, and a
-# nudge of the input by round-off moves the skin by at most 0.13 mm (docs/decisions/0061-a-held-posture-that-converges.md).
-STATIC_ITERATIONS = 200
-STATIC_MEMORY = 0
+# A held posture's quasi-statics from rest: Chebyshev-accelerated local/global steps (`quasistatic.HELD`),
+# at most so many before the floor repairs; the default bodies' 20 extreme poses converge to 0.01 mm in
+# 19-206 (docs/decisions/0062-a-held-posture-by-chebyshev-steps.md).
+STATIC_ITERATIONS = 500
 
 
 @dataclass(frozen=True)
@@ -91,6 +90,6 @@ def compare_pose(dynamics: BodyDynamics, angles: np.ndarray,
         g, R = rig.pose(pose.rotations, pose.translations)
         out[method] = pose_quality(dynamics.model, g[0], method)
         if rig is dynamics.rig:
-            delta, _ = dynamics.quasi_static(g[0], R[0], None, None, iterations, memory=STATIC_MEMORY)  # from rest
+            delta, _ = dynamics.quasi_static(g[0], R[0], None, None, iterations, acceleration=HELD)  # from rest
             out["elastic"] = pose_quality(dynamics.model, g[0] + rotate(R[0], delta), "elastic")
     return out

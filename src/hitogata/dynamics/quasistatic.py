@@ -30,9 +30,11 @@ steps are Anderson-accelerated and start from the previous frame's answer:
 its positions (the caller's `start`) and its rotations (a `WarmStart`, which
 the caller makes with `warm_start()` and hands from solve to solve; a solve
 given none starts from rest), so a few per frame suffice. A held posture
-is solved from rest by plain steps until they converge: the mixed steps
-there ended where the last digits of the input sent them, the skin
-centimetres apart (docs/decisions/0061-a-held-posture-that-converges.md).
+is solved from rest until its steps converge, Chebyshev-accelerated: the
+least-squares mixing there ended where the last digits of the input sent
+them, the skin centimetres apart (docs/decisions/0061-a-held-posture-that-converges.md);
+fixed Chebyshev weights converge it in a third to half of the plain steps
+to the plain steps' own equilibrium (docs/decisions/0062-a-held-posture-by-chebyshev-steps.md).
 
 Elements kept right side out (a floor, not a guarantee): after the
 accelerated steps, while some element's corner volume is below FLOOR x its
@@ -95,6 +97,49 @@ def rotate(rotations: np.ndarray, vectors: np.ndarray) -> np.ndarray:
 def unrotate(rotations: np.ndarray, vectors: np.ndarray) -> np.ndarray:
     """Rᵀ v row by row."""
     return np.einsum("...ji,...j->...i", rotations, vectors)
+
+
+@dataclass(frozen=True)
+class Anderson:
+    """Anderson acceleration (Walker & Ni 2011; for local/global solvers Peng et al. 2018): each step's
+    answer mixed with the last `memory` by least squares. The slow, bending-like error fields fall several
+    times faster than under plain steps, which a motion's few steps a frame, started from the last frame's
+    answer, need; the least squares on nearly dependent residuals carry round-off into the answer, so a
+    held posture solved from rest takes `Chebyshev` instead."""
+
+    memory: int = MEMORY
+
+
+@dataclass(frozen=True)
+class Chebyshev:
+    """Chebyshev semi-iterative acceleration (Wang 2015, "A Chebyshev semi-iterative approach for
+    accelerating projective and position-based dynamics"): after `plain_steps` plain steps, each step's
+    answer is extrapolated from the iterate two steps back by the weights of the Chebyshev polynomials for
+    an iteration contracting at `spectral_radius`. Fixed weights: the answer is as smooth a function of the
+    input as plain steps' (a round-off nudge moves it by about the nudge), in a third to half of their
+    steps. The radius is the plain steps' slowest rate on the default bodies' extreme poses (0.97-0.99 a
+    step); more extrapolation (0.99) lands the male trunk flexion in another fold of the belly
+    (docs/decisions/0062-a-held-posture-by-chebyshev-steps.md)."""
+
+    spectral_radius: float = 0.97
+    plain_steps: int = 10
+
+    def __post_init__(self) -> None:
+        if not 0.0 < self.spectral_radius < 1.0 or self.plain_steps < 1:
+            raise ValueError(f"Chebyshev: spectral_radius {self.spectral_radius} must lie in (0, 1) and "
+                             f"plain_steps {self.plain_steps} be at least 1")
+
+    def weight(self, step: int, previous: float) -> float:
+        """The extrapolation weight ω of step `step` (from 0), given the previous step's."""
+        if step < self.plain_steps:
+            return 1.0
+        rho2 = self.spectral_radius**2
+        return 2.0 / (2.0 - rho2) if step == self.plain_steps else 4.0 / (4.0 - rho2 * previous)
+
+
+Acceleration = Anderson | Chebyshev | None  # None: plain local/global steps
+FRAME = Anderson()  # a motion's frame, started from the last frame's answer
+HELD = Chebyshev()  # a held posture solved from rest
 
 
 @dataclass(eq=False)
@@ -273,35 +318,31 @@ class QuasiStatic:
 
     def solve(self, x: np.ndarray, loads: np.ndarray | None = None, iterations: int = 8,
               tolerance: float = 1e-5, warm: WarmStart | None = None,
-              memory: int = MEMORY) -> tuple[np.ndarray, float]:
+              acceleration: Acceleration = FRAME) -> tuple[np.ndarray, float]:
         """Node positions (N, 3) after at most `iterations` steps from x, and the last step's size (m).
 
         warm: the rotations to start the local steps from, updated to this solve's (None: from rest).
-        memory: Anderson acceleration (Walker & Ni 2011; for local/global
-        solvers Peng et al. 2018) mixes the last `memory` steps by least
-        squares: the slow, bending-like error fields that plain local/global
-        steps shrink by a few per cent per step fall several times faster,
-        which a motion's few steps a frame need; 0: plain steps, which a held
-        posture solved from rest takes (the mixed steps end where the last
-        digits of the input send them). Stops early when a step moves no node
-        by more than `tolerance`.
+        acceleration: `Anderson` (a motion's frames), `Chebyshev` (`HELD`: a held posture from rest; its
+        floor repairs are plain steps) or None (plain steps). Stops early when a step moves no node by
+        more than `tolerance`.
         """
         warm = self.warm_start() if warm is None else warm
         with threadpool_limits(1):  # small solves: BLAS threads only wait on each other on a busy machine
-            return self._solve_steps(x, loads, iterations, tolerance, warm, memory)
+            return self._solve_steps(x, loads, iterations, tolerance, warm, acceleration)
 
     def _solve_steps(self, x: np.ndarray, loads: np.ndarray | None, iterations: int, tolerance: float,
-                     warm: WarmStart, memory: int) -> tuple[np.ndarray, float]:
-        x, size, _ = self._steps(x, loads, iterations, tolerance, warm, None, memory)
+                     warm: WarmStart, acceleration: Acceleration) -> tuple[np.ndarray, float]:
+        x, size, _ = self._steps(x, loads, iterations, tolerance, warm, None, acceleration)
         if len(self._floor_violations(x)):
-            x, _, _ = self._steps(x, loads, REPAIRS, tolerance, warm, np.zeros(0, dtype=int), memory)
+            repairs = acceleration if isinstance(acceleration, Anderson) else None
+            x, _, _ = self._steps(x, loads, REPAIRS, tolerance, warm, np.zeros(0, dtype=int), repairs)
         return self.untangle(x), size
 
     def _steps(self, x: np.ndarray, loads: np.ndarray | None, iterations: int, tolerance: float,
                warm: WarmStart, active: np.ndarray | None,
-               memory: int) -> tuple[np.ndarray, float, np.ndarray | None]:
-        """Local/global steps from x, the last `memory` of them Anderson-mixed (0: plain steps): the
-        positions, the last step's size and the held set.
+               acceleration: Acceleration) -> tuple[np.ndarray, float, np.ndarray | None]:
+        """Local/global steps from x, accelerated as `acceleration` says: the positions, the last step's
+        size and the held set.
 
         active None: steps, at most `iterations`, until one moves no node by more than
         `tolerance`. Otherwise the floor repairs: steps holding elements over the volume floor
@@ -309,9 +350,12 @@ class QuasiStatic:
         restarted whenever the held set changes (the map iterated is another one), and the last
         iterate is always a step's own answer, never an extrapolation."""
         free = self.free
+        memory = acceleration.memory if isinstance(acceleration, Anderson) else 0
+        chebyshev = acceleration if isinstance(acceleration, Chebyshev) else None
         xs: list[np.ndarray] = []
         gs: list[np.ndarray] = []
         size = np.inf
+        back, omega = x, 1.0  # Chebyshev: the iterate one step back, the last weight
         for k in range(iterations):
             gx, held = self.step(x, loads, warm, active)
             size = float(np.abs(gx - x).max(initial=0.0))
@@ -319,13 +363,20 @@ class QuasiStatic:
                 xs.clear()
                 gs.clear()
             active = held
-            xs.append(x[free].ravel())
-            gs.append(gx[free].ravel())
-            del xs[:-memory - 1], gs[:-memory - 1]
-            x = gx
+            if memory:
+                xs.append(x[free].ravel())
+                gs.append(gx[free].ravel())
+                del xs[:-memory - 1], gs[:-memory - 1]
+            x, current = gx, x
             if size <= tolerance or (active is not None and (k == iterations - 1 or not len(self._floor_violations(x)))):
                 break
-            if len(xs) > 1:
+            if chebyshev is not None:
+                omega = chebyshev.weight(k, omega)
+                if omega != 1.0:
+                    x = gx.copy()
+                    x[free] = back[free] + omega * (gx[free] - back[free])
+                back = current
+            elif len(xs) > 1:
                 res = np.stack(gs, axis=1) - np.stack(xs, axis=1)
                 gamma = np.linalg.lstsq(np.diff(res, axis=1), res[:, -1], rcond=None)[0]
                 x = gx.copy()

@@ -32,8 +32,8 @@ from hitogata.dynamics.motion import BodyDynamics
 from hitogata.elastic.materials import Materials
 from hitogata.elastic.model import EIGEN_TOLERANCE
 from hitogata.fem.modes import solve_modes
-from hitogata.dynamics.quality import STATIC_ITERATIONS, STATIC_MEMORY, PoseQuality, pose_quality
-from hitogata.dynamics.quasistatic import rotate
+from hitogata.dynamics.quality import STATIC_ITERATIONS, PoseQuality, pose_quality
+from hitogata.dynamics.quasistatic import HELD, rotate
 from hitogata.geometry.barrier_contact import BarrierResult, contact_regions
 from hitogata.geometry.contact import Penetrations
 from hitogata.skin.skin_slide import SkinSlide, slide_posed_skin
@@ -141,7 +141,7 @@ def elastic_pose(
     posed = poser.pose(contractions, lengths, angles, clinical, dynamics.rig.method, on_limit)
     g, r = dynamics.rig.pose(posed.pose.rotations, posed.pose.translations)
     delta, _ = dynamics.quasi_static(g[0], r[0], None, None, iterations,  # warm=None: from rest
-                                     memory=STATIC_MEMORY)
+                                     acceleration=HELD)
     at_rest = np.zeros(len(dynamics.eigenvalues))
     resolved = None
     if contact:  # the barrier takes the whole elastic skin: nothing need be held back

@@ -30,7 +30,10 @@ shrink it away (`SlideLevel.shrink`) is left out there.
 Free: the coarse skin within `reach` (along the skin's edges) of the fine skin beyond `done`. If the
 slid skin crosses itself where it did not (a slide across the bottom of a tight crease carries the
 skin's chords through its other side), it slides again with less turning allowed, then with the skin
-there held (the fine skin's tied harder to where it lay), and what still crosses has its slide undone.
+there held (the fine skin's first tied harder to where it lay, then held), and what still crosses has its
+slide undone. Holding lets the skin round it slide again to meet it; putting it back alone tears it from
+its slid neighbours, which then cross in their turn (the large man's groin: 22 → 91 → 538 → … → 0
+pairs, docs/decisions/0062-a-held-posture-by-chebyshev-steps.md).
 
 Where the coarse triangles may turn no further (over the armpit's hollow overhead, the groin's sharp
 folds), fine skin stays beyond `done`. The fine skin then slides on its own (`slide_fine_skin`): the same
@@ -197,8 +200,8 @@ def _slide(rest: np.ndarray, start: np.ndarray, faces: np.ndarray, seeds: np.nda
     free. Skin whose
     sliding would cross other skin (new self-crossing pairs, `self_intersections`; where the input crossed
     itself already, more pairs than it had) is held where it is, a ring around it too, or its tether made
-    `level.stiffening` times as stiff, and the rest slides again (`slide.hold_rounds` times at most; then the slide is
-    undone around what still crosses)."""
+    `level.stiffening` times as stiff and then held, and the rest slides again (`slide.hold_rounds` times at most
+    each; then the slide is undone around what still crosses)."""
     n = len(start)
     if not len(seeds):
         return SlideResult(start, np.zeros(n), np.zeros(n, dtype=bool), 0)
@@ -229,6 +232,12 @@ def _slide(rest: np.ndarray, start: np.ndarray, faces: np.ndarray, seeds: np.nda
             free &= ~held
         else:
             tied[held] *= level.stiffening
+    for _ in range(slide.hold_rounds if level.stiffening is not None else 0):  # tied harder and still crossing:
+        if not held.any():  # that skin held where it lay and the rest slid again
+            return SlideResult(x, np.linalg.norm(x - start, axis=1), free, steps)
+        free &= ~held
+        x, steps = _relax(rest, start, faces, free, level.tilts[-1], level, carried, tied, slide)
+        held = crossing(x)
     while held.any():  # still crossing: the slide is undone around the crossings until none is left
         free &= ~held
         x[held] = start[held]
