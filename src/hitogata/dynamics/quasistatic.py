@@ -117,7 +117,7 @@ class Chebyshev:
     answer is extrapolated from the iterate two steps back by the weights of the Chebyshev polynomials for
     an iteration contracting at `spectral_radius`. Fixed weights: the answer is as smooth a function of the
     input as plain steps' (a round-off nudge moves it by about the nudge), in a third to half of their
-    steps. The radius is the plain steps' slowest rate on the default bodies' extreme poses (0.97-0.99 a
+    steps. The radius is the plain steps' slowest rate on the default bodies' extreme poses (0.97-0.995 a
     step); more extrapolation (0.99) lands the male trunk flexion in another fold of the belly
     (docs/decisions/0062-a-held-posture-by-chebyshev-steps.md)."""
 
