@@ -10,7 +10,7 @@ from hitogata.dynamics.quasistatic import HELD, Chebyshev, QuasiStatic
 from hitogata.fem.verify.box_mesh import box_mesh
 
 
-def test_chebyshev_weights_rise_to_the_optimal_relaxation():
+def test_chebyshev_weights_jump_then_settle_at_the_optimal_relaxation():
     rho = HELD.spectral_radius
     weights = [1.0]
     for step in range(400):

@@ -232,12 +232,13 @@ def _slide(rest: np.ndarray, start: np.ndarray, faces: np.ndarray, seeds: np.nda
             free &= ~held
         else:
             tied[held] *= level.stiffening
-    for _ in range(slide.hold_rounds if level.stiffening is not None else 0):  # tied harder and still crossing:
-        if not held.any():  # that skin held where it lay and the rest slid again
-            return SlideResult(x, np.linalg.norm(x - start, axis=1), free, steps)
-        free &= ~held
-        x, steps = _relax(rest, start, faces, free, level.tilts[-1], level, carried, tied, slide)
-        held = crossing(x)
+    if level.stiffening is not None:  # tied harder and still crossing: that skin held, the rest slid again
+        for _ in range(slide.hold_rounds):
+            free &= ~held
+            x, steps = _relax(rest, start, faces, free, level.tilts[-1], level, carried, tied, slide)
+            held = crossing(x)
+            if not held.any():
+                break
     while held.any():  # still crossing: the slide is undone around the crossings until none is left
         free &= ~held
         x[held] = start[held]
